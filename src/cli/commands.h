@@ -1,0 +1,15 @@
+#pragma once
+// Each subcommand registers itself on the application; its callback parses nothing further, calls
+// the libraries and prints. Errors propagate as ff::Error and are mapped to exit codes in main.
+
+#include "cli/console.h"
+
+namespace CLI {
+class App;
+}
+
+namespace ff::cli {
+
+void addLensCommand(CLI::App& app, GlobalOptions& global);
+
+} // namespace ff::cli

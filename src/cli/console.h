@@ -1,0 +1,28 @@
+#pragma once
+// The CLI's side of reporting: diagnostics from the libraries go to stderr as
+// "fourierflare: note: file:line:col: ..." unless --quiet.
+
+#include "core/reporter.h"
+
+#include <string>
+
+namespace ff::cli {
+
+/// Options shared by every command.
+struct GlobalOptions {
+    bool quiet = false;
+};
+
+class ConsoleReporter final : public Reporter {
+public:
+    explicit ConsoleReporter(const GlobalOptions& options) : options_(options) {}
+    void report(const Diagnostic& d) override;
+
+private:
+    const GlobalOptions& options_;
+};
+
+/// Prints "fourierflare: error: <message>" to stderr.
+void printError(const std::string& message);
+
+} // namespace ff::cli

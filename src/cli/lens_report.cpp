@@ -1,0 +1,172 @@
+#include "cli/lens_report.h"
+
+#include "core/text.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace ff::cli {
+
+using optics::Lens;
+using optics::Surface;
+using text::fixed;
+
+namespace {
+
+std::string mediumText(const optics::Medium& m) {
+    if (!m.glass.empty()) return m.glass;
+    if (m.isAir()) return "air";
+    return "nd " + fixed(m.nd, 5) + (m.vd > 0.0 ? " Vd " + fixed(m.vd, 2) : std::string(" Vd 0"));
+}
+
+std::string thicknessText(const Lens& lens, std::size_t i) {
+    if (i + 1 == lens.surfaces.size() && lens.imageDistanceAuto) return "auto";
+    if (i < lens.zoomGaps.size() && !lens.zoomGaps[i].empty()) {
+        std::string s;
+        for (std::size_t k = 0; k < lens.zoomGaps[i].size(); ++k) {
+            if (k) s += '/';
+            s += fixed(lens.zoomGaps[i][k], 3);
+        }
+        return s;
+    }
+    return fixed(lens.surfaces[i].thickness, 4);
+}
+
+std::string pupilZText(double z, const char* reference) {
+    if (!std::isfinite(z)) return "at infinity (telecentric)";
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "%.3f mm %s %s", std::abs(z), z >= 0.0 ? "behind" : "in front of", reference);
+    return buf;
+}
+
+std::string row(const char* label, const std::string& value) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "  %-26s", label);
+    return std::string(buf) + value + "\n";
+}
+
+} // namespace
+
+std::string lensInfoText(const Lens& lens, double lambdaNm, const std::vector<PositionReport>& positions) {
+    std::ostringstream o;
+    o << (lens.name.empty() ? std::string("(unnamed lens)") : lens.name) << "\n";
+    o << "  file: " << lens.file << " (" << lens.format << " format)\n";
+    if (!lens.source.empty()) o << "  source: " << lens.source << "\n";
+    if (!lens.patent.empty()) o << "  patent: " << lens.patent << "\n";
+    if (lens.nominalFocalLength) o << "  nominal focal length (header): " << text::roundTrip(*lens.nominalFocalLength) << " mm\n";
+    if (lens.fNumber) o << "  working f-number (header): f/" << text::roundTrip(*lens.fNumber) << "\n";
+    if (lens.sensorMm) o << "  sensor: " << text::roundTrip(lens.sensorMm->first) << " x " << text::roundTrip(lens.sensorMm->second) << " mm\n";
+    o << "  iris: " << (lens.apertureBlades ? std::to_string(lens.apertureBlades) + " blades" : std::string("circular"));
+    if (lens.bladeRotationDeg != 0.0) o << ", rotated " << text::roundTrip(lens.bladeRotationDeg) << " deg";
+    o << "\n";
+    if (lens.isZoom()) o << "  zoom positions: " << text::join(lens.zoomLabels) << "\n";
+    o << "\n";
+
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "  %3s %12s %21s  %-22s %9s %9s  %-36s\n", "#", "radius", "thickness", "medium after",
+                  ("n@" + fixed(lambdaNm, 1)).c_str(), "semi-ap", "coating");
+    o << buf;
+    for (std::size_t i = 0; i < lens.surfaces.size(); ++i) {
+        const Surface& s = lens.surfaces[i];
+        std::string radius = s.radius == 0.0 ? "flat" : fixed(s.radius, 4);
+        std::string extra;
+        if (s.stop) extra += " STOP";
+        if (s.conic != 0.0) extra += " k=" + text::roundTrip(s.conic);
+        if (s.isAspheric()) extra += " asphere(" + std::to_string(s.asphere.size()) + " terms)";
+        if (!s.rotationallySymmetric()) extra += std::string(" ") + optics::toString(s.shape);
+        std::snprintf(buf, sizeof buf, "  %3zu %12s %21s  %-22s %9.5f %9.3f  %-12s%s\n", i + 1, radius.c_str(),
+                      thicknessText(lens, i).c_str(), mediumText(s.medium).c_str(), s.medium.index(lambdaNm), s.semiAperture,
+                      lens.coatingOf(i).str().c_str(), extra.c_str());
+        o << buf;
+    }
+
+    for (const PositionReport& p : positions) {
+        const optics::FirstOrder& f = p.firstOrder;
+        o << "\nFirst-order optics at " << fixed(lambdaNm, 2) << " nm";
+        if (!p.label.empty()) o << ", zoom position " << p.label;
+        o << ":\n";
+        o << row("effective focal length", fixed(f.efl, 3) + " mm");
+        o << row("back focal distance", fixed(f.bfd, 3) + " mm (last vertex to paraxial focus)");
+        o << row("front focal distance", fixed(f.ffd, 3) + " mm (front focal point to first vertex)");
+        o << row("entrance pupil", pupilZText(f.entrancePupilZ, "the first vertex") + ", diameter " + fixed(f.entrancePupilDiameter, 3) + " mm");
+        o << row("exit pupil", pupilZText(f.exitPupilZ, "the last vertex") +
+                                   (std::isfinite(f.exitPupilDiameter) ? ", diameter " + fixed(f.exitPupilDiameter, 3) + " mm" : std::string()));
+        o << row("f-number", "f/" + fixed(f.fNumber, 2));
+        o << row("stop semi-aperture", fixed(f.stopSemiAperture, 3) + " mm");
+        o << row("sensor distance", fixed(f.imageDistance, 3) + " mm (last vertex to sensor; defocus " +
+                                        fixed(f.imageDistance - f.bfd, 3) + " mm)");
+        o << row("total track", fixed(f.totalTrack, 3) + " mm (first vertex to sensor)");
+        o << row("real-ray focal length", fixed(p.realRayEfl, 3) + " mm (ray at 1e-4 of the pupil radius)");
+        o << row("reflecting interfaces", std::to_string(f.reflectingInterfaces));
+        o << row("two-bounce ghosts", std::to_string(f.ghostCount));
+    }
+    return o.str();
+}
+
+nlohmann::json lensInfoJson(const Lens& lens, double lambdaNm, const std::vector<PositionReport>& positions) {
+    using nlohmann::json;
+    auto optional = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
+    auto finiteOrNull = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+    json j;
+    j["name"] = lens.name;
+    j["file"] = lens.file;
+    j["format"] = lens.format;
+    j["content_hash"] = lens.contentHash;
+    j["source"] = lens.source;
+    j["patent"] = lens.patent;
+    j["nominal_focal_length_mm"] = optional(lens.nominalFocalLength);
+    j["f_number_header"] = optional(lens.fNumber);
+    j["sensor_mm"] = lens.sensorMm ? json::array({lens.sensorMm->first, lens.sensorMm->second}) : json(nullptr);
+    j["aperture_blades"] = lens.apertureBlades;
+    j["blade_rotation_deg"] = lens.bladeRotationDeg;
+    j["wavelength_nm"] = lambdaNm;
+    j["zoom_positions"] = lens.zoomLabels;
+    json surfaces = json::array();
+    for (std::size_t i = 0; i < lens.surfaces.size(); ++i) {
+        const Surface& s = lens.surfaces[i];
+        json js;
+        js["index"] = i + 1;
+        js["radius_mm"] = s.radius == 0.0 ? json(nullptr) : json(s.radius);
+        js["conic"] = s.conic;
+        js["asphere"] = s.asphere;
+        if (i < lens.zoomGaps.size() && !lens.zoomGaps[i].empty()) js["thickness_mm"] = lens.zoomGaps[i];
+        else js["thickness_mm"] = s.thickness;
+        js["medium"] = {{"glass", s.medium.glass.empty() ? json(nullptr) : json(s.medium.glass)},
+                        {"nd", s.medium.nd},
+                        {"vd", s.medium.vd},
+                        {"n", s.medium.index(lambdaNm)}};
+        js["semi_aperture_mm"] = s.semiAperture;
+        js["coating"] = lens.coatingOf(i).str();
+        js["stop"] = s.stop;
+        js["shape"] = optics::toString(s.shape);
+        surfaces.push_back(js);
+    }
+    j["surfaces"] = surfaces;
+    j["image_distance_auto"] = lens.imageDistanceAuto;
+    json pos = json::array();
+    for (const PositionReport& p : positions) {
+        const optics::FirstOrder& f = p.firstOrder;
+        pos.push_back({{"label", p.label},
+                       {"efl_mm", f.efl},
+                       {"bfd_mm", f.bfd},
+                       {"ffd_mm", f.ffd},
+                       {"entrance_pupil_z_mm", f.entrancePupilZ},
+                       {"entrance_pupil_diameter_mm", f.entrancePupilDiameter},
+                       {"exit_pupil_z_mm", finiteOrNull(f.exitPupilZ)},
+                       {"exit_pupil_diameter_mm", finiteOrNull(f.exitPupilDiameter)},
+                       {"f_number", f.fNumber},
+                       {"stop_semi_aperture_mm", f.stopSemiAperture},
+                       {"image_distance_mm", f.imageDistance},
+                       {"total_track_mm", f.totalTrack},
+                       {"real_ray_efl_mm", p.realRayEfl},
+                       {"reflecting_interfaces", f.reflectingInterfaces},
+                       {"two_bounce_ghosts", f.ghostCount}});
+    }
+    j["first_order"] = pos;
+    return j;
+}
+
+} // namespace ff::cli

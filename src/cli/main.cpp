@@ -1,0 +1,46 @@
+// fourierflare: command-line entry point. Parses, dispatches to one subcommand, and maps errors to
+// exit codes (docs/cli.md): 0 ok, 1 runtime failure, 2 usage or input error.
+
+#include "cli/commands.h"
+#include "cli/console.h"
+#include "core/error.h"
+#include "ff/version.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <exception>
+
+int main(int argc, char** argv) {
+    using namespace ff::cli;
+    CLI::App app{"FourierFlare: physically based lens flares from real lens prescriptions.", "fourierflare"};
+    app.set_version_flag("--version", std::string("fourierflare ") + ff::kVersion);
+    app.require_subcommand(1);
+    app.option_defaults()->always_capture_default();
+    app.footer("Exit codes: 0 ok, 1 runtime failure, 2 usage or input error.\n"
+               "Example: fourierflare lens info lenses/double-gauss-50mm-f2.lens");
+    GlobalOptions global;
+    app.add_flag("-q,--quiet", global.quiet, "Do not print notes (warnings and errors are always printed)");
+    addLensCommand(app, global);
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        printError(e.what());
+        std::fprintf(stderr, "Run 'fourierflare --help' (or '<command> --help') for usage.\n");
+        return 2;
+    } catch (const ff::Error& e) {
+        printError(e.what());
+        return ff::exitCodeFor(e.kind());
+    } catch (const std::exception& e) {
+        printError(e.what());
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,75 @@
+#include "core/file_io.h"
+
+#include "core/error.h"
+
+#include <cstdio>
+#include <fstream>
+#include <random>
+
+namespace fs = std::filesystem;
+
+namespace ff {
+
+std::string readFileBytes(const fs::path& path, std::uintmax_t maxBytes) {
+    const SourceLocation where{path.string()};
+    std::error_code ec;
+    const auto status = fs::status(path, ec);
+    if (ec || !fs::exists(status)) throwInputError(where, "no such file");
+    if (fs::is_directory(status)) throwInputError(where, "is a directory, expected a file");
+    if (!fs::is_regular_file(status)) throwInputError(where, "is not a regular file");
+    const std::uintmax_t size = fs::file_size(path, ec);
+    if (ec) throwInputError(where, "cannot determine the file size: " + ec.message());
+    if (size > maxBytes)
+        throwInputError(where, "file is " + std::to_string(size) + " bytes, larger than the limit of " +
+                                   std::to_string(maxBytes) + " bytes for this kind of input");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throwInputError(where, "cannot open the file for reading");
+    std::string bytes(static_cast<std::size_t>(size), '\0');
+    in.read(bytes.data(), static_cast<std::streamsize>(size));
+    if (static_cast<std::uintmax_t>(in.gcount()) != size) throwInputError(where, "could not read the whole file");
+    return bytes;
+}
+
+void writeFileAtomic(const fs::path& path, std::string_view content) {
+    const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+    std::random_device rd;
+    const fs::path tmp = dir / ("." + path.filename().string() + ".tmp" + std::to_string(rd() % 1000000));
+    {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        if (!out) throwRuntimeError("cannot write '" + path.string() + "': cannot create a file in '" +
+                                    dir.string() + "'");
+        out.write(content.data(), static_cast<std::streamsize>(content.size()));
+        out.close();
+        if (!out) {
+            std::error_code ec;
+            fs::remove(tmp, ec);
+            throwRuntimeError("cannot write '" + path.string() + "': write failed (disk full?)");
+        }
+    }
+    std::error_code ec;
+    fs::rename(tmp, path, ec);
+    if (ec) {
+        std::error_code ignored;
+        fs::remove(tmp, ignored);
+        throwRuntimeError("cannot write '" + path.string() + "': " + ec.message());
+    }
+}
+
+bool samePath(const fs::path& a, const fs::path& b) {
+    std::error_code ec;
+    if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
+    return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
+}
+
+std::string hashHex(std::string_view bytes) {
+    std::uint64_t h = 0xcbf29ce484222325ULL;
+    for (unsigned char c : bytes) {
+        h ^= c;
+        h *= 0x100000001b3ULL;
+    }
+    char buf[17];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+    return buf;
+}
+
+} // namespace ff

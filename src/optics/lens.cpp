@@ -1,0 +1,74 @@
+#include "optics/lens.h"
+
+#include "core/error.h"
+#include "core/text.h"
+#include "optics/paraxial.h"
+
+#include <cmath>
+
+namespace ff::optics {
+
+std::size_t Lens::stopIndex() const {
+    for (std::size_t i = 0; i < surfaces.size(); ++i)
+        if (surfaces[i].stop) return i;
+    throw Error(ErrorKind::Input, SourceLocation{file}, "the lens has no aperture stop");
+}
+
+const Medium& Lens::mediumBefore(std::size_t i) const {
+    static const Medium air = Medium::air();
+    return i == 0 ? air : surfaces[i - 1].medium;
+}
+
+double Lens::vertexZ(std::size_t i) const {
+    double z = 0.0;
+    for (std::size_t j = 0; j < i; ++j) z += surfaces[j].thickness;
+    return z;
+}
+
+double Lens::sensorZ() const { return vertexZ(surfaces.size()); }
+
+CoatingSpec Lens::coatingOf(std::size_t i) const {
+    const Surface& s = surfaces[i];
+    if (s.coating) return *s.coating;
+    if (s.coatingLayers <= 0) return CoatingSpec::none();
+    if (defaultCoating) return *defaultCoating;
+    return s.coatingLayers == 1 ? CoatingSpec::mgf2() : CoatingSpec::broadband();
+}
+
+bool Lens::rotationallySymmetric() const {
+    for (const auto& s : surfaces)
+        if (!s.rotationallySymmetric()) return false;
+    return true;
+}
+
+std::vector<std::size_t> Lens::reflectingInterfaces(double lambdaNm) const {
+    std::vector<std::size_t> r;
+    for (std::size_t i = 0; i < surfaces.size(); ++i) {
+        const double n1 = mediumBefore(i).index(lambdaNm), n2 = surfaces[i].medium.index(lambdaNm);
+        if (std::abs(n1 - n2) > 1e-9) r.push_back(i);
+    }
+    return r;
+}
+
+Lens atZoom(const Lens& lens, std::size_t k) {
+    if (k >= lens.zoomCount())
+        throw Error(ErrorKind::Usage, "zoom position " + std::to_string(k + 1) + " does not exist; the lens has " +
+                                          std::to_string(lens.zoomCount()) + " position(s)");
+    Lens out = lens;
+    out.activeZoom = k;
+    for (std::size_t i = 0; i < out.surfaces.size() && i < out.zoomGaps.size(); ++i)
+        if (!out.zoomGaps[i].empty()) out.surfaces[i].thickness = out.zoomGaps[i][k];
+    if (out.imageDistanceAuto) focusAtParaxialImage(out);
+    return out;
+}
+
+std::size_t findZoomPosition(const Lens& lens, const std::string& labelOrIndex) {
+    for (std::size_t k = 0; k < lens.zoomLabels.size(); ++k)
+        if (lens.zoomLabels[k] == labelOrIndex) return k;
+    if (auto idx = text::parseInt(labelOrIndex); idx && *idx >= 1 && static_cast<std::size_t>(*idx) <= lens.zoomCount())
+        return static_cast<std::size_t>(*idx - 1);
+    throw Error(ErrorKind::Usage, "no zoom position " + text::quoted(labelOrIndex) + "; valid positions: " +
+                                      (lens.isZoom() ? text::join(lens.zoomLabels) : std::string("1 (a prime lens)")));
+}
+
+} // namespace ff::optics

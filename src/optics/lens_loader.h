@@ -1,0 +1,21 @@
+#pragma once
+// Loads a lens file of any supported format, chosen by extension: .lens (native), .zmx (Zemax),
+// .dat (pbrt). The file is read once, size-checked before reading, and never modified.
+
+#include "core/reporter.h"
+#include "optics/lens.h"
+
+#include <filesystem>
+
+namespace ff::optics {
+
+/// Largest lens file accepted (bytes); real prescriptions are a few kB.
+inline constexpr std::uintmax_t kMaxLensFileBytes = 4u << 20;
+
+Lens loadLens(const std::filesystem::path& path, Reporter* reporter = nullptr);
+
+/// Parses lens bytes of the given format ("lens", "zmx", "dat"); fileName for messages.
+Lens parseLensBytes(std::string_view bytes, const std::string& format, const std::string& fileName,
+                    Reporter* reporter = nullptr);
+
+} // namespace ff::optics

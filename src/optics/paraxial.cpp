@@ -1,0 +1,126 @@
+#include "optics/paraxial.h"
+
+#include "core/error.h"
+#include "core/text.h"
+#include "core/units.h"
+
+#include <cmath>
+
+namespace ff::optics {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Refracts at surface i: w' = w - y c (n' - n).
+ParaxialRay refract(const Lens& lens, double lambdaNm, std::size_t i, ParaxialRay r) {
+    const double n1 = lens.mediumBefore(i).index(lambdaNm);
+    const double n2 = lens.surfaces[i].medium.index(lambdaNm);
+    r.w -= r.y * lens.surfaces[i].curvature() * (n2 - n1);
+    return r;
+}
+
+} // namespace
+
+ParaxialRay traceParaxial(const Lens& lens, double lambdaNm, ParaxialRay r, std::size_t from, std::size_t to) {
+    for (std::size_t i = from; i < to; ++i) {
+        r = refract(lens, lambdaNm, i, r);
+        if (i + 1 < to) r.y += lens.surfaces[i].thickness * r.w / lens.surfaces[i].medium.index(lambdaNm);
+    }
+    return r;
+}
+
+double heightAt(const Lens& lens, double lambdaNm, ParaxialRay in, std::size_t from, std::size_t at) {
+    if (at == from) return in.y;
+    const ParaxialRay r = traceParaxial(lens, lambdaNm, in, from, at);
+    return r.y + lens.surfaces[at - 1].thickness * r.w / lens.surfaces[at - 1].medium.index(lambdaNm);
+}
+
+double paraxialEfl(const Lens& lens, double lambdaNm) {
+    const ParaxialRay out = traceParaxial(lens, lambdaNm, {1.0, 0.0}, 0, lens.surfaces.size());
+    if (std::abs(out.w) < 1e-15)
+        throw Error(ErrorKind::Input, SourceLocation{lens.file},
+                    "the lens is afocal (zero power): it has no focal length");
+    return -1.0 / out.w;
+}
+
+double paraxialBfd(const Lens& lens, double lambdaNm) {
+    const ParaxialRay out = traceParaxial(lens, lambdaNm, {1.0, 0.0}, 0, lens.surfaces.size());
+    if (std::abs(out.w) < 1e-15)
+        throw Error(ErrorKind::Input, SourceLocation{lens.file},
+                    "the lens is afocal (zero power): it has no back focus");
+    const double nImage = lens.surfaces.back().medium.index(lambdaNm);
+    return -out.y * nImage / out.w;
+}
+
+double workingStopSemiAperture(const Lens& lens, bool* clamped) {
+    if (clamped) *clamped = false;
+    const std::size_t s = lens.stopIndex();
+    const double physical = lens.surfaces[s].semiAperture;
+    if (!lens.fNumber) {
+        if (physical <= 0.0)
+            throw Error(ErrorKind::Input, lens.surfaces[s].origin,
+                        "the stop has no semi-aperture (0) and the header gives no 'f_number:'; "
+                        "give one of them to set the aperture");
+        return physical;
+    }
+    // EPD = 2 r / |yA|, with yA the stop height of a unit-height axial ray; EPD = EFL / N.
+    const double yA = heightAt(lens, lines::d, {1.0, 0.0}, 0, s);
+    const double epd = std::abs(paraxialEfl(lens, lines::d)) / *lens.fNumber;
+    const double r = 0.5 * epd * std::abs(yA);
+    if (physical > 0.0 && r > physical) {
+        if (clamped) *clamped = true;
+        return physical;
+    }
+    return r;
+}
+
+FirstOrder analyzeFirstOrder(const Lens& lens, double lambdaNm) {
+    FirstOrder f;
+    f.lambdaNm = lambdaNm;
+    const std::size_t nS = lens.surfaces.size();
+    const double n0 = lens.mediumBefore(0).index(lambdaNm);
+    const double nImage = lens.surfaces.back().medium.index(lambdaNm);
+
+    // Two base rays in object space at the first vertex: A (y = 1, w = 0), B (y = 0, w = 1).
+    const ParaxialRay a = traceParaxial(lens, lambdaNm, {1.0, 0.0}, 0, nS);
+    const ParaxialRay b = traceParaxial(lens, lambdaNm, {0.0, 1.0}, 0, nS);
+    if (std::abs(a.w) < 1e-15)
+        throw Error(ErrorKind::Input, SourceLocation{lens.file}, "the lens is afocal (zero power)");
+    f.efl = -1.0 / a.w;
+    f.bfd = -a.y * nImage / a.w;
+    // The ray a A + b B leaves parallel when a wA + b wB = 0, e.g. a = wB, b = -wA. In object space
+    // it has y0 = a, u0 = b / n0 and crosses the axis at z_F = -y0 / u0 = n0 wB / wA.
+    f.ffd = -(n0 * b.w / a.w);
+
+    // Entrance pupil: object-space rays through the stop centre satisfy a yA_s + b yB_s = 0.
+    const std::size_t s = lens.stopIndex();
+    const double yAs = heightAt(lens, lambdaNm, {1.0, 0.0}, 0, s);
+    const double yBs = heightAt(lens, lambdaNm, {0.0, 1.0}, 0, s);
+    f.stopSemiAperture = workingStopSemiAperture(lens);
+    f.entrancePupilZ = (s == 0) ? 0.0 : n0 * yBs / yAs;
+    f.entrancePupilDiameter = 2.0 * f.stopSemiAperture / std::abs(yAs);
+    f.fNumber = std::abs(f.efl) / f.entrancePupilDiameter;
+
+    // Exit pupil: image of the stop through surfaces s..end. C leaves the stop centre at an angle,
+    // D leaves the stop edge parallel to the axis; XP is where C crosses the axis in image space.
+    const ParaxialRay c = traceParaxial(lens, lambdaNm, {0.0, 1.0}, s, nS);
+    const ParaxialRay d = traceParaxial(lens, lambdaNm, {f.stopSemiAperture, 0.0}, s, nS);
+    if (std::abs(c.w) < 1e-15) {
+        f.exitPupilZ = kInf;
+        f.exitPupilDiameter = kInf;
+    } else {
+        f.exitPupilZ = -c.y * nImage / c.w;
+        f.exitPupilDiameter = 2.0 * std::abs(d.y + f.exitPupilZ * d.w / nImage);
+    }
+
+    f.imageDistance = lens.surfaces.back().thickness;
+    f.totalTrack = lens.sensorZ();
+    f.reflectingInterfaces = lens.reflectingInterfaces(lambdaNm).size();
+    f.ghostCount = f.reflectingInterfaces * (f.reflectingInterfaces - (f.reflectingInterfaces > 0 ? 1 : 0)) / 2;
+    return f;
+}
+
+void focusAtParaxialImage(Lens& lens) { lens.surfaces.back().thickness = paraxialBfd(lens, lines::d); }
+
+} // namespace ff::optics

@@ -1,0 +1,136 @@
+#include "optics/real_ray.h"
+
+#include "core/error.h"
+
+#include <glm/geometric.hpp>
+
+#include <cmath>
+
+namespace ff::optics {
+
+namespace {
+
+// Unit normal of the surface at a point given in vertex-local coordinates (x, y, z - vertexZ),
+// from the sag slope: n ∝ (-z'(r) x / r, -z'(r) y / r, 1).
+std::optional<glm::dvec3> surfaceNormal(const Surface& s, const glm::dvec3& local) {
+    const double r = std::hypot(local.x, local.y);
+    auto slope = s.sagSlope(r);
+    if (!slope || !std::isfinite(*slope)) return std::nullopt;
+    glm::dvec3 n(0.0, 0.0, 1.0);
+    if (r > 0.0) n = glm::dvec3(-*slope * local.x / r, -*slope * local.y / r, 1.0);
+    return glm::normalize(n);
+}
+
+// Root of a t^2 + 2 B t + C = 0 on the branch through the vertex: the one that tends to the
+// plane solution -C / (2B) as the curvature goes to zero (the larger-magnitude denominator).
+std::optional<double> vertexBranchRoot(double a, double B, double C) {
+    const double disc = B * B - a * C;
+    if (disc < 0.0) return std::nullopt;
+    const double q = -B + (B <= 0.0 ? std::sqrt(disc) : -std::sqrt(disc));
+    if (q == 0.0) return std::nullopt;
+    return C / q;
+}
+
+} // namespace
+
+std::optional<SurfaceHit> intersectSurface(const Surface& s, double vertexZ, const Ray& ray, double tMin) {
+    const glm::dvec3& d = ray.dir;
+    if (std::abs(d.z) < 1e-12) return std::nullopt; // travelling within a vertex plane: not a lens ray
+    // Transfer to the vertex tangent plane first (Spencer & Murty), so that the quadratic's
+    // vertex-branch root is the right one however far away the ray starts.
+    const double t0 = (vertexZ - ray.origin.z) / d.z;
+    const glm::dvec3 p(ray.origin.x + t0 * d.x, ray.origin.y + t0 * d.y, 0.0);
+    const double c = s.curvature(), k1 = 1.0 + s.conic;
+    // Conic: c (x^2 + y^2 + (1 + k) z^2) - 2 z = 0, from p (z = 0) along d.
+    const double a = c * (d.x * d.x + d.y * d.y + k1 * d.z * d.z);
+    const double B = c * (p.x * d.x + p.y * d.y) - d.z;
+    const double C = c * (p.x * p.x + p.y * p.y);
+    auto t = vertexBranchRoot(a, B, C);
+    if (!t) return std::nullopt;
+
+    if (s.isAspheric()) {
+        // Newton on f(t) = z(t) - sag(r(t)), f'(t) = dz - sag'(r) dr/dt.
+        double tt = *t;
+        bool converged = false;
+        for (int it = 0; it < 60; ++it) {
+            const glm::dvec3 q = p + tt * d;
+            const double r = std::hypot(q.x, q.y);
+            auto z = s.sag(r);
+            auto dz = s.sagSlope(r);
+            if (!z || !dz) return std::nullopt;
+            const double f = q.z - *z;
+            const double drdt = r > 0.0 ? (q.x * d.x + q.y * d.y) / r : 0.0;
+            const double fp = d.z - *dz * drdt;
+            if (fp == 0.0) return std::nullopt;
+            const double step = f / fp;
+            tt -= step;
+            if (std::abs(step) < 1e-13 * (1.0 + std::abs(tt))) {
+                converged = true;
+                break;
+            }
+        }
+        if (!converged) return std::nullopt;
+        t = tt;
+    }
+    if (t0 + *t <= tMin) return std::nullopt;
+    const glm::dvec3 local = p + *t * d;
+    auto n = surfaceNormal(s, local);
+    if (!n) return std::nullopt;
+    return SurfaceHit{t0 + *t, glm::dvec3(local.x, local.y, local.z + vertexZ), *n};
+}
+
+bool clipped(const Surface& s, const glm::dvec3& point) {
+    return s.semiAperture > 0.0 && point.x * point.x + point.y * point.y > s.semiAperture * s.semiAperture;
+}
+
+std::optional<glm::dvec3> refract(const glm::dvec3& d, const glm::dvec3& nIn, double n1, double n2) {
+    glm::dvec3 n = nIn;
+    double cosi = -glm::dot(n, d);
+    if (cosi < 0.0) {
+        n = -n;
+        cosi = -cosi;
+    }
+    const double eta = n1 / n2;
+    const double k = 1.0 - eta * eta * (1.0 - cosi * cosi);
+    if (k < 0.0) return std::nullopt;
+    return glm::normalize(eta * d + (eta * cosi - std::sqrt(k)) * n);
+}
+
+glm::dvec3 reflect(const glm::dvec3& d, const glm::dvec3& n) { return d - 2.0 * glm::dot(d, n) * n; }
+
+const char* toString(RayStatus s) {
+    switch (s) {
+    case RayStatus::Ok: return "ok";
+    case RayStatus::Missed: return "missed";
+    case RayStatus::Clipped: return "clipped";
+    case RayStatus::TotalInternalReflection: return "total internal reflection";
+    }
+    return "?";
+}
+
+RealTraceResult traceReal(const Lens& lens, double lambdaNm, Ray ray, bool clip) {
+    double z = 0.0;
+    for (std::size_t i = 0; i < lens.surfaces.size(); ++i) {
+        const Surface& s = lens.surfaces[i];
+        auto hit = intersectSurface(s, z, ray);
+        if (!hit) return {RayStatus::Missed, i, ray};
+        if (clip && clipped(s, hit->point)) return {RayStatus::Clipped, i, ray};
+        auto dir = refract(ray.dir, hit->normal, lens.mediumBefore(i).index(lambdaNm), s.medium.index(lambdaNm));
+        if (!dir) return {RayStatus::TotalInternalReflection, i, ray};
+        ray = {hit->point, *dir};
+        z += s.thickness;
+    }
+    return {RayStatus::Ok, lens.surfaces.size(), ray};
+}
+
+double realRayEfl(const Lens& lens, double lambdaNm, double height) {
+    const Ray in{{0.0, height, -1.0}, {0.0, 0.0, 1.0}};
+    const RealTraceResult r = traceReal(lens, lambdaNm, in, false);
+    if (r.status != RayStatus::Ok || r.ray.dir.y == 0.0)
+        throwRuntimeError("a real ray at height " + std::to_string(height) + " mm did not reach image space (" +
+                          toString(r.status) + " at surface " + std::to_string(r.surface + 1) + ")");
+    // In image space of index n', the paraxial EFL is -y / (n' u'); the real-ray analogue uses sin U'.
+    return -height / (lens.surfaces.back().medium.index(lambdaNm) * r.ray.dir.y);
+}
+
+} // namespace ff::optics

@@ -1,0 +1,257 @@
+#include "optics/zmx_importer.h"
+
+#include "core/text.h"
+#include "optics/glass_catalog.h"
+#include "optics/lens_parser.h"
+#include "optics/lens_validation.h"
+#include "optics/paraxial.h"
+#include "core/units.h"
+
+#include <cmath>
+
+#include <map>
+
+namespace ff::optics {
+
+namespace {
+
+void appendUtf8(std::string& out, char32_t cp) {
+    if (cp < 0x80) {
+        out += static_cast<char>(cp);
+    } else if (cp < 0x800) {
+        out += static_cast<char>(0xC0 | (cp >> 6));
+        out += static_cast<char>(0x80 | (cp & 0x3F));
+    } else if (cp < 0x10000) {
+        out += static_cast<char>(0xE0 | (cp >> 12));
+        out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
+        out += static_cast<char>(0x80 | (cp & 0x3F));
+    } else {
+        out += static_cast<char>(0xF0 | (cp >> 18));
+        out += static_cast<char>(0x80 | ((cp >> 12) & 0x3F));
+        out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
+        out += static_cast<char>(0x80 | (cp & 0x3F));
+    }
+}
+
+std::string fromUtf16(std::string_view b, bool littleEndian, const std::string& fileName) {
+    if (b.size() % 2 != 0) throwInputError({fileName}, "UTF-16 file with an odd number of bytes (truncated?)");
+    std::string out;
+    out.reserve(b.size() / 2);
+    auto unit = [&](std::size_t i) {
+        const auto lo = static_cast<unsigned char>(b[i + (littleEndian ? 0 : 1)]);
+        const auto hi = static_cast<unsigned char>(b[i + (littleEndian ? 1 : 0)]);
+        return static_cast<char16_t>(lo | (hi << 8));
+    };
+    for (std::size_t i = 0; i < b.size(); i += 2) {
+        char32_t cp = unit(i);
+        if (cp >= 0xD800 && cp <= 0xDBFF && i + 2 < b.size()) {
+            const char16_t lo = unit(i + 2);
+            if (lo >= 0xDC00 && lo <= 0xDFFF) {
+                cp = 0x10000 + ((cp - 0xD800) << 10) + (lo - 0xDC00);
+                i += 2;
+            }
+        }
+        if (cp >= 0xD800 && cp <= 0xDFFF) throwInputError({fileName}, "invalid UTF-16 (unpaired surrogate)");
+        appendUtf8(out, cp);
+    }
+    return out;
+}
+
+double unitScale(std::string_view unit) {
+    if (text::iequals(unit, "MM")) return 1.0;
+    if (text::iequals(unit, "CM")) return 10.0;
+    if (text::iequals(unit, "IN")) return 25.4;
+    if (text::iequals(unit, "METER") || text::iequals(unit, "M")) return 1000.0;
+    return 0.0;
+}
+
+struct ZmxSurface {
+    SourceLocation where;
+    std::string type = "STANDARD";
+    double curv = 0.0, disz = 0.0, diam = 0.0, clap = 0.0, conic = 0.0;
+    bool diszInfinite = false, stop = false;
+    std::string glass;
+    std::optional<double> inlineNd, inlineVd;
+    SourceLocation glassWhere;
+    std::map<int, double> parm;
+    std::string coat;
+};
+
+} // namespace
+
+std::string decodeZmxText(std::string_view b, const std::string& fileName) {
+    if (b.size() >= 2 && static_cast<unsigned char>(b[0]) == 0xFF && static_cast<unsigned char>(b[1]) == 0xFE)
+        return fromUtf16(b.substr(2), true, fileName);
+    if (b.size() >= 2 && static_cast<unsigned char>(b[0]) == 0xFE && static_cast<unsigned char>(b[1]) == 0xFF)
+        return fromUtf16(b.substr(2), false, fileName);
+    if (b.size() >= 3 && text::startsWith(b, "\xEF\xBB\xBF")) return std::string(b.substr(3));
+    // UTF-16 without a BOM: ASCII text has a zero in every other byte.
+    if (b.size() >= 4 && b[0] != 0 && b[1] == 0 && b[2] != 0 && b[3] == 0) return fromUtf16(b, true, fileName);
+    if (b.size() >= 4 && b[0] == 0 && b[1] != 0 && b[2] == 0 && b[3] != 0) return fromUtf16(b, false, fileName);
+    return std::string(b);
+}
+
+Lens importZmx(std::string_view bytes, const std::string& fileName, Reporter* reporterIn) {
+    Reporter& reporter = orNull(reporterIn);
+    const std::string textUtf8 = decodeZmxText(bytes, fileName);
+    checkIsText(textUtf8, fileName);
+
+    Lens lens;
+    lens.file = fileName;
+    lens.format = "zmx";
+    double scale = 1.0;
+    std::optional<double> enpd;
+    std::vector<ZmxSurface> surfs;
+    std::map<std::string, int> ignored;
+    int lineNo = 0;
+
+    for (std::string_view line : text::split(textUtf8, '\n')) {
+        ++lineNo;
+        const auto t = text::tokenize(line);
+        if (t.empty()) continue;
+        const std::string key = text::toUpper(t[0].text);
+        const SourceLocation at{fileName, lineNo, t[0].column};
+        auto arg = [&](std::size_t i, const char* what) -> double {
+            if (i >= t.size()) throwInputError({fileName, lineNo, t.back().column + static_cast<int>(t.back().text.size()) + 1},
+                                               std::string("expected ") + what + " after " + key);
+            auto v = text::parseNumber(t[i].text);
+            if (!v) throwInputError({fileName, lineNo, t[i].column}, std::string("expected ") + what + " after " + key + ", got " + text::quoted(t[i].text));
+            return *v;
+        };
+        auto needSurface = [&]() -> ZmxSurface& {
+            if (surfs.empty()) throwInputError(at, key + " outside a SURF block");
+            return surfs.back();
+        };
+
+        if (key == "UNIT") {
+            if (t.size() < 2) throwInputError(at, "expected a lens unit after UNIT (MM, CM, IN or METER)");
+            scale = unitScale(t[1].text);
+            if (scale == 0.0) throwInputError({fileName, lineNo, t[1].column}, "unknown lens unit " + text::quoted(t[1].text) + "; valid units: MM, CM, IN, METER");
+        } else if (key == "NAME" && surfs.empty()) {
+            if (t.size() > 1) lens.name = std::string(text::trim(line.substr(static_cast<std::size_t>(t[1].column - 1))));
+        } else if (key == "ENPD") {
+            enpd = arg(1, "the entrance-pupil diameter");
+        } else if (key == "SURF") {
+            const double n = arg(1, "the surface number");
+            if (n != static_cast<double>(surfs.size()))
+                throwInputError({fileName, lineNo, t[1].column}, "expected SURF " + std::to_string(surfs.size()) + " (surfaces in order), got SURF " + std::string(t[1].text));
+            surfs.push_back({});
+            surfs.back().where = at;
+        } else if (key == "TYPE") {
+            ZmxSurface& s = needSurface();
+            if (t.size() < 2) throwInputError(at, "expected a surface type after TYPE");
+            s.type = text::toUpper(t[1].text);
+            if (s.type != "STANDARD" && s.type != "EVENASPH")
+                throwInputError({fileName, lineNo, t[1].column}, "unsupported surface type " + text::quoted(t[1].text) +
+                                                                     "; supported: STANDARD, EVENASPH (rotationally symmetric sequential lenses)");
+        } else if (key == "CURV") {
+            needSurface().curv = arg(1, "a curvature");
+        } else if (key == "DISZ") {
+            ZmxSurface& s = needSurface();
+            if (t.size() >= 2 && text::iequals(t[1].text, "INFINITY")) s.diszInfinite = true;
+            else s.disz = arg(1, "a thickness");
+        } else if (key == "DIAM") {
+            needSurface().diam = arg(1, "a semi-diameter");
+        } else if (key == "CLAP") {
+            needSurface().clap = arg(2, "a clear-aperture radius");
+        } else if (key == "STOP") {
+            needSurface().stop = true;
+        } else if (key == "CONI") {
+            needSurface().conic = arg(1, "a conic constant");
+        } else if (key == "PARM") {
+            ZmxSurface& s = needSurface();
+            const double i = arg(1, "a parameter number");
+            s.parm[static_cast<int>(i)] = arg(2, "a parameter value");
+        } else if (key == "GLAS") {
+            ZmxSurface& s = needSurface();
+            if (t.size() < 2) throwInputError(at, "expected a glass name after GLAS");
+            s.glass = std::string(t[1].text);
+            s.glassWhere = {fileName, lineNo, t[1].column};
+            if (text::iequals(s.glass, "MIRROR"))
+                throwInputError(s.glassWhere, "MIRROR surfaces (catadioptric systems) are not supported");
+            if (t.size() >= 6) {
+                s.inlineNd = text::parseNumber(t[4].text);
+                s.inlineVd = text::parseNumber(t[5].text);
+            }
+        } else if (key == "COAT") {
+            if (t.size() > 1) needSurface().coat = std::string(t[1].text);
+        } else {
+            ++ignored[key];
+        }
+    }
+
+    if (surfs.size() < 3)
+        throwInputError({fileName, lineNo, 0}, "expected at least an object surface (SURF 0), one lens surface and an image surface, found " +
+                                                   std::to_string(surfs.size()) + " SURF block(s)");
+    if (!surfs.front().diszInfinite)
+        reporter.note(surfs.front().where, "the object distance " + text::roundTrip(surfs.front().disz * scale) +
+                                               " mm is ignored: FourierFlare images sources at infinity");
+
+    for (std::size_t i = 1; i + 1 < surfs.size(); ++i) {
+        const ZmxSurface& z = surfs[i];
+        Surface s;
+        s.origin = z.where;
+        if (z.diszInfinite) throwInputError(z.where, "DISZ INFINITY on a lens surface (only the object may be at infinity)");
+        s.radius = z.curv == 0.0 ? 0.0 : 1.0 / (z.curv / scale);
+        s.thickness = z.disz * scale;
+        s.conic = z.conic;
+        s.semiAperture = (z.clap > 0.0 ? z.clap : z.diam) * scale;
+        s.stop = z.stop;
+        if (z.type == "EVENASPH") {
+            if (auto a2 = z.parm.find(1); a2 != z.parm.end() && a2->second != 0.0)
+                throwInputError(z.where, "EVENASPH with an r^2 term (PARM 1) is not supported; only A4 and higher");
+            for (const auto& [idx, val] : z.parm) {
+                if (idx < 2 || idx > 11) continue;
+                s.asphere.resize(std::max<std::size_t>(s.asphere.size(), static_cast<std::size_t>(idx - 1)), 0.0);
+                // A coefficient of r^(2k) scales as length^(1-2k) when lengths are converted.
+                s.asphere[static_cast<std::size_t>(idx - 2)] = val * std::pow(scale, 1 - 2 * idx);
+            }
+            while (!s.asphere.empty() && s.asphere.back() == 0.0) s.asphere.pop_back();
+        }
+        if (z.glass.empty()) {
+            s.medium = Medium::air();
+        } else if (GlassCatalog::builtin().find(z.glass)) {
+            s.medium = GlassCatalog::builtin().medium(z.glass, z.glassWhere);
+        } else if (z.inlineNd && *z.inlineNd >= 1.0 && *z.inlineNd <= 4.0) {
+            s.medium = Medium::fromNdVd(*z.inlineNd, z.inlineVd.value_or(0.0) > 0.0 ? *z.inlineVd : 0.0);
+            reporter.note(z.glassWhere, "glass " + text::quoted(z.glass) + " is not in the catalogue; using its inline nd " +
+                                            text::roundTrip(s.medium.nd) + ", Vd " + text::roundTrip(s.medium.vd) + " (Cauchy)");
+        } else {
+            GlassCatalog::builtin().get(z.glass, z.glassWhere); // throws with the closest names
+        }
+        if (!z.coat.empty()) {
+            if (text::iequals(z.coat, "AR")) {
+                s.coating = CoatingSpec::mgf2();
+                s.coatingLayers = 1;
+            } else {
+                reporter.note(z.where, "coating " + text::quoted(z.coat) + " is not known; the surface is left bare");
+            }
+        }
+        lens.surfaces.push_back(std::move(s));
+    }
+    const ZmxSurface& image = surfs.back();
+    if (image.curv != 0.0) reporter.note(image.where, "the image surface is curved; FourierFlare uses a flat sensor at its vertex");
+
+    if (!ignored.empty()) {
+        std::vector<std::string> names;
+        int total = 0;
+        for (const auto& [k, n] : ignored) {
+            names.push_back(k);
+            total += n;
+        }
+        reporter.note({fileName}, "ignored " + std::to_string(total) + " directive(s) that do not affect the prescription: " + text::join(names));
+    }
+    // Aperture: the stop's DIAM, else the system entrance-pupil diameter (ENPD): the stop opening
+    // whose paraxial image in object space has that diameter (EPD = 2 r / |yA| at the stop).
+    for (std::size_t i = 0; i < lens.surfaces.size(); ++i) {
+        Surface& s = lens.surfaces[i];
+        if (!s.stop || s.semiAperture > 0.0 || !enpd || *enpd <= 0.0) continue;
+        const double yA = heightAt(lens, lines::d, {1.0, 0.0}, 0, i);
+        s.semiAperture = 0.5 * *enpd * scale * std::abs(yA);
+        reporter.note(s.origin, "stop semi-aperture " + text::fixed(s.semiAperture, 4) + " mm from ENPD " + text::roundTrip(*enpd * scale) + " mm");
+    }
+    validateLens(lens, {fileName, surfs.front().where.line, 0}, reporter);
+    return lens;
+}
+
+} // namespace ff::optics
