@@ -118,15 +118,46 @@ std::size_t editDistance(std::string_view a, std::string_view b) {
     return prev[lb.size()];
 }
 
+namespace {
+
+// Lower-case letters and digits only: "N-BK7" and "nbk7" compare equal.
+std::string normalizedName(std::string_view s) {
+    std::string r;
+    for (char c : s)
+        if (std::isalnum(static_cast<unsigned char>(c))) r += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return r;
+}
+
+} // namespace
+
 std::vector<std::string> closestNames(std::string_view name, const std::vector<std::string>& candidates,
                                       std::size_t maxCount) {
+    // Score: 0 when one normalised name contains the other ("focal" in "focal_length"), otherwise
+    // the edit distance of the normalised names; only scores up to max(2, |name| / 3) count as close.
+    const std::string query = normalizedName(name);
+    const std::size_t limit = std::max<std::size_t>(2, query.size() / 3);
     std::vector<std::pair<std::size_t, std::string>> scored;
-    scored.reserve(candidates.size());
-    for (const auto& c : candidates) scored.emplace_back(editDistance(name, c), c);
+    for (const auto& c : candidates) {
+        const std::string cand = normalizedName(c);
+        const bool contains = !query.empty() && (cand.find(query) != std::string::npos || query.find(cand) != std::string::npos);
+        const std::size_t score = contains ? 0 : editDistance(query, cand);
+        if (score <= limit) scored.emplace_back(score, c);
+    }
     std::sort(scored.begin(), scored.end());
     std::vector<std::string> out;
     for (std::size_t i = 0; i < scored.size() && i < maxCount; ++i) out.push_back(scored[i].second);
     return out;
+}
+
+std::string suggestion(std::string_view name, const std::vector<std::string>& candidates, std::string_view what) {
+    const auto close = closestNames(name, candidates);
+    if (close.empty()) return "valid " + std::string(what) + ": " + join(candidates);
+    std::string s = "did you mean ";
+    for (std::size_t i = 0; i < close.size(); ++i) {
+        if (i) s += (i + 1 == close.size()) ? " or " : ", ";
+        s += close[i];
+    }
+    return s + "?";
 }
 
 std::string join(const std::vector<std::string>& items, std::string_view sep) {

@@ -41,9 +41,13 @@ std::string quoted(std::string_view s);
 /// Edit distance (insertions, deletions, substitutions), case-insensitive.
 std::size_t editDistance(std::string_view a, std::string_view b);
 
-/// Up to maxCount names from candidates closest to name (by edit distance, then alphabetically).
+/// Up to maxCount candidates that are close to name: containing it (or contained in it), or within
+/// a small edit distance, compared on lower-case letters and digits only; best first.
 std::vector<std::string> closestNames(std::string_view name, const std::vector<std::string>& candidates,
                                       std::size_t maxCount = 3);
+
+/// "did you mean A, B or C?" from closestNames, or "valid <what>: <all candidates>" when none is close.
+std::string suggestion(std::string_view name, const std::vector<std::string>& candidates, std::string_view what);
 
 /// "a, b, c" joined with a separator.
 std::string join(const std::vector<std::string>& items, std::string_view sep = ", ");

@@ -79,8 +79,10 @@ CoatingSpec parseCoatingSpec(std::string_view textIn, const SourceLocation& wher
         CoatingSpec spec;
         spec.lambda0Nm = lambda0;
         std::size_t offset = 6;
-        for (std::string_view part : text::split(inner, ',')) {
-            const auto at = shifted(where, offset);
+        for (std::string_view rawPart : text::split(inner, ',')) {
+            const std::size_t lead = rawPart.find_first_not_of(" \t") == std::string_view::npos ? 0 : rawPart.find_first_not_of(" \t");
+            const std::string_view part = text::trim(rawPart);
+            const auto at = shifted(where, offset + lead);
             const auto colon = part.find(':');
             if (colon == std::string_view::npos || colon == 0)
                 throwInputError(at, "expected MATERIAL:WAVES in the coating stack, got " + text::quoted(part));
@@ -91,7 +93,7 @@ CoatingSpec parseCoatingSpec(std::string_view textIn, const SourceLocation& wher
             const std::string_view material = part.substr(0, colon);
             const GlassEntry& entry = GlassCatalog::builtin().get(material, at);
             spec.layers.push_back({entry.name, *waves});
-            offset += part.size() + 1;
+            offset += rawPart.size() + 1;
         }
         if (spec.layers.empty()) throwInputError(where, "empty coating stack");
         return spec;

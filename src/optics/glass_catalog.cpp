@@ -87,8 +87,7 @@ const GlassEntry* GlassCatalog::find(std::string_view name) const {
 
 const GlassEntry& GlassCatalog::get(std::string_view name, const SourceLocation& where) const {
     if (const GlassEntry* e = find(name)) return *e;
-    throwInputError(where, "unknown glass " + text::quoted(name) + "; closest known names: " +
-                               text::join(text::closestNames(name, names())) +
+    throwInputError(where, "unknown glass " + text::quoted(name) + "; " + text::suggestion(name, names(), "names") +
                                " (the catalogue is data/glass/; give 'nd Vd' instead for other glasses)");
 }
 

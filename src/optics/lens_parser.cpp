@@ -89,9 +89,8 @@ private:
         for (const char* k : kHeaderKeys) known = known || key == k;
         if (!known) {
             std::vector<std::string> keys(std::begin(kHeaderKeys), std::end(kHeaderKeys));
-            fail(tokens[0].column, "unknown header key " + text::quoted(key) + "; did you mean " +
-                                       text::join(text::closestNames(key, keys, 2), " or ") +
-                                       "? (valid keys: " + text::join(keys) + ", surfaces)");
+            keys.push_back("surfaces");
+            fail(tokens[0].column, "unknown header key " + text::quoted(key) + "; " + text::suggestion(key, keys, "keys"));
         }
         for (const auto& seen : seenKeys_)
             if (seen == key) fail(tokens[0].column, "duplicate header key " + text::quoted(key));

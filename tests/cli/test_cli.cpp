@@ -1,0 +1,101 @@
+// The fourierflare executable as a user meets it: output, error format, exit codes.
+
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <sys/wait.h>
+
+namespace {
+
+struct RunResult {
+    int code = -1;
+    std::string out, err;
+};
+
+RunResult run(const std::string& args) {
+    ff::test::TempDir dir;
+    const std::string cmd = std::string("cd '") + FF_SOURCE_DIR + "' && '" + FF_CLI_PATH + "' " + args + " >'" +
+                            (dir / "out").string() + "' 2>'" + (dir / "err").string() + "'";
+    const int status = std::system(cmd.c_str());
+    RunResult r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = ff::test::readFile(dir / "out");
+    r.err = ff::test::readFile(dir / "err");
+    return r;
+}
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+} // namespace
+
+TEST(Cli, LensInfoPrintsTheFirstOrderDataOfTheDoubleGauss) {
+    const RunResult r = run("lens info lenses/double-gauss-50mm-f2.lens");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(contains(r.out, "effective focal length    50.358 mm")) << r.out;
+    EXPECT_TRUE(contains(r.out, "back focal distance       36.106 mm")) << r.out;
+    EXPECT_TRUE(contains(r.out, "f/2.03")) << r.out;
+    EXPECT_TRUE(contains(r.out, "two-bounce ghosts         45")) << r.out;
+    EXPECT_TRUE(contains(r.out, "US 2,673,491")) << r.out;
+}
+
+TEST(Cli, LensInfoJsonIsMachineReadable) {
+    const RunResult r = run("lens info lenses/zoom-70-200mm-f2.8.lens --json --wavelength 550");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["wavelength_nm"].get<double>(), 550.0);
+    ASSERT_EQ(j["first_order"].size(), 3u); // every zoom position
+    EXPECT_EQ(j["first_order"][1]["label"], "135");
+    EXPECT_EQ(j["surfaces"].size(), 34u);
+    EXPECT_EQ(j["first_order"][0]["two_bounce_ghosts"].get<int>(), 528);
+}
+
+TEST(Cli, BadLensFileGivesFileLineColumnAndExitCode2) {
+    ff::test::TempDir dir;
+    ff::test::writeFile(dir / "x.lens", "name: x\nsurfaces:\n  stop 2 1 0 5\n  12 abc 1.5 60 10\n  -50 40 1 0 10\n");
+    const RunResult r = run("lens info '" + (dir / "x.lens").string() + "'");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_EQ(r.err, "fourierflare: error: " + (dir / "x.lens").string() + ":4:6: expected a number for 'thickness', got 'abc'\n");
+    EXPECT_TRUE(r.out.empty());
+}
+
+TEST(Cli, UsageErrorsExitWith2) {
+    EXPECT_EQ(run("lens info").code, 2);
+    EXPECT_EQ(run("frobnicate").code, 2);
+    EXPECT_EQ(run("lens info lenses/double-gauss-50mm-f2.lens --wavelength abc").code, 2);
+    const RunResult missing = run("lens info no-such-file.lens");
+    EXPECT_EQ(missing.code, 2);
+    EXPECT_TRUE(contains(missing.err, "fourierflare: error:")) << missing.err;
+}
+
+TEST(Cli, VersionAndHelp) {
+    const RunResult v = run("--version");
+    EXPECT_EQ(v.code, 0);
+    EXPECT_TRUE(contains(v.out, "fourierflare 0.")) << v.out;
+    for (const char* cmd : {"--help", "lens info --help", "lens convert --help"}) {
+        const RunResult h = run(cmd);
+        EXPECT_EQ(h.code, 0) << cmd;
+        EXPECT_TRUE(contains(h.out, "Example:")) << cmd << ":\n" << h.out;
+    }
+    EXPECT_TRUE(contains(run("lens info --help").out, "587.56")) << "the default wavelength is shown";
+}
+
+TEST(Cli, ConvertWritesNativeLensAndNeverOverwritesItsInput) {
+    ff::test::TempDir dir;
+    const std::string dat = (dir / "dg.dat").string();
+    ff::test::writeFile(dat, "29.475 3.76 1.67 25.2\n84.83 0.12 1 25.2\n19.275 4.025 1.67 23\n40.77 3.275 1.699 23\n"
+                             "12.75 5.705 1 18\n0 4.5 0 17.1\n-14.495 1.18 1.603 17\n40.77 6.065 1.658 20\n"
+                             "-20.385 0.19 1 20\n437.065 3.22 1.717 20\n-39.73 36.114 1 20\n");
+    const std::string before = ff::test::readFile(dat);
+    const RunResult same = run("lens convert '" + dat + "' -o '" + dat + "'");
+    EXPECT_EQ(same.code, 2);
+    EXPECT_EQ(ff::test::readFile(dat), before);
+
+    const std::string out = (dir / "dg.lens").string();
+    ASSERT_EQ(run("lens convert '" + dat + "' -o '" + out + "'").code, 0);
+    const RunResult info = run("lens info '" + out + "'");
+    EXPECT_EQ(info.code, 0) << info.err;
+    EXPECT_TRUE(contains(info.out, "effective focal length    50.358 mm")) << info.out;
+}

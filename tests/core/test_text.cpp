@@ -1,0 +1,54 @@
+#include "core/text.h"
+
+#include <gtest/gtest.h>
+
+using namespace ff::text;
+
+TEST(Text, ParseNumberAcceptsPlainDecimals) {
+    EXPECT_EQ(parseNumber("1.5"), 1.5);
+    EXPECT_EQ(parseNumber("-2e-3"), -2e-3);
+    EXPECT_EQ(parseNumber("+4"), 4.0);
+    EXPECT_EQ(parseNumber("0"), 0.0);
+    EXPECT_EQ(parseNumber(".5"), 0.5);
+}
+
+TEST(Text, ParseNumberRejectsJunkSpecialsAndOverflow) {
+    for (const char* bad : {"", "abc", "1.5x", "1,5", "nan", "inf", "-inf", "1e999", "--1", "+-1", "+", "0x10", "1 2"})
+        EXPECT_FALSE(parseNumber(bad).has_value()) << "accepted '" << bad << "'";
+}
+
+TEST(Text, ParseIntIsStrictAndNonNegative) {
+    EXPECT_EQ(parseInt("12"), 12);
+    EXPECT_FALSE(parseInt("-1"));
+    EXPECT_FALSE(parseInt("1.0"));
+    EXPECT_FALSE(parseInt("99999999999"));
+}
+
+TEST(Text, TokenizeKeepsColumnsAndStopsAtComments) {
+    const auto t = tokenize("  84.0\t10.6  # comment 3");
+    ASSERT_EQ(t.size(), 2u);
+    EXPECT_EQ(t[0].text, "84.0");
+    EXPECT_EQ(t[0].column, 3);
+    EXPECT_EQ(t[1].text, "10.6");
+    EXPECT_EQ(t[1].column, 8);
+    const auto u = tokenize("name#2 x");
+    ASSERT_EQ(u.size(), 2u);
+    EXPECT_EQ(u[0].text, "name#2");
+}
+
+TEST(Text, EditDistanceAndClosestNames) {
+    EXPECT_EQ(editDistance("kitten", "sitting"), 3u);
+    EXPECT_EQ(editDistance("N-BK7", "n-bk7"), 0u);
+    const auto c = closestNames("NBK7", {"N-SF11", "N-BK7", "F2", "N-BAK1"}, 2);
+    ASSERT_EQ(c.size(), 2u);
+    EXPECT_EQ(c[0], "N-BK7");
+}
+
+TEST(Text, QuotedEscapesControlCharactersAndShortens) {
+    EXPECT_EQ(ff::text::quoted("a\x01" "b"), "'a\\x01b'");
+    EXPECT_EQ(ff::text::quoted(std::string(50, 'x')), "'" + std::string(40, 'x') + "...'");
+}
+
+TEST(Text, RoundTripReadsBackExactly) {
+    for (double v : {0.1, 1.0 / 3.0, 123456.789e-12, -42.0}) EXPECT_EQ(*parseNumber(roundTrip(v)), v);
+}
