@@ -66,8 +66,8 @@ std::string lensInfoText(const Lens& lens, double lambdaNm, const std::vector<Po
     o << "\n";
 
     char buf[256];
-    std::snprintf(buf, sizeof buf, "  %3s %12s %21s  %-22s %9s %9s  %-36s\n", "#", "radius", "thickness", "medium after",
-                  ("n@" + fixed(lambdaNm, 1)).c_str(), "semi-ap", "coating");
+    std::snprintf(buf, sizeof buf, "  %3s %12s %21s  %-22s %9s %9s  %-12s %s\n", "#", "radius", "thickness", "medium after",
+                  ("n@" + fixed(lambdaNm, 1)).c_str(), "semi-ap", "coating", "notes");
     o << buf;
     for (std::size_t i = 0; i < lens.surfaces.size(); ++i) {
         const Surface& s = lens.surfaces[i];
@@ -77,7 +77,7 @@ std::string lensInfoText(const Lens& lens, double lambdaNm, const std::vector<Po
         if (s.conic != 0.0) extra += " k=" + text::roundTrip(s.conic);
         if (s.isAspheric()) extra += " asphere(" + std::to_string(s.asphere.size()) + " terms)";
         if (!s.rotationallySymmetric()) extra += std::string(" ") + optics::toString(s.shape);
-        std::snprintf(buf, sizeof buf, "  %3zu %12s %21s  %-22s %9.5f %9.3f  %-12s%s\n", i + 1, radius.c_str(),
+        std::snprintf(buf, sizeof buf, "  %3zu %12s %21s  %-22s %9.5f %9.4f  %-12s%s\n", i + 1, radius.c_str(),
                       thicknessText(lens, i).c_str(), mediumText(s.medium).c_str(), s.medium.index(lambdaNm), s.semiAperture,
                       lens.coatingOf(i).str().c_str(), extra.c_str());
         o << buf;

@@ -160,8 +160,11 @@ Lens importZmx(std::string_view bytes, const std::string& fileName, Reporter* re
             needSurface().conic = arg(1, "a conic constant");
         } else if (key == "PARM") {
             ZmxSurface& s = needSurface();
-            const double i = arg(1, "a parameter number");
-            s.parm[static_cast<int>(i)] = arg(2, "a parameter value");
+            auto index = t.size() > 1 ? text::parseInt(t[1].text) : std::nullopt;
+            if (!index || *index > 99)
+                throwInputError({fileName, lineNo, t.size() > 1 ? t[1].column : t[0].column + 5},
+                                "expected a parameter number 0..99 after PARM");
+            s.parm[*index] = arg(2, "a parameter value");
         } else if (key == "GLAS") {
             ZmxSurface& s = needSurface();
             if (t.size() < 2) throwInputError(at, "expected a glass name after GLAS");

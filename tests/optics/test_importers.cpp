@@ -179,6 +179,7 @@ TEST(ZmxImporter, RefusesWhatItCannotRepresent) {
         {"UNIT FT\n", "c.zmx:1:6: unknown lens unit 'FT'; valid units: MM, CM, IN, METER"},
         {"SURF 0\nSURF 1\n CURV 1/50\n", "c.zmx:3:7: expected a curvature after CURV, got '1/50'"},
         {"CURV 0.1\n", "c.zmx:1:1: CURV outside a SURF block"},
+        {"SURF 0\nSURF 1\n PARM 1e120 0\n", "c.zmx:3:7: expected a parameter number 0..99 after PARM"},
         {"SURF 0\nSURF 1\n GLAS SF-11\nSURF 2\nSURF 3\n",
          "c.zmx:3:7: unknown glass 'SF-11'; did you mean N-SF11, SF1 or N-SF1? (the catalogue is data/glass/; give 'nd Vd' instead for other glasses)"},
     };

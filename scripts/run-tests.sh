@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# Quick start, second command (and what CI runs): install what is missing, then
+#   stage 1: Release build, whole test suite through CTest;
+#   stage 2: AddressSanitizer + UndefinedBehaviorSanitizer build, whole test suite again.
+# Exits non-zero if any stage fails.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-deps.sh
+jobs="$(nproc 2>/dev/null || echo 2)"
+
+echo "== stage 1: Release build and tests"
+scripts/build.sh release
+ctest --test-dir build/release --output-on-failure -j "$jobs"
+
+echo "== stage 2: ASan + UBSan build and tests"
+scripts/build.sh asan
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ctest --test-dir build/asan --output-on-failure -j "$jobs"
