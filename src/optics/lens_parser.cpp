@@ -4,6 +4,7 @@
 #include "optics/glass_catalog.h"
 #include "optics/lens_validation.h"
 
+#include <cctype>
 #include <cmath>
 
 namespace ff::optics {

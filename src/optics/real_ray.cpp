@@ -13,7 +13,7 @@ namespace {
 // Unit normal of the surface at a point given in vertex-local coordinates (x, y, z - vertexZ),
 // from the sag slope: n ∝ (-z'(r) x / r, -z'(r) y / r, 1).
 std::optional<glm::dvec3> surfaceNormal(const Surface& s, const glm::dvec3& local) {
-    const double r = std::hypot(local.x, local.y);
+    const double r = std::sqrt(local.x * local.x + local.y * local.y);
     auto slope = s.sagSlope(r);
     if (!slope || !std::isfinite(*slope)) return std::nullopt;
     glm::dvec3 n(0.0, 0.0, 1.0);
@@ -54,7 +54,7 @@ std::optional<SurfaceHit> intersectSurface(const Surface& s, double vertexZ, con
         bool converged = false;
         for (int it = 0; it < 60; ++it) {
             const glm::dvec3 q = p + tt * d;
-            const double r = std::hypot(q.x, q.y);
+            const double r = std::sqrt(q.x * q.x + q.y * q.y);
             auto z = s.sag(r);
             auto dz = s.sagSlope(r);
             if (!z || !dz) return std::nullopt;
@@ -104,6 +104,7 @@ const char* toString(RayStatus s) {
     case RayStatus::Missed: return "missed";
     case RayStatus::Clipped: return "clipped";
     case RayStatus::TotalInternalReflection: return "total internal reflection";
+    case RayStatus::Blocked: return "blocked";
     }
     return "?";
 }

@@ -37,7 +37,9 @@ std::optional<glm::dvec3> refract(const glm::dvec3& d, const glm::dvec3& n, doub
 /// Mirror reflection of d at unit normal n.
 glm::dvec3 reflect(const glm::dvec3& d, const glm::dvec3& n);
 
-enum class RayStatus { Ok, Missed, Clipped, TotalInternalReflection };
+/// Why a ray was lost: it missed the next surface, fell outside its clear aperture, could not
+/// refract (total internal reflection), or met another part of the lens first (Embree tracer).
+enum class RayStatus { Ok, Missed, Clipped, TotalInternalReflection, Blocked };
 const char* toString(RayStatus s);
 
 struct RealTraceResult {

@@ -20,8 +20,8 @@ cplx cosIn(double n, double n0SinI) {
     return c.imag() < 0.0 ? -c : c;
 }
 
-double stackReflectance(double n0, const std::vector<FilmLayer>& layers, double nSub, double cosI, double lambdaNm,
-                        bool pPolarised) {
+double stackReflectanceComplex(double n0, const std::vector<FilmLayer>& layers, double nSub, double cosI, double lambdaNm,
+                               bool pPolarised) {
     const double sinI = std::sqrt(std::max(0.0, 1.0 - cosI * cosI));
     const double inv = n0 * sinI;
     auto eta = [&](double n, cplx c) { return pPolarised ? cplx(n) / c : cplx(n) * c; };
@@ -43,6 +43,43 @@ double stackReflectance(double n0, const std::vector<FilmLayer>& layers, double 
     return std::min(1.0, std::norm(r));
 }
 
+// Both polarisations when every layer and the substrate have real angles (no total internal
+// reflection anywhere): each layer matrix is [[cos d, i sin d / eta], [i eta sin d, cos d]] with real
+// d and eta, and products of matrices of the form [[a, i b], [i c, e]] keep that form, so the whole
+// computation is real. Returns false when some angle is complex.
+bool stackReflectanceReal(double n0, const std::vector<FilmLayer>& layers, double nSub, double cosI, double lambdaNm,
+                          double& rsOut, double& rpOut) {
+    const double inv2 = n0 * n0 * (1.0 - cosI * cosI);
+    if (nSub * nSub <= inv2) return false;
+    for (const FilmLayer& l : layers)
+        if (l.n * l.n <= inv2) return false;
+    // m = [[a, i b], [i c, e]] per polarisation.
+    double as = 1, bs = 0, cs = 0, es = 1, ap = 1, bp = 0, cp = 0, ep = 1;
+    for (const FilmLayer& l : layers) {
+        const double c = std::sqrt(1.0 - inv2 / (l.n * l.n));
+        const double delta = 2.0 * std::numbers::pi * l.n * l.thicknessNm * c / lambdaNm;
+        const double cd = std::cos(delta), sd = std::sin(delta);
+        const double etaS = l.n * c, etaP = l.n / c;
+        // [[a, ib], [ic, e]] x [[cd, i sd/eta], [i eta sd, cd]]
+        const double as2 = as * cd - bs * etaS * sd, bs2 = as * sd / etaS + bs * cd;
+        const double cs2 = cs * cd + es * etaS * sd, es2 = es * cd - cs * sd / etaS;
+        as = as2, bs = bs2, cs = cs2, es = es2;
+        const double ap2 = ap * cd - bp * etaP * sd, bp2 = ap * sd / etaP + bp * cd;
+        const double cp2 = cp * cd + ep * etaP * sd, ep2 = ep * cd - cp * sd / etaP;
+        ap = ap2, bp = bp2, cp = cp2, ep = ep2;
+    }
+    const double cSub = std::sqrt(1.0 - inv2 / (nSub * nSub));
+    // B = a + i b eta_sub, C = i c + e eta_sub;  r = (eta0 B - C) / (eta0 B + C).
+    auto R = [](double eta0, double etaSub, double a, double b, double c, double e) {
+        const double reN = eta0 * a - e * etaSub, imN = eta0 * b * etaSub - c;
+        const double reD = eta0 * a + e * etaSub, imD = eta0 * b * etaSub + c;
+        return (reN * reN + imN * imN) / (reD * reD + imD * imD);
+    };
+    rsOut = R(n0 * cosI, nSub * cSub, as, bs, cs, es);
+    rpOut = R(n0 / cosI, nSub / cSub, ap, bp, cp, ep);
+    return true;
+}
+
 } // namespace
 
 double fresnelReflectance(double n1, double n2, double cosI) {
@@ -56,8 +93,10 @@ double fresnelReflectance(double n1, double n2, double cosI) {
 
 double filmReflectance(double n0, const std::vector<FilmLayer>& layers, double nSub, double cosI, double lambdaNm) {
     if (layers.empty()) return fresnelReflectance(n0, nSub, cosI);
-    return 0.5 * (stackReflectance(n0, layers, nSub, cosI, lambdaNm, false) +
-                  stackReflectance(n0, layers, nSub, cosI, lambdaNm, true));
+    double rs = 0.0, rp = 0.0;
+    if (cosI > 0.0 && stackReflectanceReal(n0, layers, nSub, cosI, lambdaNm, rs, rp)) return std::min(1.0, 0.5 * (rs + rp));
+    return 0.5 * (stackReflectanceComplex(n0, layers, nSub, cosI, lambdaNm, false) +
+                  stackReflectanceComplex(n0, layers, nSub, cosI, lambdaNm, true));
 }
 
 std::vector<FilmLayer> filmLayers(const CoatingSpec& spec, double lambdaNm) {

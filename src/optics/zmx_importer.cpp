@@ -211,7 +211,7 @@ Lens importZmx(std::string_view bytes, const std::string& fileName, Reporter* re
             }
             while (!s.asphere.empty() && s.asphere.back() == 0.0) s.asphere.pop_back();
         }
-        if (z.glass.empty()) {
+        if (z.glass.empty() || text::iequals(z.glass, "AIR")) {
             s.medium = Medium::air();
         } else if (GlassCatalog::builtin().find(z.glass)) {
             s.medium = GlassCatalog::builtin().medium(z.glass, z.glassWhere);

@@ -6,24 +6,64 @@
 #include <glm/geometric.hpp>
 
 #include <cmath>
+#include <numbers>
 
 namespace ff::trace {
 
 using optics::RayStatus;
 
-LensAtWavelength::LensAtWavelength(const optics::Lens& l, double lambda) : lens(&l), lambdaNm(lambda) {
+LensAtWavelength::LensAtWavelength(const optics::Lens& l, double lambda, double sensor) : lens(&l), lambdaNm(lambda) {
     const std::size_t n = l.surfaces.size();
-    const std::size_t stop = l.stopIndex();
+    stop = l.stopIndex();
     const double stopRadius = optics::workingStopSemiAperture(l);
+    iris = Iris(l.apertureBlades, l.bladeRotationDeg * std::numbers::pi / 180.0, stopRadius);
     double z = 0.0;
     for (std::size_t s = 0; s < n; ++s) {
         nBefore.push_back(l.mediumBefore(s).index(lambda));
         nAfter.push_back(l.surfaces[s].medium.index(lambda));
-        clipRadius.push_back(s == stop ? stopRadius : l.surfaces[s].semiAperture);
+        clipRadius.push_back(s == stop ? iris.circumradius : l.surfaces[s].semiAperture);
+        layersFromLow.push_back(optics::filmLayers(l.coatingOf(s), lambda));
+        layersFromHigh.emplace_back(layersFromLow.back().rbegin(), layersFromLow.back().rend());
         vertexZ.push_back(z);
         z += l.surfaces[s].thickness;
     }
-    sensorZ = z;
+    sensorZ = std::isnan(sensor) ? z : sensor;
+}
+
+bool LensAtWavelength::insideAperture(std::size_t s, const glm::dvec3& p) const {
+    if (s == stop) return iris.contains(p.x, p.y);
+    const double r = clipRadius[s];
+    return r <= 0.0 || p.x * p.x + p.y * p.y <= r * r;
+}
+
+RayStatus applyStep(const LensAtWavelength& L, const PathStep& step, const optics::SurfaceHit& hit, optics::Ray& ray,
+                    double& weight) {
+    const std::size_t s = step.surface;
+    // Media on the incident and far side depend on the travel direction.
+    const bool forward = ray.dir.z > 0.0;
+    const double n1 = forward ? L.nBefore[s] : L.nAfter[s];
+    const double n2 = forward ? L.nAfter[s] : L.nBefore[s];
+    const double cosI = std::min(1.0, std::abs(glm::dot(ray.dir, hit.normal)));
+    // The coating sits on the glass (higher-index) side: met in spec order from the other side.
+    const auto& layers = n1 < n2 ? L.layersFromLow[s] : L.layersFromHigh[s];
+    const double R = (n1 == n2) ? 0.0 : optics::filmReflectance(n1, layers, n2, cosI, L.lambdaNm);
+    if (step.reflect) {
+        weight *= R;
+        ray = {hit.point, optics::reflect(ray.dir, hit.normal)};
+        return RayStatus::Ok;
+    }
+    auto dir = optics::refract(ray.dir, hit.normal, n1, n2);
+    if (!dir) return RayStatus::TotalInternalReflection;
+    weight *= 1.0 - R;
+    ray = {hit.point, *dir};
+    return RayStatus::Ok;
+}
+
+bool toSensor(const LensAtWavelength& L, optics::Ray& ray) {
+    if (ray.dir.z <= 0.0) return false;
+    const double t = (L.sensorZ - ray.origin.z) / ray.dir.z;
+    ray.origin += t * ray.dir;
+    return true;
 }
 
 SequentialResult traceSequential(const LensAtWavelength& L, const std::vector<PathStep>& steps, optics::Ray ray) {
@@ -31,44 +71,25 @@ SequentialResult traceSequential(const LensAtWavelength& L, const std::vector<Pa
     double weight = 1.0;
     for (std::size_t k = 0; k < steps.size(); ++k) {
         const std::size_t s = steps[k].surface;
-        const optics::Surface& surf = L.lens->surfaces[s];
-        auto lost = [&](RayStatus st) {
-            out.status = st;
+        RayStatus status = RayStatus::Ok;
+        auto hit = optics::intersectSurface(L.lens->surfaces[s], L.vertexZ[s], ray, kMinStep);
+        if (!hit) status = RayStatus::Missed;
+        else if (!L.insideAperture(s, hit->point)) status = RayStatus::Clipped;
+        else status = applyStep(L, steps[k], *hit, ray, weight);
+        if (status != RayStatus::Ok) {
+            out.status = status;
             out.lostAtStep = k;
             out.ray = ray;
-            out.weight = 0.0;
             return out;
-        };
-        auto hit = optics::intersectSurface(surf, L.vertexZ[s], ray, 1e-9);
-        if (!hit) return lost(RayStatus::Missed);
-        const double r = L.clipRadius[s];
-        if (r > 0.0 && hit->point.x * hit->point.x + hit->point.y * hit->point.y > r * r) return lost(RayStatus::Clipped);
-
-        // Media on the incident and far side depend on the travel direction.
-        const bool forward = ray.dir.z > 0.0;
-        const double n1 = forward ? L.nBefore[s] : L.nAfter[s];
-        const double n2 = forward ? L.nAfter[s] : L.nBefore[s];
-        const double cosI = std::min(1.0, std::abs(glm::dot(ray.dir, hit->normal)));
-        const double R = (n1 == n2) ? 0.0 : optics::coatedReflectance(L.lens->coatingOf(s), n1, n2, cosI, L.lambdaNm);
-        if (steps[k].reflect) {
-            weight *= R;
-            ray = {hit->point, optics::reflect(ray.dir, hit->normal)};
-        } else {
-            auto dir = optics::refract(ray.dir, hit->normal, n1, n2);
-            if (!dir) return lost(RayStatus::TotalInternalReflection);
-            weight *= 1.0 - R;
-            ray = {hit->point, *dir};
         }
     }
-    // Carry the ray to the sensor plane.
-    if (ray.dir.z <= 0.0) {
+    if (!toSensor(L, ray)) {
         out.status = RayStatus::Missed;
         out.lostAtStep = steps.size();
         out.ray = ray;
         return out;
     }
-    const double t = (L.sensorZ - ray.origin.z) / ray.dir.z;
-    out.ray = {ray.origin + t * ray.dir, ray.dir};
+    out.ray = ray;
     out.weight = weight;
     return out;
 }

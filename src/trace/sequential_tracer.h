@@ -14,21 +14,45 @@
 
 #include "optics/lens.h"
 #include "optics/real_ray.h"
+#include "optics/thin_film.h"
+#include "trace/aperture.h"
 #include "trace/ghost_path.h"
 
+#include <limits>
 #include <vector>
 
 namespace ff::trace {
 
-/// Per-wavelength constants of a lens, computed once: indices on both sides, clip radii.
+/// Per-wavelength constants of a lens, computed once: indices on both sides, clip radii, the iris.
 struct LensAtWavelength {
     const optics::Lens* lens = nullptr;
     double lambdaNm = 0.0;
     std::vector<double> nBefore, nAfter, clipRadius, vertexZ; ///< per surface; clipRadius 0 = unclipped
-    double sensorZ = 0.0;
+    /// Per surface: the coating's layers at this wavelength, met from the low-index side (spec order)
+    /// and from the high-index side (reversed); empty for a bare surface.
+    std::vector<std::vector<optics::FilmLayer>> layersFromLow, layersFromHigh;
+    std::size_t stop = 0;
+    Iris iris;            ///< the stop's opening (its blades, at the working radius)
+    double sensorZ = 0.0; ///< z of the sensor plane (the last thickness unless overridden)
 
-    LensAtWavelength(const optics::Lens& l, double lambda);
+    /// sensorZ: the sensor plane; NaN = the lens's own (the last thickness).
+    LensAtWavelength(const optics::Lens& l, double lambda, double sensorZ = std::numeric_limits<double>::quiet_NaN());
+
+    /// True when a hit point at surface s lies inside its clear aperture (the iris for the stop).
+    bool insideAperture(std::size_t s, const glm::dvec3& p) const;
 };
+
+/// Applies one path step at an already found hit on its surface: refraction with weight 1 - R, or
+/// reflection with weight R (exact Fresnel / thin film at the hit's incidence angle). Returns Ok, or
+/// TotalInternalReflection when a crossing is impossible. Shared by every tracer.
+optics::RayStatus applyStep(const LensAtWavelength& L, const PathStep& step, const optics::SurfaceHit& hit,
+                            optics::Ray& ray, double& weight);
+
+/// Carries a ray after the last step to the sensor plane; false if it travels away from it.
+bool toSensor(const LensAtWavelength& L, optics::Ray& ray);
+
+/// Smallest ray parameter (mm) accepted for the next hit, so a ray never finds the surface it just left.
+inline constexpr double kMinStep = 1e-9;
 
 struct SequentialResult {
     optics::RayStatus status = optics::RayStatus::Ok;

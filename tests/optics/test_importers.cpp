@@ -204,6 +204,14 @@ TEST(ZmxImporter, UnknownGlassWithInlineDataFallsBackWithANote) {
     EXPECT_EQ(rep.diagnostics[0].str(), "blank.zmx:7:7: glass '___BLANK' is not in the catalogue; using its inline nd 1.6, Vd 40 (Cauchy)");
 }
 
+TEST(ZmxImporter, GlasAirIsAir) {
+    std::string text = zmxFromTable4();
+    text.replace(text.find("  DISZ 0.5\n"), 11, "  DISZ 0.5\n  GLAS AIR\n");
+    const Lens lens = importZmx(text, "air.zmx");
+    EXPECT_TRUE(lens.surfaces[1].medium.isAir());
+    EXPECT_NEAR(efl(lens), 100.004, 1e-2);
+}
+
 TEST(LensLoader, DispatchesByExtensionAndRefusesOthers) {
     test::TempDir dir;
     test::writeFile(dir / "a.dat", datFromTable2(false));

@@ -1,0 +1,26 @@
+#include "trace/aperture.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace ff::trace {
+
+Iris::Iris(int n, double rotation, double r) : blades(n), rotationRad(rotation), radius(r), circumradius(r) {
+    if (blades >= 3)
+        circumradius = r * std::sqrt(2.0 * std::numbers::pi / (blades * std::sin(2.0 * std::numbers::pi / blades)));
+}
+
+bool Iris::contains(double x, double y) const {
+    const double rho2 = x * x + y * y;
+    if (blades < 3) return rho2 <= radius * radius;
+    if (rho2 > circumradius * circumradius) return false;
+    // Distance to the edge along the direction phi: inradius / cos(angle from the edge's normal).
+    const double sector = 2.0 * std::numbers::pi / blades;
+    const double inradius = circumradius * std::cos(0.5 * sector);
+    double a = std::fmod(std::atan2(y, x) - rotationRad, sector);
+    if (a < 0.0) a += sector;
+    const double rhoMax = inradius / std::cos(a - 0.5 * sector);
+    return rho2 <= rhoMax * rhoMax;
+}
+
+} // namespace ff::trace

@@ -1,0 +1,37 @@
+#include "trace/embree_device.h"
+
+#include "core/error.h"
+
+#include <pmmintrin.h>
+#include <xmmintrin.h>
+
+namespace ff::trace {
+
+EmbreeDevice::EmbreeDevice() {
+    device_ = rtcNewDevice("start_threads=1,set_affinity=1");
+    if (!device_) throwRuntimeError("cannot create an Embree device (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
+    rtcSetDeviceErrorFunction(device_, &EmbreeDevice::onError, this);
+}
+
+EmbreeDevice::~EmbreeDevice() {
+    if (device_) rtcReleaseDevice(device_);
+}
+
+void EmbreeDevice::onError(void* user, RTCError code, const char* message) {
+    auto* self = static_cast<EmbreeDevice*>(user);
+    if (self->error_.empty()) self->error_ = "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (message ? message : "");
+}
+
+void EmbreeDevice::check(const char* what) {
+    if (error_.empty()) return;
+    const std::string e = error_;
+    error_.clear();
+    throwRuntimeError(std::string(what) + ": " + e);
+}
+
+void setFlushDenormalsToZero() {
+    _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+    _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+}
+
+} // namespace ff::trace

@@ -1,0 +1,44 @@
+#pragma once
+// Traces bundles of rays along one path (direct or ghost) through the Embree scene of a lens, in
+// packets of 8 (rtcIntersect8, coherent context) with TBB over tiles of packets. At every path step
+// the nearest hit in the whole scene must be the surface the path expects next; anything else (the
+// iris, the barrel, another surface) blocks the ray, and no hit at all means it left the lens. The
+// physics at a hit (refraction, reflection, Fresnel/coating weights) is trace::applyStep, shared with
+// the analytic reference tracer. Results do not depend on the number of threads.
+
+#include "trace/embree_device.h"
+#include "trace/lens_scene.h"
+#include "trace/sequential_tracer.h"
+
+#include <span>
+
+namespace ff::trace {
+
+struct RayResult {
+    optics::RayStatus status = optics::RayStatus::Ok;
+    std::size_t lostAtStep = 0;
+    glm::dvec3 sensorPoint{0.0}; ///< where the ray meets the sensor plane (valid when Ok)
+    glm::dvec3 dir{0.0};
+    double weight = 0.0;         ///< product of all Fresnel/coating factors; 0 when lost
+};
+
+class EmbreeTracer {
+public:
+    /// Builds the scene of L's lens (apertures, iris and stop from L; the same for every wavelength).
+    explicit EmbreeTracer(const LensAtWavelength& geometry);
+
+    /// Traces rays along steps at L's wavelength; out has one result per ray.
+    void trace(const LensAtWavelength& L, const std::vector<PathStep>& steps, std::span<const optics::Ray> rays,
+               std::span<RayResult> out) const;
+
+private:
+    EmbreeDevice device_;
+    LensScene scene_;
+};
+
+/// The same bundle through the analytic sequential tracer (no Embree), TBB-parallel: the reference,
+/// and the baseline of the benchmarks.
+void traceAnalytic(const LensAtWavelength& L, const std::vector<PathStep>& steps, std::span<const optics::Ray> rays,
+                   std::span<RayResult> out);
+
+} // namespace ff::trace

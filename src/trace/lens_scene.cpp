@@ -1,0 +1,220 @@
+#include "trace/lens_scene.h"
+
+#include "core/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace ff::trace {
+
+struct LensScene::SurfacePrim {
+    optics::Surface surface;
+    double vertexZ = 0.0;
+    double radius = 0.0; ///< clear aperture used for clipping (0 = unclipped) and bounds
+    double boundsRadius = 0.0;
+    bool isStop = false;
+    Iris iris;
+
+    bool inside(const glm::dvec3& p) const {
+        if (isStop) return iris.contains(p.x, p.y);
+        return radius <= 0.0 || p.x * p.x + p.y * p.y <= radius * radius;
+    }
+};
+
+struct LensScene::IrisPrim {
+    double z = 0.0;
+    double outerRadius = 0.0;
+    Iris iris;
+};
+
+struct LensScene::BarrelPrim {
+    double radius = 0.0, z0 = 0.0, z1 = 0.0;
+};
+
+namespace {
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+const optics::Ray& contextRay(const RTCIntersectFunctionNArguments* args, RTCRayN* rays, unsigned i) {
+    const auto* ctx = reinterpret_cast<const QueryContext*>(args->context);
+    return ctx->rays[RTCRayN_id(rays, args->N, i)];
+}
+
+// Records a hit at parameter t if it is nearer than the ray's current tfar.
+void recordHit(const RTCIntersectFunctionNArguments* args, RTCRayN* rays, RTCHitN* hits, unsigned i, double t,
+               const glm::dvec3& normal) {
+    const unsigned N = args->N;
+    if (!(t < static_cast<double>(RTCRayN_tfar(rays, N, i)))) return;
+    RTCRayN_tfar(rays, N, i) = static_cast<float>(t);
+    RTCHitN_Ng_x(hits, N, i) = static_cast<float>(normal.x);
+    RTCHitN_Ng_y(hits, N, i) = static_cast<float>(normal.y);
+    RTCHitN_Ng_z(hits, N, i) = static_cast<float>(normal.z);
+    RTCHitN_u(hits, N, i) = 0.0f;
+    RTCHitN_v(hits, N, i) = 0.0f;
+    RTCHitN_primID(hits, N, i) = args->primID;
+    RTCHitN_geomID(hits, N, i) = args->geomID;
+    RTCHitN_instID(hits, N, i, 0) = args->context->instID[0];
+}
+
+void surfaceBounds(const RTCBoundsFunctionArguments* args) {
+    const auto* p = static_cast<const LensScene::SurfacePrim*>(args->geometryUserPtr);
+    // z extent from the sag sampled over the aperture (aspheres need not be monotonic), padded so
+    // float traversal never culls a hit the double-precision callback would find.
+    double zMin = 0.0, zMax = 0.0;
+    for (int k = 0; k <= 128; ++k) {
+        auto z = p->surface.sag(p->boundsRadius * k / 128.0);
+        if (!z) break;
+        zMin = std::min(zMin, *z);
+        zMax = std::max(zMax, *z);
+    }
+    const double pad = 1e-3 + 1e-5 * p->boundsRadius;
+    RTCBounds* b = args->bounds_o;
+    b->lower_x = static_cast<float>(-p->boundsRadius - pad);
+    b->lower_y = static_cast<float>(-p->boundsRadius - pad);
+    b->lower_z = static_cast<float>(p->vertexZ + zMin - pad);
+    b->upper_x = static_cast<float>(p->boundsRadius + pad);
+    b->upper_y = static_cast<float>(p->boundsRadius + pad);
+    b->upper_z = static_cast<float>(p->vertexZ + zMax + pad);
+}
+
+void surfaceIntersect(const RTCIntersectFunctionNArguments* args) {
+    const auto* p = static_cast<const LensScene::SurfacePrim*>(args->geometryUserPtr);
+    RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
+    RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        auto hit = optics::intersectSurface(p->surface, p->vertexZ, contextRay(args, rays, i), RTCRayN_tnear(rays, args->N, i));
+        if (hit && p->inside(hit->point)) recordHit(args, rays, hits, i, hit->t, hit->normal);
+    }
+}
+
+void irisBounds(const RTCBoundsFunctionArguments* args) {
+    const auto* p = static_cast<const LensScene::IrisPrim*>(args->geometryUserPtr);
+    const float r = static_cast<float>(p->outerRadius), z = static_cast<float>(p->z);
+    *args->bounds_o = RTCBounds{-r, -r, z - 1e-3f, 0.0f, r, r, z + 1e-3f, 0.0f};
+}
+
+void irisIntersect(const RTCIntersectFunctionNArguments* args) {
+    const auto* p = static_cast<const LensScene::IrisPrim*>(args->geometryUserPtr);
+    RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
+    RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        const optics::Ray& r = contextRay(args, rays, i);
+        if (r.dir.z == 0.0) continue;
+        const double t = (p->z - r.origin.z) / r.dir.z;
+        if (!(t > static_cast<double>(RTCRayN_tnear(rays, args->N, i)))) continue;
+        const double x = r.origin.x + t * r.dir.x, y = r.origin.y + t * r.dir.y;
+        if (p->iris.contains(x, y) || x * x + y * y > p->outerRadius * p->outerRadius) continue; // open, or outside the barrel
+        recordHit(args, rays, hits, i, t, glm::dvec3(0.0, 0.0, 1.0));
+    }
+}
+
+void barrelBounds(const RTCBoundsFunctionArguments* args) {
+    const auto* p = static_cast<const LensScene::BarrelPrim*>(args->geometryUserPtr);
+    const float r = static_cast<float>(p->radius) + 1e-3f;
+    *args->bounds_o = RTCBounds{-r, -r, static_cast<float>(p->z0) - 1e-3f, 0.0f, r, r, static_cast<float>(p->z1) + 1e-3f, 0.0f};
+}
+
+void barrelIntersect(const RTCIntersectFunctionNArguments* args) {
+    const auto* p = static_cast<const LensScene::BarrelPrim*>(args->geometryUserPtr);
+    RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
+    RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        const optics::Ray& r = contextRay(args, rays, i);
+        // (ox + t dx)^2 + (oy + t dy)^2 = R^2
+        const double a = r.dir.x * r.dir.x + r.dir.y * r.dir.y;
+        if (a < 1e-18) continue;
+        const double b = r.origin.x * r.dir.x + r.origin.y * r.dir.y;
+        const double c = r.origin.x * r.origin.x + r.origin.y * r.origin.y - p->radius * p->radius;
+        const double disc = b * b - a * c;
+        if (disc < 0.0) continue;
+        const double tnear = RTCRayN_tnear(rays, args->N, i);
+        for (double t : {(-b - std::sqrt(disc)) / a, (-b + std::sqrt(disc)) / a}) {
+            const double z = r.origin.z + t * r.dir.z;
+            if (t > tnear && z >= p->z0 && z <= p->z1) {
+                const glm::dvec3 q = r.origin + t * r.dir;
+                recordHit(args, rays, hits, i, t, glm::dvec3(-q.x, -q.y, 0.0) / p->radius);
+                break;
+            }
+        }
+    }
+}
+
+void occludedUnused(const RTCOccludedFunctionNArguments*) {}
+
+RTCGeometry newUserGeometry(EmbreeDevice& device, void* user, RTCBoundsFunction bounds, RTCIntersectFunctionN intersect) {
+    RTCGeometry g = rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(g, 1);
+    rtcSetGeometryUserData(g, user);
+    rtcSetGeometryBoundsFunction(g, bounds, nullptr);
+    rtcSetGeometryIntersectFunction(g, intersect);
+    rtcSetGeometryOccludedFunction(g, occludedUnused);
+    rtcCommitGeometry(g);
+    return g;
+}
+
+} // namespace
+
+LensScene::LensScene(EmbreeDevice& device, const LensAtWavelength& L) {
+    const optics::Lens& lens = *L.lens;
+    surfaceCount_ = lens.surfaces.size();
+    scene_ = rtcNewScene(device.get());
+    rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+    device.check("creating the lens scene");
+
+    double largest = 0.0;
+    for (double r : L.clipRadius) largest = std::max(largest, r);
+    if (largest <= 0.0) largest = 100.0;
+    const double unclippedRadius = 1.5 * largest; // bounds for surfaces with no clear aperture given
+
+    unsigned id = 0;
+    for (std::size_t s = 0; s < surfaceCount_; ++s, ++id) {
+        auto p = std::make_unique<SurfacePrim>();
+        p->surface = lens.surfaces[s];
+        p->vertexZ = L.vertexZ[s];
+        p->radius = L.clipRadius[s];
+        p->boundsRadius = p->radius > 0.0 ? p->radius : unclippedRadius;
+        p->isStop = (s == L.stop);
+        p->iris = L.iris;
+        RTCGeometry g = newUserGeometry(device, p.get(), surfaceBounds, surfaceIntersect);
+        rtcAttachGeometryByID(scene_, g, id);
+        rtcReleaseGeometry(g);
+        surfaces_.push_back(std::move(p));
+    }
+
+    iris_ = std::make_unique<IrisPrim>();
+    iris_->z = L.vertexZ[L.stop];
+    iris_->outerRadius = 2.0 * largest;
+    iris_->iris = L.iris;
+    RTCGeometry irisGeom = newUserGeometry(device, iris_.get(), irisBounds, irisIntersect);
+    rtcAttachGeometryByID(scene_, irisGeom, id++);
+    rtcReleaseGeometry(irisGeom);
+
+    // Barrel: a tube between the rims of consecutive surfaces with clear apertures.
+    for (std::size_t s = 0; s + 1 < surfaceCount_; ++s) {
+        const double r0 = L.clipRadius[s], r1 = L.clipRadius[s + 1];
+        if (r0 <= 0.0 || r1 <= 0.0) continue;
+        const auto rim0 = lens.surfaces[s].sag(r0), rim1 = lens.surfaces[s + 1].sag(r1);
+        if (!rim0 || !rim1) continue;
+        auto b = std::make_unique<BarrelPrim>();
+        b->radius = std::max(r0, r1) * (1.0 + 1e-9);
+        b->z0 = L.vertexZ[s] + *rim0;
+        b->z1 = L.vertexZ[s + 1] + *rim1;
+        if (b->z1 <= b->z0) continue;
+        RTCGeometry g = newUserGeometry(device, b.get(), barrelBounds, barrelIntersect);
+        rtcAttachGeometryByID(scene_, g, id++);
+        rtcReleaseGeometry(g);
+        barrel_.push_back(std::move(b));
+    }
+    rtcCommitScene(scene_);
+    device.check("building the lens scene");
+}
+
+LensScene::~LensScene() {
+    if (scene_) rtcReleaseScene(scene_);
+}
+
+} // namespace ff::trace

@@ -1,0 +1,81 @@
+#include "trace/pupil_sampling.h"
+
+#include "core/units.h"
+#include "optics/paraxial.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ff::trace {
+
+std::size_t Bundle::launchedCount() const { return static_cast<std::size_t>(std::count(launched.begin(), launched.end(), 1)); }
+
+glm::dvec3 fieldDirection(const Field& f, double eflSign) {
+    // A positive lens inverts: to image at +r e, rays travel along -e transversally.
+    const double s = std::sin(f.angleRad);
+    const double ex = -std::sin(f.azimuthRad), ey = std::cos(f.azimuthRad);
+    return {-eflSign * s * ex, -eflSign * s * ey, std::cos(f.angleRad)};
+}
+
+PupilFrame pupilFrame(const optics::Lens& lens) {
+    const optics::FirstOrder fo = optics::analyzeFirstOrder(lens, lines::d);
+    PupilFrame p;
+    p.z = fo.entrancePupilZ;
+    p.radius = 0.5 * fo.entrancePupilDiameter;
+    p.eflSign = fo.efl >= 0.0 ? 1.0 : -1.0;
+    const optics::Surface& first = lens.surfaces.front();
+    p.frontRadius = first.semiAperture;
+    const double rim = first.semiAperture > 0.0 ? first.sag(first.semiAperture).value_or(0.0) : 0.0;
+    p.startZ = std::min(0.0, rim) - 1.0;
+    return p;
+}
+
+Bundle gridBundle(const PupilFrame& frame, const Field& field, int n, double cx, double cy, double halfSize, bool discOnly) {
+    Bundle b;
+    b.n = n;
+    b.cell = 2.0 * halfSize / n;
+    b.cellArea = b.cell * b.cell;
+    b.x0 = cx - halfSize;
+    b.y0 = cy - halfSize;
+    const glm::dvec3 d = fieldDirection(field, frame.eflSign);
+    const double back = (frame.z - frame.startZ) / d.z; // from the pupil plane back to the start plane
+    b.rays.resize(static_cast<std::size_t>(n) * n);
+    b.launched.assign(b.rays.size(), 1);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const double x = b.x0 + (i + 0.5) * b.cell, y = b.y0 + (j + 0.5) * b.cell;
+            const std::size_t k = static_cast<std::size_t>(j) * n + i;
+            b.rays[k] = {glm::dvec3(x, y, frame.z) - back * d, d};
+            if (discOnly && x * x + y * y > frame.radius * frame.radius) b.launched[k] = 0;
+        }
+    return b;
+}
+
+Bundle makeBundle(const PupilFrame& frame, const Field& field, Sampling sampling, int n, const LensAtWavelength& L,
+                  const std::vector<PathStep>& steps) {
+    if (sampling == Sampling::ParaxialGrid) return gridBundle(frame, field, n, 0.0, 0.0, frame.radius, true);
+
+    // Coarse pass over everything that could enter the front surface, traced analytically.
+    const double shift = std::abs(std::tan(field.angleRad)) * std::abs(frame.z - frame.startZ);
+    const double half = std::max(frame.frontRadius, frame.radius) + shift + frame.radius;
+    constexpr int kCoarse = 48;
+    const Bundle coarse = gridBundle(frame, field, kCoarse, 0.0, 0.0, half, false);
+    double xMin = 1e300, xMax = -1e300, yMin = 1e300, yMax = -1e300;
+    for (int j = 0; j < kCoarse; ++j)
+        for (int i = 0; i < kCoarse; ++i) {
+            const std::size_t k = static_cast<std::size_t>(j) * kCoarse + i;
+            if (traceSequential(L, steps, coarse.rays[k]).status != optics::RayStatus::Ok) continue;
+            const double x = coarse.x0 + (i + 0.5) * coarse.cell, y = coarse.y0 + (j + 0.5) * coarse.cell;
+            xMin = std::min(xMin, x), xMax = std::max(xMax, x), yMin = std::min(yMin, y), yMax = std::max(yMax, y);
+        }
+    if (xMin > xMax) { // nothing gets through: an empty bundle over the paraxial pupil
+        Bundle b = gridBundle(frame, field, n, 0.0, 0.0, frame.radius, true);
+        return b;
+    }
+    // One coarse cell of margin on every side, then a square grid over the box.
+    const double cx = 0.5 * (xMin + xMax), cy = 0.5 * (yMin + yMax);
+    const double h = 0.5 * std::max(xMax - xMin, yMax - yMin) + coarse.cell;
+    return gridBundle(frame, field, n, cx, cy, h, false);
+}
+
+} // namespace ff::trace
