@@ -11,5 +11,6 @@ class App;
 namespace ff::cli {
 
 void addLensCommand(CLI::App& app, GlobalOptions& global);
+void addGhostsCommand(CLI::App& app, GlobalOptions& global);
 
 } // namespace ff::cli

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
     GlobalOptions global;
     app.add_flag("-q,--quiet", global.quiet, "Do not print notes (warnings and errors are always printed)");
     addLensCommand(app, global);
+    addGhostsCommand(app, global);
 
     try {
         app.parse(argc, argv);

@@ -30,7 +30,9 @@ double Lens::sensorZ() const { return vertexZ(surfaces.size()); }
 CoatingSpec Lens::coatingOf(std::size_t i) const {
     const Surface& s = surfaces[i];
     if (s.coating) return *s.coating;
-    if (s.coatingLayers <= 0) return CoatingSpec::none();
+    // AR coatings sit on glass-air surfaces; a cemented (glass-glass) or air-air surface stays bare
+    // whatever the column says (FlareSim-family files mark cemented rows as coated).
+    if (s.coatingLayers <= 0 || mediumBefore(i).isAir() == s.medium.isAir()) return CoatingSpec::none();
     if (defaultCoating) return *defaultCoating;
     return s.coatingLayers == 1 ? CoatingSpec::mgf2() : CoatingSpec::broadband();
 }

@@ -51,6 +51,7 @@ struct Lens {
     double sensorZ() const;
     /// The coating surface i carries: its explicit spec, or from the FlareSim column (0 bare;
     /// >= 1 the lens-wide `coating:`, else single-layer MgF2 for 1 and a broadband stack for >= 2).
+    /// Column and lens-wide coatings apply to glass-air surfaces only; cemented surfaces are bare.
     CoatingSpec coatingOf(std::size_t i) const;
     /// True when no surface has an anamorphic shape.
     bool rotationallySymmetric() const;

@@ -11,10 +11,11 @@ namespace ff::trace {
 std::size_t Bundle::launchedCount() const { return static_cast<std::size_t>(std::count(launched.begin(), launched.end(), 1)); }
 
 glm::dvec3 fieldDirection(const Field& f, double eflSign) {
-    // A positive lens inverts: to image at +r e, rays travel along -e transversally.
+    // The image lies on the continuation of the chief ray through the nodal point: to image at
+    // +r e (positive EFL), rays travel along +e transversally.
     const double s = std::sin(f.angleRad);
     const double ex = -std::sin(f.azimuthRad), ey = std::cos(f.azimuthRad);
-    return {-eflSign * s * ex, -eflSign * s * ey, std::cos(f.angleRad)};
+    return {eflSign * s * ex, eflSign * s * ey, std::cos(f.angleRad)};
 }
 
 PupilFrame pupilFrame(const optics::Lens& lens) {

@@ -38,7 +38,8 @@ struct Bundle {
     std::size_t launchedCount() const;
 };
 
-/// Unit direction of the rays of a field (see the convention above); eflSign = sign of the EFL.
+/// Unit direction of the rays of a field (see the convention above); eflSign = sign of the EFL
+/// (a negative lens forms its virtual image on the other side).
 glm::dvec3 fieldDirection(const Field& f, double eflSign);
 
 /// The paraxial entrance pupil (d line) that bundles are laid out in.
