@@ -12,5 +12,6 @@ namespace ff::cli {
 
 void addLensCommand(CLI::App& app, GlobalOptions& global);
 void addGhostsCommand(CLI::App& app, GlobalOptions& global);
+void addRenderCommand(CLI::App& app, GlobalOptions& global);
 
 } // namespace ff::cli

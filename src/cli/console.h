@@ -11,6 +11,7 @@ namespace ff::cli {
 /// Options shared by every command.
 struct GlobalOptions {
     bool quiet = false;
+    std::string commandLine; ///< as typed, recorded in outputs
 };
 
 class ConsoleReporter final : public Reporter {

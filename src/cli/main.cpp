@@ -20,9 +20,11 @@ int main(int argc, char** argv) {
     app.footer("Exit codes: 0 ok, 1 runtime failure, 2 usage or input error.\n"
                "Example: fourierflare lens info lenses/double-gauss-50mm-f2.lens");
     GlobalOptions global;
+    for (int i = 0; i < argc; ++i) global.commandLine += (i ? " " : "") + std::string(argv[i]);
     app.add_flag("-q,--quiet", global.quiet, "Do not print notes (warnings and errors are always printed)");
     addLensCommand(app, global);
     addGhostsCommand(app, global);
+    addRenderCommand(app, global);
 
     try {
         app.parse(argc, argv);

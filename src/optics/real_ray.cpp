@@ -34,6 +34,15 @@ std::optional<double> vertexBranchRoot(double a, double B, double C) {
 } // namespace
 
 std::optional<SurfaceHit> intersectSurface(const Surface& s, double vertexZ, const Ray& ray, double tMin) {
+    auto hit = intersectSurfacePoint(s, vertexZ, ray, tMin);
+    if (!hit) return std::nullopt;
+    auto n = surfaceNormal(s, glm::dvec3(hit->point.x, hit->point.y, hit->point.z - vertexZ));
+    if (!n) return std::nullopt;
+    hit->normal = *n;
+    return hit;
+}
+
+std::optional<SurfaceHit> intersectSurfacePoint(const Surface& s, double vertexZ, const Ray& ray, double tMin) {
     const glm::dvec3& d = ray.dir;
     if (std::abs(d.z) < 1e-12) return std::nullopt; // travelling within a vertex plane: not a lens ray
     // Transfer to the vertex tangent plane first (Spencer & Murty), so that the quadratic's
@@ -74,9 +83,7 @@ std::optional<SurfaceHit> intersectSurface(const Surface& s, double vertexZ, con
     }
     if (t0 + *t <= tMin) return std::nullopt;
     const glm::dvec3 local = p + *t * d;
-    auto n = surfaceNormal(s, local);
-    if (!n) return std::nullopt;
-    return SurfaceHit{t0 + *t, glm::dvec3(local.x, local.y, local.z + vertexZ), *n};
+    return SurfaceHit{t0 + *t, glm::dvec3(local.x, local.y, local.z + vertexZ), glm::dvec3(0.0)};
 }
 
 bool clipped(const Surface& s, const glm::dvec3& point) {

@@ -27,6 +27,10 @@ struct SurfaceHit {
 /// iteration on the sag starting from the conic solution. Ignores the semi-aperture (see clipped).
 std::optional<SurfaceHit> intersectSurface(const Surface& s, double vertexZ, const Ray& ray, double tMin = -1e-9);
 
+/// The same intersection without the normal: the ray parameter and point only (cheaper, for
+/// visibility queries that test many candidate surfaces).
+std::optional<SurfaceHit> intersectSurfacePoint(const Surface& s, double vertexZ, const Ray& ray, double tMin = -1e-9);
+
 /// True when the hit lies outside the surface's clear semi-aperture (0 = unclipped).
 bool clipped(const Surface& s, const glm::dvec3& point);
 

@@ -10,6 +10,11 @@
 
 namespace ff::trace {
 
+double sensorPlaneZ(const optics::Lens& lens, SensorPlane plane) {
+    if (plane == SensorPlane::File) return lens.sensorZ();
+    return lens.vertexZ(lens.surfaces.size() - 1) + optics::paraxialBfd(lens, lines::d);
+}
+
 optics::Lens withCoating(const optics::Lens& lens, CoatingChoice choice) {
     optics::Lens out = lens;
     if (choice == CoatingChoice::File) return out;
@@ -62,8 +67,7 @@ GhostReport analyzeGhosts(const optics::Lens& lensIn, const GhostAnalysisOptions
     const optics::Lens lens = withCoating(lensIn, o.coating);
     GhostReport report;
     report.sensorSizeMm = lens.sensorMm.value_or(o.sensorSizeMm);
-    report.sensorZ = o.sensor == SensorPlane::Paraxial ? lens.vertexZ(lens.surfaces.size() - 1) + optics::paraxialBfd(lens, lines::d)
-                                                       : lens.sensorZ();
+    report.sensorZ = sensorPlaneZ(lens, o.sensor);
     report.reflectingInterfaces = lens.reflectingInterfaces(lines::d).size();
     const double halfW = 0.5 * report.sensorSizeMm.first, halfH = 0.5 * report.sensorSizeMm.second;
     const PupilFrame frame = pupilFrame(lens);

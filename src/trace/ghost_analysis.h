@@ -58,6 +58,10 @@ struct GhostReport {
     std::vector<WavelengthReport> wavelengths;
 };
 
+/// z of the sensor plane from the first vertex: the lens's last thickness, or the paraxial focus at
+/// the d line.
+double sensorPlaneZ(const optics::Lens& lens, SensorPlane plane);
+
 /// Applies a coating choice to a copy of the lens (None: every surface bare; MgF2: a single MgF2
 /// quarter wave at 550 nm on every glass-air surface, cemented ones bare; File: as the lens says).
 optics::Lens withCoating(const optics::Lens& lens, CoatingChoice choice);

@@ -84,8 +84,9 @@ void surfaceIntersect(const RTCIntersectFunctionNArguments* args) {
     RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
     for (unsigned i = 0; i < args->N; ++i) {
         if (args->valid[i] != -1) continue;
-        auto hit = optics::intersectSurface(p->surface, p->vertexZ, contextRay(args, rays, i), RTCRayN_tnear(rays, args->N, i));
-        if (hit && p->inside(hit->point)) recordHit(args, rays, hits, i, hit->t, hit->normal);
+        // Only which surface is nearest matters here; the tracer computes the winner's normal itself.
+        auto hit = optics::intersectSurfacePoint(p->surface, p->vertexZ, contextRay(args, rays, i), RTCRayN_tnear(rays, args->N, i));
+        if (hit && p->inside(hit->point)) recordHit(args, rays, hits, i, hit->t, glm::dvec3(0.0, 0.0, 1.0));
     }
 }
 

@@ -1,0 +1,92 @@
+#include "image/image_output.h"
+
+#include "core/error.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <random>
+
+namespace ff::image {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// A temporary name in the target's folder that keeps its extension (OpenImageIO picks the format
+// from it).
+fs::path temporaryFor(const fs::path& target) {
+    std::random_device rd;
+    const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+    return dir / ("." + target.stem().string() + ".tmp" + std::to_string(rd() % 1000000) + target.extension().string());
+}
+
+template <typename T>
+void writeAtomic(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc type, const T* data) {
+    const fs::path target(path);
+    const fs::path tmp = temporaryFor(target);
+    auto out = OIIO::ImageOutput::create(tmp.string());
+    if (!out) throwRuntimeError("cannot write '" + path + "': " + OIIO::geterror());
+    if (!out->open(tmp.string(), spec) || !out->write_image(type, data) || !out->close()) {
+        const std::string err = out->geterror();
+        out.reset();
+        std::error_code ec;
+        fs::remove(tmp, ec);
+        throwRuntimeError("cannot write '" + path + "': " + err);
+    }
+    out.reset();
+    std::error_code ec;
+    fs::rename(tmp, target, ec);
+    if (ec) {
+        fs::remove(tmp, ec);
+        throwRuntimeError("cannot write '" + path + "': " + ec.message());
+    }
+}
+
+} // namespace
+
+void writeExr(const std::string& path, int width, int height, const std::vector<std::string>& channels,
+              const std::vector<float>& pixels, const Metadata& metadata) {
+    if (pixels.size() != static_cast<std::size_t>(width) * height * channels.size())
+        throwRuntimeError("writeExr: pixel buffer does not match " + std::to_string(width) + "x" + std::to_string(height));
+    OIIO::ImageSpec spec(width, height, static_cast<int>(channels.size()), OIIO::TypeDesc::FLOAT);
+    spec.channelnames = channels;
+    spec.attribute("compression", "zip");
+    for (const auto& [k, v] : metadata) spec.attribute(k, v);
+    writeAtomic(path, spec, OIIO::TypeDesc::FLOAT, pixels.data());
+}
+
+std::vector<unsigned char> tonemapPreview(const std::vector<float>& rgb, double exposureEv) {
+    const double scale = std::exp2(exposureEv);
+    std::vector<unsigned char> out(rgb.size());
+    for (std::size_t i = 0; i < rgb.size(); ++i) {
+        const double v = std::max(0.0, static_cast<double>(rgb[i]) * scale);
+        const double t = v / (1.0 + v);
+        const double s = t <= 0.0031308 ? 12.92 * t : 1.055 * std::pow(t, 1.0 / 2.4) - 0.055;
+        out[i] = static_cast<unsigned char>(std::lround(std::clamp(s, 0.0, 1.0) * 255.0));
+    }
+    return out;
+}
+
+double autoExposure(const std::vector<float>& rgb) {
+    std::vector<float> peaks;
+    for (std::size_t i = 0; i + 2 < rgb.size(); i += 3) {
+        const float m = std::max({rgb[i], rgb[i + 1], rgb[i + 2]});
+        if (m > 0.0f && std::isfinite(m)) peaks.push_back(m);
+    }
+    if (peaks.empty()) return 0.0;
+    const std::size_t k = std::min(peaks.size() - 1, static_cast<std::size_t>(0.99 * static_cast<double>(peaks.size())));
+    std::nth_element(peaks.begin(), peaks.begin() + static_cast<long>(k), peaks.end());
+    return -std::log2(static_cast<double>(peaks[k]));
+}
+
+void writePng(const std::string& path, int width, int height, const std::vector<unsigned char>& rgb8, const Metadata& metadata) {
+    if (rgb8.size() != static_cast<std::size_t>(width) * height * 3) throwRuntimeError("writePng: pixel buffer size mismatch");
+    OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
+    for (const auto& [k, v] : metadata) spec.attribute(k, v);
+    writeAtomic(path, spec, OIIO::TypeDesc::UINT8, rgb8.data());
+}
+
+} // namespace ff::image

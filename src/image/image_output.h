@@ -1,0 +1,30 @@
+#pragma once
+// Writing images: float EXR with named channels and metadata, and tonemapped 8-bit PNG previews.
+// Both go through a temporary file in the target folder and a rename, so a failed write never leaves
+// a partial or corrupted output. Errors throw ff::Error (Runtime).
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace ff::image {
+
+/// String attributes recorded in the file header (tool version, command line, lens hash, ...).
+using Metadata = std::vector<std::pair<std::string, std::string>>;
+
+/// Writes a single-part, zip-compressed float EXR; `pixels` is width x height x channels.size(),
+/// interleaved, rows top to bottom.
+void writeExr(const std::string& path, int width, int height, const std::vector<std::string>& channels,
+              const std::vector<float>& pixels, const Metadata& metadata);
+
+/// Preview tonemap of linear RGB (interleaved, 3 channels): multiply by 2^exposureEv, Reinhard
+/// x / (1 + x) per channel, sRGB transfer curve, 8 bits.
+std::vector<unsigned char> tonemapPreview(const std::vector<float>& rgb, double exposureEv);
+
+/// Exposure (EV) that puts the 99th percentile of the non-zero pixels' largest channel at 1.0
+/// (Reinhard 0.5): bright ghosts stay visible in previews of faint flares. 0 for a black image.
+double autoExposure(const std::vector<float>& rgb);
+
+void writePng(const std::string& path, int width, int height, const std::vector<unsigned char>& rgb8, const Metadata& metadata);
+
+} // namespace ff::image

@@ -1,0 +1,69 @@
+#pragma once
+// Rasterising a traced ghost into a flux image.
+//
+// A path's bundle is traced twice over the same pupil grid: at the n x n cell centres and at the
+// (n+1) x (n+1) cell corners. A cell carries the energy of its centre ray (weight x cell area, scaled
+// by the caller), so the image's total flux is exactly the sum of the centre rays' energies; the
+// four corner rays give the cell's footprint on the sensor:
+//  - centre ray lost: the cell contributes nothing (a blocked ray never contributes);
+//  - all four corners arrive and the quad is not folded: its energy is spread uniformly over the quad
+//    with exact pixel-area coverage (as two triangles, split by area);
+//  - a corner is lost (the cell straddles a vignetting edge) or the quad folds over itself (a
+//    caustic): the footprint is the parallelogram that the local Jacobian, estimated from the
+//    neighbouring centre rays, maps the cell to, drawn around the centre ray. Its corners come from
+//    rays that did arrive, so no quad is stretched to a lost ray and no streak can appear;
+//  - an isolated cell with no surviving neighbour along an axis: a bilinear splat at its centre ray.
+// Cells that straddle a vignetting edge are refined by the caller: re-traced on a finer sub-grid
+// and drawn with the same rules, so the edges of magnified ghosts show no staircase of pupil cells.
+// Energy landing outside the image is counted, not drawn.
+
+#include "trace/embree_tracer.h"
+#include "trace/pupil_sampling.h"
+
+#include <glm/vec2.hpp>
+
+#include <vector>
+
+namespace ff::trace {
+
+/// Maps sensor millimetres (origin on the axis, +y up) to image pixels (origin top-left, +y down,
+/// pixel centres at +0.5): one named conversion each way.
+struct ImageFrame {
+    int width = 0, height = 0;
+    double pitchMm = 0.0; ///< sensor millimetres per pixel
+    glm::dvec2 sensorToPixel(double xMm, double yMm) const {
+        return {0.5 * width + xMm / pitchMm, 0.5 * height - yMm / pitchMm};
+    }
+    glm::dvec2 pixelToSensor(double px, double py) const {
+        return {(px - 0.5 * width) * pitchMm, (0.5 * height - py) * pitchMm};
+    }
+};
+
+struct RasterStats {
+    double deposited = 0.0;  ///< energy drawn into the image
+    double offImage = 0.0;   ///< energy that landed outside it
+    std::size_t quads = 0, splats = 0;
+};
+
+/// The four corner positions of every cell of a bundle: a grid of (n+1) x (n+1) rays.
+Bundle cornerBundle(const PupilFrame& frame, const Field& field, const Bundle& centres);
+
+/// Cells whose centre and corner rays do not all share one fate (some arrive, some are lost): they
+/// straddle a vignetting edge, and the caller refines them (one flag per cell).
+std::vector<char> edgeCells(const Bundle& centres, const std::vector<RayResult>& centreHits, const std::vector<RayResult>& cornerHits);
+
+/// Adds one path's cells to `image` (width x height, row-major), except those flagged in `skip`
+/// (may be empty). energyScale multiplies every cell's energy (e.g. 1 / direct-image energy to express
+/// flux relative to the source's direct image).
+/// fallback: the cell footprint's edge vectors (pixels) to use when a cell has no surviving neighbour
+/// along an axis (for refined sub-grids: the parent cell's, divided by the refinement); null = splat.
+void rasterizeCells(const Bundle& centres, const std::vector<RayResult>& centreHits, const std::vector<RayResult>& cornerHits,
+                    double energyScale, const ImageFrame& frame, std::vector<double>& image, RasterStats& stats,
+                    const std::vector<char>& skip = {}, const std::pair<glm::dvec2, glm::dvec2>* fallback = nullptr);
+
+/// The footprint edge vectors (pixels per cell along the grid's i and j axes) of cell (i, j), from the
+/// neighbouring centre rays; false when a neighbour is missing along an axis.
+bool cellJacobian(const Bundle& centres, const std::vector<RayResult>& centreHits, const ImageFrame& frame, int i, int j,
+                  glm::dvec2& du, glm::dvec2& dv);
+
+} // namespace ff::trace

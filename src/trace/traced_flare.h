@@ -1,0 +1,52 @@
+#pragma once
+// The traced flare of one light source: every two-bounce ghost traced and rasterised (flare_raster.h)
+// at several wavelengths, combined into linear RGB. Pixel values are flux relative to the direct
+// image of the same source: the direct image's flux is 1 in each channel, so a pixel holds the
+// fraction of the source's light that lands there as ghosts. No gain is applied.
+//
+// Colour: `rgb` traces 650 / 550 / 450 nm into R / G / B. `spectral N` traces N wavelengths evenly over
+// 400-700 nm and maps them to linear sRGB through the CIE 1931 2-degree matching functions (analytic
+// fit of Wyman, Sloan & Shirley, JCGT 2(2), 2013), normalised so that a flat spectrum, like the
+// source's direct image, is (1, 1, 1); out-of-gamut negatives are clipped to 0.
+
+#include "optics/lens.h"
+#include "trace/flare_raster.h"
+#include "trace/ghost_analysis.h"
+
+#include <array>
+#include <vector>
+
+namespace ff::trace {
+
+struct TracedFlareOptions {
+    Field field;
+    ImageFrame frame;
+    int spectralSamples = 0; ///< 0: the three RGB wavelengths; otherwise 8..16 wavelengths
+    Sampling sampling = Sampling::Reaim;
+    int grid = 64;
+    SensorPlane sensor = SensorPlane::File;
+    CoatingChoice coating = CoatingChoice::File;
+};
+
+struct TracedFlare {
+    int width = 0, height = 0;
+    std::vector<float> rgb;         ///< width x height x 3, linear
+    std::vector<double> wavelengthsNm;
+    std::vector<RasterStats> stats; ///< per wavelength
+    std::size_t ghostCount = 0;
+};
+
+/// Wavelengths and their linear-sRGB weights (one row of 3 per wavelength) for a colour mode.
+void colourWeights(int spectralSamples, std::vector<double>& wavelengthsNm, std::vector<std::array<double, 3>>& weights);
+
+/// CIE 1931 2-degree colour matching functions (x, y, z) at lambdaNm, analytic fit.
+std::array<double, 3> cie1931(double lambdaNm);
+
+TracedFlare renderTracedFlare(const optics::Lens& lens, const TracedFlareOptions& options);
+
+/// The field whose direct image (its chief ray through the centre of the paraxial entrance pupil,
+/// traced exactly at the d line) lands at sensor point (x, y) mm. Throws ff::Error (Input) when no
+/// field angle below 89 deg reaches that far.
+Field fieldForSensorPoint(const optics::Lens& lens, double sensorZ, double xMm, double yMm);
+
+} // namespace ff::trace
