@@ -119,8 +119,11 @@ public:
                 drawn += density * a;
             }
         }
-        stats_.deposited += drawn;
-        stats_.offImage += e - drawn;
+        // Inside the frame the whole energy was drawn (up to rounding); only a triangle reaching past
+        // the frame loses the part outside.
+        const bool inFrame = px0 >= 0 && py0 >= 0 && px1 < frame_.width && py1 < frame_.height;
+        stats_.deposited += inFrame ? e : drawn;
+        if (!inFrame) stats_.offImage += std::max(0.0, e - drawn);
     }
 
     // Bilinear splat of energy e at pixel position (x, y).
