@@ -1,31 +1,16 @@
 // The fourierflare executable as a user meets it: output, error format, exit codes.
 
+#include "cli_runner.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <cstdlib>
-#include <sys/wait.h>
 
 namespace {
 
-struct RunResult {
-    int code = -1;
-    std::string out, err;
-};
-
-RunResult run(const std::string& args) {
-    ff::test::TempDir dir;
-    const std::string cmd = std::string("cd '") + FF_SOURCE_DIR + "' && '" + FF_CLI_PATH + "' " + args + " >'" +
-                            (dir / "out").string() + "' 2>'" + (dir / "err").string() + "'";
-    const int status = std::system(cmd.c_str());
-    RunResult r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = ff::test::readFile(dir / "out");
-    r.err = ff::test::readFile(dir / "err");
-    return r;
-}
+using ff::test::run;
+using ff::test::RunResult;
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 using namespace ff;
 using namespace ff::optics;
@@ -85,4 +86,33 @@ TEST(RealRay, ClippingAndStatusOfALostRay) {
     EXPECT_EQ(r.surface, 0u);
     const RealTraceResult ok = traceReal(lens, lines::d, {{0.0, 5.0, -5.0}, {0.0, 0.0, 1.0}});
     EXPECT_EQ(ok.status, RayStatus::Ok);
+}
+
+TEST(RealRay, SnellAndReflectionLawsHoldOnRandomSkewRays) {
+    // Vector Snell: n1 (d x n) = n2 (t x n) (tangential momentum, which also makes d, n, t coplanar),
+    // t stays on the far side. Reflection: the tangential part is kept, the normal part flips.
+    std::mt19937 rng(3);
+    std::normal_distribution<double> g(0.0, 1.0);
+    std::uniform_real_distribution<double> idx(1.0, 2.0);
+    auto unit = [&] { return glm::normalize(glm::dvec3(g(rng), g(rng), g(rng))); };
+    int refracted = 0;
+    for (int k = 0; k < 2000; ++k) {
+        const glm::dvec3 d = unit(), n = unit();
+        const double n1 = idx(rng), n2 = idx(rng);
+        const glm::dvec3 r = reflect(d, n);
+        EXPECT_NEAR(glm::length(r), 1.0, 1e-12);
+        EXPECT_NEAR(glm::dot(r, n), -glm::dot(d, n), 1e-12);
+        EXPECT_LT(glm::length((r - glm::dot(r, n) * n) - (d - glm::dot(d, n) * n)), 1e-12);
+        const auto t = refract(d, n, n1, n2);
+        const double sinI = glm::length(glm::cross(d, n));
+        if (!t) {
+            EXPECT_GT(n1 * sinI, n2 * (1.0 - 1e-12)); // only beyond the critical angle
+            continue;
+        }
+        ++refracted;
+        EXPECT_NEAR(glm::length(*t), 1.0, 1e-12);
+        EXPECT_LT(glm::length(n1 * glm::cross(d, n) - n2 * glm::cross(*t, n)), 1e-12);
+        EXPECT_GT(glm::dot(*t, n) * glm::dot(d, n), 0.0);
+    }
+    EXPECT_GT(refracted, 1000);
 }

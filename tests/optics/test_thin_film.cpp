@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
+#include <numbers>
+#include <random>
 
 using namespace ff::optics;
 
@@ -93,4 +96,52 @@ TEST(ThinFilm, CoatingSpecsResolveThroughTheMaterialCatalogue) {
     const double nG = nOf("N-BK7", 500.0);
     EXPECT_NEAR(coatedReflectance(bb, 1.0, nG, 1.0, 500.0), coatedReflectance(bb, nG, 1.0, 1.0, 500.0), 1e-12);
     EXPECT_NEAR(coatedReflectance(CoatingSpec::none(), 1.0, nG, 1.0, 500.0), fresnelReflectance(1.0, nG, 1.0), 1e-15);
+}
+
+TEST(Fresnel, ReflectedAndTransmittedPowerAddUpToOne) {
+    // T from the Fresnel transmission coefficients, written out here independently:
+    // ts = 2 n1 ci / (n1 ci + n2 ct), tp = 2 n1 ci / (n2 ci + n1 ct), T = (n2 ct / n1 ci)(ts^2 + tp^2)/2.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> idx(1.0, 2.2), cosd(0.05, 1.0);
+    for (int k = 0; k < 1000; ++k) {
+        const double n1 = idx(rng), n2 = idx(rng), ci = cosd(rng);
+        const double st = n1 / n2 * std::sqrt(1.0 - ci * ci);
+        if (st >= 1.0) {
+            EXPECT_EQ(fresnelReflectance(n1, n2, ci), 1.0);
+            continue;
+        }
+        const double ct = std::sqrt(1.0 - st * st);
+        const double ts = 2 * n1 * ci / (n1 * ci + n2 * ct), tp = 2 * n1 * ci / (n2 * ci + n1 * ct);
+        const double T = (n2 * ct) / (n1 * ci) * 0.5 * (ts * ts + tp * tp);
+        EXPECT_NEAR(fresnelReflectance(n1, n2, ci) + T, 1.0, 1e-12) << n1 << " " << n2 << " " << ci;
+    }
+}
+
+TEST(ThinFilm, SingleLayerMatchesAirysFormulaAndConservesEnergy) {
+    // Airy summation for one film with tilted admittances eta = n cos (s) or n / cos (p):
+    //   r = (r01 + r12 e^{-2i d}) / (1 + r01 r12 e^{-2i d}),  t = t01 t12 e^{-i d} / (1 + r01 r12 e^{-2i d}),
+    //   r_ij = (eta_i - eta_j)/(eta_i + eta_j), t_ij = 2 eta_i / (eta_i + eta_j), T = (eta_2 / eta_0) |t|^2.
+    // The matrix code must give R = |r|^2 (averaged), and R + T = 1.
+    using cplx = std::complex<double>;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> sub(1.45, 1.95), film(1.3, 2.3), thick(20.0, 400.0), cosd(0.5, 1.0), lam(400.0, 700.0);
+    for (int k = 0; k < 500; ++k) {
+        const double n0 = 1.0, n1 = film(rng), n2 = sub(rng), d = thick(rng), ci = cosd(rng), l = lam(rng);
+        const double s0 = std::sqrt(1.0 - ci * ci);
+        const double c1 = std::sqrt(1.0 - std::pow(n0 * s0 / n1, 2)), c2 = std::sqrt(1.0 - std::pow(n0 * s0 / n2, 2));
+        const double delta = 2.0 * std::numbers::pi * n1 * d * c1 / l;
+        double Rsum = 0.0, Tsum = 0.0;
+        for (bool p : {false, true}) {
+            const double e0 = p ? n0 / ci : n0 * ci, e1 = p ? n1 / c1 : n1 * c1, e2 = p ? n2 / c2 : n2 * c2;
+            const double r01 = (e0 - e1) / (e0 + e1), r12 = (e1 - e2) / (e1 + e2);
+            const double t01 = 2 * e0 / (e0 + e1), t12 = 2 * e1 / (e1 + e2);
+            const cplx ph = std::exp(cplx(0.0, -2.0 * delta));
+            const cplx r = (r01 + r12 * ph) / (1.0 + r01 * r12 * ph);
+            const cplx t = t01 * t12 * std::exp(cplx(0.0, -delta)) / (1.0 + r01 * r12 * ph);
+            Rsum += 0.5 * std::norm(r);
+            Tsum += 0.5 * e2 / e0 * std::norm(t);
+        }
+        EXPECT_NEAR(Rsum + Tsum, 1.0, 1e-12);
+        EXPECT_NEAR(filmReflectance(n0, {{n1, d}}, n2, ci, l), Rsum, 1e-12);
+    }
 }

@@ -1,0 +1,29 @@
+#pragma once
+// Runs the fourierflare executable from the repository root, capturing stdout, stderr and the exit code.
+
+#include "test_support.h"
+
+#include <cstdlib>
+#include <string>
+#include <sys/wait.h>
+
+namespace ff::test {
+
+struct RunResult {
+    int code = -1;
+    std::string out, err;
+};
+
+inline RunResult run(const std::string& args) {
+    TempDir dir;
+    const std::string cmd = std::string("cd '") + FF_SOURCE_DIR + "' && '" + FF_CLI_PATH + "' " + args + " >'" +
+                            (dir / "out").string() + "' 2>'" + (dir / "err").string() + "'";
+    const int status = std::system(cmd.c_str());
+    RunResult r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = readFile(dir / "out");
+    r.err = readFile(dir / "err");
+    return r;
+}
+
+} // namespace ff::test

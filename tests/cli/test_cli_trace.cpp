@@ -1,0 +1,89 @@
+// `fourierflare ghosts` and `fourierflare render` as a user runs them.
+
+#include "cli_runner.h"
+#include "test_support.h"
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <numeric>
+
+using ff::test::run;
+
+TEST(CliGhosts, ReportsAll45GhostsOfTheDoubleGauss) {
+    const auto r = run("ghosts lenses/double-gauss-50mm-f2.lens --angle 10 --wavelength 550 --coating none "
+                       "--sampling paraxial-grid --grid 64 --sensor paraxial --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["ghost_count"], 45);
+    const auto& w = j["wavelengths"][0];
+    ASSERT_EQ(w["ghosts"].size(), 45u);
+    EXPECT_GT(w["direct"]["centroid_mm"][1].get<double>(), 0.0);
+    const double total = w["total_ghost_relative_energy"].get<double>();
+    EXPECT_GT(total, 0.015); // uncoated: 1.5-6 % (optics reference)
+    EXPECT_LT(total, 0.06);
+    double previous = 1.0;
+    for (const auto& g : w["ghosts"]) {
+        const double e = g["relative_energy"].get<double>();
+        EXPECT_LE(e, previous);
+        previous = e;
+        EXPECT_GT(g["surfaces"][0].get<int>(), g["surfaces"][1].get<int>());
+    }
+}
+
+TEST(CliGhosts, TextReportAndTopK) {
+    const auto r = run("ghosts lenses/cooke-triplet-50mm-f5.lens --angle 5 --top 3");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("6 reflecting interfaces -> 15 two-bounce ghosts, the 3 strongest shown"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("total ghost energy / direct energy"), std::string::npos);
+    EXPECT_EQ(run("ghosts lenses/cooke-triplet-50mm-f5.lens").code, 2);                  // --angle is required
+    EXPECT_EQ(run("ghosts lenses/cooke-triplet-50mm-f5.lens --angle 5 --coating x").code, 2);
+}
+
+TEST(CliRender, WritesAFluxExrWithProvenanceAndAPreview) {
+    ff::test::TempDir dir;
+    const std::string exr = (dir / "flare.exr").string(), png = (dir / "flare.png").string();
+    const auto r = run("render lenses/double-gauss-50mm-f2.lens --angle 12,30 --size 160x90 --grid 16 -o '" + exr +
+                       "' --preview '" + png + "'");
+    ASSERT_EQ(r.code, 0) << r.err;
+    auto in = OIIO::ImageInput::open(exr);
+    ASSERT_TRUE(in);
+    const OIIO::ImageSpec& spec = in->spec();
+    EXPECT_EQ(spec.width, 160);
+    EXPECT_EQ(spec.height, 90);
+    ASSERT_EQ(spec.nchannels, 3);
+    EXPECT_EQ(spec.channelnames[0], "R");
+    EXPECT_EQ(spec.get_string_attribute("compression"), "zip");
+    EXPECT_EQ(spec.get_string_attribute("fourierflare:lensHash").size(), 16u);
+    EXPECT_NE(spec.get_string_attribute("fourierflare:commandLine").find("--angle 12,30"), std::string::npos);
+    std::vector<float> px(160 * 90 * 3);
+    ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, px.data()));
+    in->close();
+    double sum = 0.0;
+    for (float v : px) {
+        ASSERT_TRUE(std::isfinite(v));
+        ASSERT_GE(v, 0.0f);
+        sum += v;
+    }
+    EXPECT_GT(sum, 0.0);
+    EXPECT_LT(sum, 3.0); // ghosts carry a small fraction of the source's flux in each channel
+    EXPECT_TRUE(std::filesystem::exists(png));
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()), {}), 2); // no temporaries left
+}
+
+TEST(CliRender, LightPositionAndErrors) {
+    ff::test::TempDir dir;
+    const std::string exr = (dir / "l.exr").string();
+    const auto centre = run("render lenses/cooke-triplet-50mm-f5.lens --light 40,10 --size 80x60 --grid 8 -o '" + exr + "'");
+    EXPECT_EQ(centre.code, 0) << centre.err;
+    EXPECT_NE(centre.err.find("traced 15 ghosts"), std::string::npos) << centre.err;
+    EXPECT_EQ(run("render lenses/cooke-triplet-50mm-f5.lens --size 80x60 -o '" + exr + "'").code, 2); // no source
+    EXPECT_EQ(run("render lenses/cooke-triplet-50mm-f5.lens --angle 5 --size 80 -o '" + exr + "'").code, 2);
+    EXPECT_EQ(run("render lenses/cooke-triplet-50mm-f5.lens --angle 5 --size 80x60 -o lenses/cooke-triplet-50mm-f5.lens").code, 2);
+    // A light far outside the Cooke triplet's field (its chief ray cannot get there).
+    const auto far = run("render lenses/cooke-triplet-50mm-f5.lens --light 100000,10 --size 80x60 -o '" + exr + "'");
+    EXPECT_EQ(far.code, 2) << far.err;
+    EXPECT_NE(far.err.find("no field angle images a source"), std::string::npos) << far.err;
+}
