@@ -1,0 +1,94 @@
+// Tracing benchmarks: rays per second along the direct path and along all two-bounce ghost paths,
+// Embree packets versus the analytic loop, on 1 and 2 threads. Baseline: the analytic loop on one
+// thread for the same lens and paths; read the others as ratios against it (docs/performance.md).
+
+#include "core/units.h"
+#include "optics/lens_loader.h"
+#include "trace/embree_tracer.h"
+#include "trace/ghost_analysis.h"
+#include "trace/pupil_sampling.h"
+
+#include <benchmark/benchmark.h>
+#include <tbb/task_arena.h>
+
+#include <map>
+
+namespace {
+
+using namespace ff;
+using namespace ff::trace;
+
+struct Workload {
+    optics::Lens lens;
+    std::unique_ptr<LensAtWavelength> L;
+    std::unique_ptr<EmbreeTracer> tracer;
+    Bundle bundle;
+    std::vector<std::vector<PathStep>> direct, ghosts;
+};
+
+Workload& workload(const std::string& file, int grid) {
+    static std::map<std::string, std::unique_ptr<Workload>> cache;
+    auto& w = cache[file + std::to_string(grid)];
+    if (!w) {
+        w = std::make_unique<Workload>();
+        w->lens = optics::loadLens(std::string(FF_SOURCE_DIR) + "/lenses/" + file);
+        w->L = std::make_unique<LensAtWavelength>(w->lens, 550.0);
+        w->tracer = std::make_unique<EmbreeTracer>(*w->L);
+        const PupilFrame f = pupilFrame(w->lens);
+        w->bundle = gridBundle(f, {degToRad(10.0), 0.0}, grid, 0.0, 0.0, f.radius, true);
+        w->direct.push_back(pathSteps(w->lens, std::nullopt));
+        for (const GhostPair& g : enumerateGhosts(w->lens)) w->ghosts.push_back(pathSteps(w->lens, g));
+    }
+    return *w;
+}
+
+template <bool UseEmbree, bool Ghosts>
+void traceRays(benchmark::State& state, const char* file, int grid) {
+    Workload& w = workload(file, grid);
+    const auto& paths = Ghosts ? w.ghosts : w.direct;
+    std::vector<RayResult> out(w.bundle.rays.size());
+    tbb::task_arena arena(static_cast<int>(state.range(0)));
+    for (auto _ : state) {
+        arena.execute([&] {
+            for (const auto& steps : paths) {
+                if constexpr (UseEmbree) w.tracer->trace(*w.L, steps, w.bundle.rays, out);
+                else traceAnalytic(*w.L, steps, w.bundle.rays, out);
+            }
+        });
+        benchmark::DoNotOptimize(out.data());
+    }
+    state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * paths.size() * w.bundle.rays.size()));
+}
+
+void BM_DoubleGauss_Direct_Analytic_Baseline(benchmark::State& s) { traceRays<false, false>(s, "double-gauss-50mm-f2.lens", 64); }
+void BM_DoubleGauss_Direct_Embree(benchmark::State& s) { traceRays<true, false>(s, "double-gauss-50mm-f2.lens", 64); }
+void BM_DoubleGauss_Ghosts_Analytic(benchmark::State& s) { traceRays<false, true>(s, "double-gauss-50mm-f2.lens", 64); }
+void BM_DoubleGauss_Ghosts_Embree(benchmark::State& s) { traceRays<true, true>(s, "double-gauss-50mm-f2.lens", 64); }
+void BM_Zoom_Direct_Analytic(benchmark::State& s) { traceRays<false, false>(s, "zoom-70-200mm-f2.8.lens", 64); }
+void BM_Zoom_Direct_Embree(benchmark::State& s) { traceRays<true, false>(s, "zoom-70-200mm-f2.8.lens", 64); }
+void BM_Zoom_Ghosts_Analytic(benchmark::State& s) { traceRays<false, true>(s, "zoom-70-200mm-f2.8.lens", 16); }
+void BM_Zoom_Ghosts_Embree(benchmark::State& s) { traceRays<true, true>(s, "zoom-70-200mm-f2.8.lens", 16); }
+BENCHMARK(BM_DoubleGauss_Direct_Analytic_Baseline)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_DoubleGauss_Direct_Embree)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_DoubleGauss_Ghosts_Analytic)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_DoubleGauss_Ghosts_Embree)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Zoom_Direct_Analytic)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Zoom_Direct_Embree)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Zoom_Ghosts_Analytic)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Zoom_Ghosts_Embree)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The target: every ghost of the double Gauss at one angle, 3 wavelengths, 64 x 64 grid
+// (re-aimed pupils, statistics included), i.e. what 'fourierflare ghosts' does.
+void BM_DoubleGauss_GhostReport_3Wavelengths(benchmark::State& state) {
+    const optics::Lens lens = optics::loadLens(std::string(FF_SOURCE_DIR) + "/lenses/double-gauss-50mm-f2.lens");
+    GhostAnalysisOptions o;
+    o.field = {degToRad(10.0), 0.0};
+    o.wavelengthsNm = {450.0, 550.0, 650.0};
+    tbb::task_arena arena(static_cast<int>(state.range(0)));
+    for (auto _ : state) arena.execute([&] { benchmark::DoNotOptimize(analyzeGhosts(lens, o)); });
+}
+BENCHMARK(BM_DoubleGauss_GhostReport_3Wavelengths)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+} // namespace
+
+BENCHMARK_MAIN();
