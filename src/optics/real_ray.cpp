@@ -11,8 +11,14 @@ namespace ff::optics {
 namespace {
 
 // Unit normal of the surface at a point given in vertex-local coordinates (x, y, z - vertexZ),
-// from the sag slope: n ∝ (-z'(r) x / r, -z'(r) y / r, 1).
+// oriented towards +z: from the implicit conic for spheres and conics, from the sag slope
+// n ∝ (-z'(r) x / r, -z'(r) y / r, 1) for aspheres.
 std::optional<glm::dvec3> surfaceNormal(const Surface& s, const glm::dvec3& local) {
+    if (!s.isAspheric()) {
+        // Sphere or conic: minus the gradient of c (x^2 + y^2 + (1 + k) z^2) - 2 z, which points to +z.
+        const double c = s.curvature();
+        return glm::normalize(glm::dvec3(-c * local.x, -c * local.y, 1.0 - c * (1.0 + s.conic) * local.z));
+    }
     const double r = std::sqrt(local.x * local.x + local.y * local.y);
     auto slope = s.sagSlope(r);
     if (!slope || !std::isfinite(*slope)) return std::nullopt;

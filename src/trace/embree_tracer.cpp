@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include <limits>
+#include <optional>
 
 namespace ff::trace {
 
@@ -22,12 +23,18 @@ void loseRay(RayResult& r, RayStatus status, std::size_t step) {
     r.weight = 0.0;
 }
 
-// Traces up to 8 rays [first, first + count) as one packet.
+// Traces up to 8 rays [first, first + count) as one packet. At each step the exact hit on the
+// expected surface is computed first (a miss, a hit outside its aperture or total internal reflection
+// loses the ray as in the analytic tracer); then one occlusion query asks Embree whether anything
+// else in the scene lies on the segment from the ray's origin to that hit. If so the ray is blocked:
+// the nearest hit in the scene was not the surface the path expects.
 void tracePacket(RTCScene scene, const LensAtWavelength& L, const std::vector<PathStep>& steps,
                  std::span<const optics::Ray> rays, std::span<RayResult> out, std::size_t first, int count) {
     optics::Ray cur[kPacket];
     double weight[kPacket];
     bool alive[kPacket] = {};
+    unsigned expected[kPacket] = {};
+    std::optional<optics::SurfaceHit> hit[kPacket];
     for (int i = 0; i < count; ++i) {
         cur[i] = rays[first + i];
         weight[i] = 1.0;
@@ -38,51 +45,52 @@ void tracePacket(RTCScene scene, const LensAtWavelength& L, const std::vector<Pa
     rtcInitIntersectContext(&ctx.embree);
     ctx.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
     ctx.rays = cur;
+    ctx.ignore = expected;
 
-    alignas(32) RTCRayHit8 rh;
+    alignas(32) RTCRay8 ray;
     for (std::size_t k = 0; k < steps.size(); ++k) {
+        const std::size_t s = steps[k].surface;
         alignas(32) int valid[kPacket];
         bool any = false;
         for (int i = 0; i < kPacket; ++i) {
-            valid[i] = (i < count && alive[i]) ? -1 : 0;
-            any = any || valid[i];
-            const optics::Ray& r = cur[i];
-            rh.ray.org_x[i] = static_cast<float>(r.origin.x);
-            rh.ray.org_y[i] = static_cast<float>(r.origin.y);
-            rh.ray.org_z[i] = static_cast<float>(r.origin.z);
-            rh.ray.dir_x[i] = static_cast<float>(r.dir.x);
-            rh.ray.dir_y[i] = static_cast<float>(r.dir.y);
-            rh.ray.dir_z[i] = static_cast<float>(r.dir.z);
-            rh.ray.tnear[i] = static_cast<float>(kMinStep);
-            rh.ray.tfar[i] = std::numeric_limits<float>::infinity();
-            rh.ray.time[i] = 0.0f;
-            rh.ray.mask[i] = 0xFFFFFFFFu;
-            rh.ray.id[i] = static_cast<unsigned>(i);
-            rh.ray.flags[i] = 0;
-            rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-            rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-        }
-        if (!any) return;
-        rtcIntersect8(valid, scene, &ctx.embree, &rh);
-
-        const std::size_t s = steps[k].surface;
-        for (int i = 0; i < count; ++i) {
-            if (!alive[i]) continue;
+            valid[i] = 0;
+            if (i >= count || !alive[i]) continue;
+            hit[i] = optics::intersectSurface(L.lens->surfaces[s], L.vertexZ[s], cur[i], kMinStep);
             RayResult& res = out[first + i];
-            const unsigned g = rh.hit.geomID[i];
-            if (g == RTC_INVALID_GEOMETRY_ID) {
-                loseRay(res, RayStatus::Missed, k);
-                alive[i] = false;
+            if (!hit[i]) loseRay(res, RayStatus::Missed, k);
+            else if (!L.insideAperture(s, hit[i]->point)) loseRay(res, RayStatus::Clipped, k);
+            else {
+                valid[i] = -1;
+                any = true;
+                expected[i] = static_cast<unsigned>(s);
+                const optics::Ray& r = cur[i];
+                ray.org_x[i] = static_cast<float>(r.origin.x);
+                ray.org_y[i] = static_cast<float>(r.origin.y);
+                ray.org_z[i] = static_cast<float>(r.origin.z);
+                ray.dir_x[i] = static_cast<float>(r.dir.x);
+                ray.dir_y[i] = static_cast<float>(r.dir.y);
+                ray.dir_z[i] = static_cast<float>(r.dir.z);
+                ray.tnear[i] = static_cast<float>(kMinStep);
+                ray.tfar[i] = static_cast<float>(hit[i]->t);
+                ray.time[i] = 0.0f;
+                ray.mask[i] = 0xFFFFFFFFu;
+                ray.id[i] = static_cast<unsigned>(i);
+                ray.flags[i] = 0;
                 continue;
             }
-            if (g != s) {
+            alive[i] = false;
+        }
+        if (!any) return;
+        rtcOccluded8(valid, scene, &ctx.embree, &ray);
+        for (int i = 0; i < count; ++i) {
+            if (!valid[i]) continue;
+            RayResult& res = out[first + i];
+            if (ray.tfar[i] < 0.0f) { // something else came first
                 loseRay(res, RayStatus::Blocked, k);
                 alive[i] = false;
                 continue;
             }
-            // The scene says the expected surface is first; compute the hit exactly in double.
-            auto hit = optics::intersectSurface(L.lens->surfaces[s], L.vertexZ[s], cur[i], kMinStep);
-            const RayStatus st = hit ? applyStep(L, steps[k], *hit, cur[i], weight[i]) : RayStatus::Missed;
+            const RayStatus st = applyStep(L, steps[k], *hit[i], cur[i], weight[i]);
             if (st != RayStatus::Ok) {
                 loseRay(res, st, k);
                 alive[i] = false;

@@ -1,8 +1,9 @@
 #pragma once
 // Traces bundles of rays along one path (direct or ghost) through the Embree scene of a lens, in
-// packets of 8 (rtcIntersect8, coherent context) with TBB over tiles of packets. At every path step
-// the nearest hit in the whole scene must be the surface the path expects next; anything else (the
-// iris, the barrel, another surface) blocks the ray, and no hit at all means it left the lens. The
+// packets of 8 (coherent context) with TBB over tiles of packets. At every path step the nearest hit
+// in the whole scene must be the surface the path expects next; anything else (the iris, the barrel,
+// another surface) blocks the ray. It is asked as: the exact hit on the expected surface first, then
+// one occlusion query (rtcOccluded8) on the segment up to it with that surface excluded. The
 // physics at a hit (refraction, reflection, Fresnel/coating weights) is trace::applyStep, shared with
 // the analytic reference tracer. Results do not depend on the number of threads.
 

@@ -4,6 +4,8 @@
 #include "optics/paraxial.h"
 #include "trace/embree_tracer.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -77,32 +79,40 @@ GhostReport analyzeGhosts(const optics::Lens& lensIn, const GhostAnalysisOptions
     const LensAtWavelength geometry(lens, lines::d, report.sensorZ);
     const EmbreeTracer tracer(geometry);
 
+    // Each path's pupil region, found once (at the d line) for all wavelengths. Paths are independent
+    // and stored by index, so the report does not depend on the number of threads.
+    std::vector<std::optional<GhostPair>> paths = {std::nullopt};
+    for (const GhostPair& g : ghosts) paths.push_back(g);
+    std::vector<std::vector<PathStep>> steps(paths.size());
+    std::vector<PupilRegion> regions(paths.size());
+    tbb::parallel_for(std::size_t(0), paths.size(), [&](std::size_t p) {
+        steps[p] = pathSteps(lens, paths[p]);
+        regions[p] = pupilRegion(frame, o.field, o.sampling, geometry, steps[p]);
+    });
+
     for (double lambda : o.wavelengthsNm) {
         const LensAtWavelength L(lens, lambda, report.sensorZ);
+        std::vector<PathStats> stats(paths.size());
+        tbb::parallel_for(std::size_t(0), paths.size(), [&](std::size_t p) {
+            const Bundle b = regionBundle(frame, o.field, regions[p], o.grid);
+            std::vector<RayResult> results(b.rays.size());
+            tracer.trace(L, steps[p], b.rays, results);
+            stats[p] = statistics(b, results, halfW, halfH);
+            stats[p].ghost = paths[p];
+        });
         WavelengthReport wr;
         wr.lambdaNm = lambda;
-        auto tracePath = [&](const std::optional<GhostPair>& g) {
-            const auto steps = pathSteps(lens, g);
-            const Bundle b = makeBundle(frame, o.field, o.sampling, o.grid, L, steps);
-            std::vector<RayResult> results(b.rays.size());
-            tracer.trace(L, steps, b.rays, results);
-            PathStats st = statistics(b, results, halfW, halfH);
-            st.ghost = g;
-            return st;
-        };
-        wr.direct = tracePath(std::nullopt);
+        wr.direct = stats[0];
+        wr.ghosts.assign(stats.begin() + 1, stats.end());
         const double directEnergy = wr.direct.energy;
-        for (const GhostPair& g : ghosts) wr.ghosts.push_back(tracePath(g));
-        for (PathStats* st : [&] {
-                 std::vector<PathStats*> all = {&wr.direct};
-                 for (auto& g : wr.ghosts) all.push_back(&g);
-                 return all;
-             }()) {
-            st->relativeEnergy = directEnergy > 0.0 ? st->energy / directEnergy : 0.0;
-            st->energyPerRay = st->launched ? st->relativeEnergy / static_cast<double>(st->launched) : 0.0;
-            st->axialRatio = std::abs(wr.direct.centroidY) > 1e-9 ? st->centroidY / wr.direct.centroidY
+        auto finish = [&](PathStats& st) {
+            st.relativeEnergy = directEnergy > 0.0 ? st.energy / directEnergy : 0.0;
+            st.energyPerRay = st.launched ? st.relativeEnergy / static_cast<double>(st.launched) : 0.0;
+            st.axialRatio = std::abs(wr.direct.centroidY) > 1e-9 ? st.centroidY / wr.direct.centroidY
                                                                    : std::numeric_limits<double>::quiet_NaN();
-        }
+        };
+        finish(wr.direct);
+        for (PathStats& g : wr.ghosts) finish(g);
         std::stable_sort(wr.ghosts.begin(), wr.ghosts.end(), [](const PathStats& a, const PathStats& b) { return a.energy > b.energy; });
         for (const PathStats& g : wr.ghosts) wr.totalGhostRelative += g.relativeEnergy;
         report.wavelengths.push_back(std::move(wr));

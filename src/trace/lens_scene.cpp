@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace ff::trace {
 
@@ -36,10 +37,9 @@ namespace {
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
-const optics::Ray& contextRay(const RTCIntersectFunctionNArguments* args, RTCRayN* rays, unsigned i) {
-    const auto* ctx = reinterpret_cast<const QueryContext*>(args->context);
-    return ctx->rays[RTCRayN_id(rays, args->N, i)];
-}
+const QueryContext& context(RTCIntersectContext* c) { return *reinterpret_cast<const QueryContext*>(c); }
+
+bool ignored(const QueryContext& ctx, unsigned rayId, unsigned geomID) { return ctx.ignore && ctx.ignore[rayId] == geomID; }
 
 // Records a hit at parameter t if it is nearer than the ray's current tfar.
 void recordHit(const RTCIntersectFunctionNArguments* args, RTCRayN* rays, RTCHitN* hits, unsigned i, double t,
@@ -55,6 +55,72 @@ void recordHit(const RTCIntersectFunctionNArguments* args, RTCRayN* rays, RTCHit
     RTCHitN_primID(hits, N, i) = args->primID;
     RTCHitN_geomID(hits, N, i) = args->geomID;
     RTCHitN_instID(hits, N, i, 0) = args->context->instID[0];
+}
+
+// The three primitive kinds, each as "parameter of the first hit beyond tnear, if any".
+std::optional<double> surfaceHitT(const LensScene::SurfacePrim& p, const optics::Ray& r, double tnear, double) {
+    auto hit = optics::intersectSurfacePoint(p.surface, p.vertexZ, r, tnear);
+    if (hit && p.inside(hit->point)) return hit->t;
+    return std::nullopt;
+}
+
+std::optional<double> irisHitT(const LensScene::IrisPrim& p, const optics::Ray& r, double tnear, double) {
+    if (r.dir.z == 0.0) return std::nullopt;
+    const double t = (p.z - r.origin.z) / r.dir.z;
+    if (!(t > tnear)) return std::nullopt;
+    const double x = r.origin.x + t * r.dir.x, y = r.origin.y + t * r.dir.y;
+    if (p.iris.contains(x, y) || x * x + y * y > p.outerRadius * p.outerRadius) return std::nullopt; // open, or outside the barrel
+    return t;
+}
+
+std::optional<double> barrelHitT(const LensScene::BarrelPrim& p, const optics::Ray& r, double tnear, double tfar) {
+    // A segment whose two ends are inside the tube stays inside it (the cylinder is convex).
+    const double R2 = p.radius * p.radius;
+    if (std::isfinite(tfar)) {
+        const glm::dvec3 a = r.origin + tnear * r.dir, b = r.origin + tfar * r.dir;
+        if (a.x * a.x + a.y * a.y < R2 && b.x * b.x + b.y * b.y < R2) return std::nullopt;
+    }
+    // (ox + t dx)^2 + (oy + t dy)^2 = R^2, between the two rims.
+    const double a = r.dir.x * r.dir.x + r.dir.y * r.dir.y;
+    if (a < 1e-18) return std::nullopt;
+    const double b = r.origin.x * r.dir.x + r.origin.y * r.dir.y;
+    const double c = r.origin.x * r.origin.x + r.origin.y * r.origin.y - p.radius * p.radius;
+    const double disc = b * b - a * c;
+    if (disc < 0.0) return std::nullopt;
+    for (double t : {(-b - std::sqrt(disc)) / a, (-b + std::sqrt(disc)) / a}) {
+        const double z = r.origin.z + t * r.dir.z;
+        if (t > tnear && z >= p.z0 && z <= p.z1) return t;
+    }
+    return std::nullopt;
+}
+
+// Generic N-wide callbacks over a primitive kind's hit function.
+template <typename Prim, std::optional<double> (*HitT)(const Prim&, const optics::Ray&, double, double)>
+void intersectN(const RTCIntersectFunctionNArguments* args) {
+    const auto* p = static_cast<const Prim*>(args->geometryUserPtr);
+    RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
+    RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
+    const QueryContext& ctx = context(args->context);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        const unsigned id = RTCRayN_id(rays, args->N, i);
+        if (ignored(ctx, id, args->geomID)) continue;
+        if (auto t = HitT(*p, ctx.rays[id], RTCRayN_tnear(rays, args->N, i), RTCRayN_tfar(rays, args->N, i))) recordHit(args, rays, hits, i, *t, glm::dvec3(0.0, 0.0, 1.0));
+    }
+}
+
+template <typename Prim, std::optional<double> (*HitT)(const Prim&, const optics::Ray&, double, double)>
+void occludedN(const RTCOccludedFunctionNArguments* args) {
+    const auto* p = static_cast<const Prim*>(args->geometryUserPtr);
+    const QueryContext& ctx = context(args->context);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        const unsigned id = RTCRayN_id(args->ray, args->N, i);
+        if (ignored(ctx, id, args->geomID)) continue;
+        auto t = HitT(*p, ctx.rays[id], RTCRayN_tnear(args->ray, args->N, i), RTCRayN_tfar(args->ray, args->N, i));
+        if (t && *t < static_cast<double>(RTCRayN_tfar(args->ray, args->N, i)))
+            RTCRayN_tfar(args->ray, args->N, i) = -std::numeric_limits<float>::infinity(); // occluded
+    }
 }
 
 void surfaceBounds(const RTCBoundsFunctionArguments* args) {
@@ -78,38 +144,10 @@ void surfaceBounds(const RTCBoundsFunctionArguments* args) {
     b->upper_z = static_cast<float>(p->vertexZ + zMax + pad);
 }
 
-void surfaceIntersect(const RTCIntersectFunctionNArguments* args) {
-    const auto* p = static_cast<const LensScene::SurfacePrim*>(args->geometryUserPtr);
-    RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
-    RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
-    for (unsigned i = 0; i < args->N; ++i) {
-        if (args->valid[i] != -1) continue;
-        // Only which surface is nearest matters here; the tracer computes the winner's normal itself.
-        auto hit = optics::intersectSurfacePoint(p->surface, p->vertexZ, contextRay(args, rays, i), RTCRayN_tnear(rays, args->N, i));
-        if (hit && p->inside(hit->point)) recordHit(args, rays, hits, i, hit->t, glm::dvec3(0.0, 0.0, 1.0));
-    }
-}
-
 void irisBounds(const RTCBoundsFunctionArguments* args) {
     const auto* p = static_cast<const LensScene::IrisPrim*>(args->geometryUserPtr);
     const float r = static_cast<float>(p->outerRadius), z = static_cast<float>(p->z);
     *args->bounds_o = RTCBounds{-r, -r, z - 1e-3f, 0.0f, r, r, z + 1e-3f, 0.0f};
-}
-
-void irisIntersect(const RTCIntersectFunctionNArguments* args) {
-    const auto* p = static_cast<const LensScene::IrisPrim*>(args->geometryUserPtr);
-    RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
-    RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
-    for (unsigned i = 0; i < args->N; ++i) {
-        if (args->valid[i] != -1) continue;
-        const optics::Ray& r = contextRay(args, rays, i);
-        if (r.dir.z == 0.0) continue;
-        const double t = (p->z - r.origin.z) / r.dir.z;
-        if (!(t > static_cast<double>(RTCRayN_tnear(rays, args->N, i)))) continue;
-        const double x = r.origin.x + t * r.dir.x, y = r.origin.y + t * r.dir.y;
-        if (p->iris.contains(x, y) || x * x + y * y > p->outerRadius * p->outerRadius) continue; // open, or outside the barrel
-        recordHit(args, rays, hits, i, t, glm::dvec3(0.0, 0.0, 1.0));
-    }
 }
 
 void barrelBounds(const RTCBoundsFunctionArguments* args) {
@@ -118,41 +156,14 @@ void barrelBounds(const RTCBoundsFunctionArguments* args) {
     *args->bounds_o = RTCBounds{-r, -r, static_cast<float>(p->z0) - 1e-3f, 0.0f, r, r, static_cast<float>(p->z1) + 1e-3f, 0.0f};
 }
 
-void barrelIntersect(const RTCIntersectFunctionNArguments* args) {
-    const auto* p = static_cast<const LensScene::BarrelPrim*>(args->geometryUserPtr);
-    RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
-    RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
-    for (unsigned i = 0; i < args->N; ++i) {
-        if (args->valid[i] != -1) continue;
-        const optics::Ray& r = contextRay(args, rays, i);
-        // (ox + t dx)^2 + (oy + t dy)^2 = R^2
-        const double a = r.dir.x * r.dir.x + r.dir.y * r.dir.y;
-        if (a < 1e-18) continue;
-        const double b = r.origin.x * r.dir.x + r.origin.y * r.dir.y;
-        const double c = r.origin.x * r.origin.x + r.origin.y * r.origin.y - p->radius * p->radius;
-        const double disc = b * b - a * c;
-        if (disc < 0.0) continue;
-        const double tnear = RTCRayN_tnear(rays, args->N, i);
-        for (double t : {(-b - std::sqrt(disc)) / a, (-b + std::sqrt(disc)) / a}) {
-            const double z = r.origin.z + t * r.dir.z;
-            if (t > tnear && z >= p->z0 && z <= p->z1) {
-                const glm::dvec3 q = r.origin + t * r.dir;
-                recordHit(args, rays, hits, i, t, glm::dvec3(-q.x, -q.y, 0.0) / p->radius);
-                break;
-            }
-        }
-    }
-}
-
-void occludedUnused(const RTCOccludedFunctionNArguments*) {}
-
-RTCGeometry newUserGeometry(EmbreeDevice& device, void* user, RTCBoundsFunction bounds, RTCIntersectFunctionN intersect) {
+RTCGeometry newUserGeometry(EmbreeDevice& device, void* user, RTCBoundsFunction bounds, RTCIntersectFunctionN intersect,
+                            RTCOccludedFunctionN occluded) {
     RTCGeometry g = rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_USER);
     rtcSetGeometryUserPrimitiveCount(g, 1);
     rtcSetGeometryUserData(g, user);
     rtcSetGeometryBoundsFunction(g, bounds, nullptr);
     rtcSetGeometryIntersectFunction(g, intersect);
-    rtcSetGeometryOccludedFunction(g, occludedUnused);
+    rtcSetGeometryOccludedFunction(g, occluded);
     rtcCommitGeometry(g);
     return g;
 }
@@ -163,7 +174,7 @@ LensScene::LensScene(EmbreeDevice& device, const LensAtWavelength& L) {
     const optics::Lens& lens = *L.lens;
     surfaceCount_ = lens.surfaces.size();
     scene_ = rtcNewScene(device.get());
-    rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_NONE);
     device.check("creating the lens scene");
 
     double largest = 0.0;
@@ -180,7 +191,7 @@ LensScene::LensScene(EmbreeDevice& device, const LensAtWavelength& L) {
         p->boundsRadius = p->radius > 0.0 ? p->radius : unclippedRadius;
         p->isStop = (s == L.stop);
         p->iris = L.iris;
-        RTCGeometry g = newUserGeometry(device, p.get(), surfaceBounds, surfaceIntersect);
+        RTCGeometry g = newUserGeometry(device, p.get(), surfaceBounds, intersectN<SurfacePrim, surfaceHitT>, occludedN<SurfacePrim, surfaceHitT>);
         rtcAttachGeometryByID(scene_, g, id);
         rtcReleaseGeometry(g);
         surfaces_.push_back(std::move(p));
@@ -190,7 +201,7 @@ LensScene::LensScene(EmbreeDevice& device, const LensAtWavelength& L) {
     iris_->z = L.vertexZ[L.stop];
     iris_->outerRadius = 2.0 * largest;
     iris_->iris = L.iris;
-    RTCGeometry irisGeom = newUserGeometry(device, iris_.get(), irisBounds, irisIntersect);
+    RTCGeometry irisGeom = newUserGeometry(device, iris_.get(), irisBounds, intersectN<IrisPrim, irisHitT>, occludedN<IrisPrim, irisHitT>);
     rtcAttachGeometryByID(scene_, irisGeom, id++);
     rtcReleaseGeometry(irisGeom);
 
@@ -205,7 +216,7 @@ LensScene::LensScene(EmbreeDevice& device, const LensAtWavelength& L) {
         b->z0 = L.vertexZ[s] + *rim0;
         b->z1 = L.vertexZ[s + 1] + *rim1;
         if (b->z1 <= b->z0) continue;
-        RTCGeometry g = newUserGeometry(device, b.get(), barrelBounds, barrelIntersect);
+        RTCGeometry g = newUserGeometry(device, b.get(), barrelBounds, intersectN<BarrelPrim, barrelHitT>, occludedN<BarrelPrim, barrelHitT>);
         rtcAttachGeometryByID(scene_, g, id++);
         rtcReleaseGeometry(g);
         barrel_.push_back(std::move(b));

@@ -6,8 +6,10 @@
 // and barrel pieces follow.
 //
 // Precision: Embree traverses with float rays, but the callbacks intersect the double-precision ray
-// carried in the query context (QueryContext), so the scene decides *what* is hit first while hit
-// points are computed in double by the same code as the analytic reference tracer.
+// carried in the query context (QueryContext), so the scene decides *what* is in the way while hit
+// points are computed in double by the same code as the analytic reference tracer. Both intersection
+// (nearest hit) and occlusion (any hit on a segment) queries are supported; a per-ray geometry ID in
+// the context is ignored, so a segment can end on the surface it is aimed at.
 
 #include "optics/real_ray.h"
 #include "trace/embree_device.h"
@@ -23,7 +25,8 @@ namespace ff::trace {
 /// Per-query data reaching the callbacks: must begin with the Embree context.
 struct QueryContext {
     RTCIntersectContext embree;
-    const optics::Ray* rays = nullptr; ///< double rays, indexed by the Embree ray id
+    const optics::Ray* rays = nullptr;    ///< double rays, indexed by the Embree ray id
+    const unsigned* ignore = nullptr;     ///< per ray id: a geometry ID that never counts (or null)
 };
 
 class LensScene {

@@ -52,31 +52,37 @@ Bundle gridBundle(const PupilFrame& frame, const Field& field, int n, double cx,
     return b;
 }
 
-Bundle makeBundle(const PupilFrame& frame, const Field& field, Sampling sampling, int n, const LensAtWavelength& L,
-                  const std::vector<PathStep>& steps) {
-    if (sampling == Sampling::ParaxialGrid) return gridBundle(frame, field, n, 0.0, 0.0, frame.radius, true);
+PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
+                        const std::vector<PathStep>& steps) {
+    if (sampling == Sampling::ParaxialGrid) return {0.0, 0.0, frame.radius, true};
 
     // Coarse pass over everything that could enter the front surface, traced analytically.
     const double shift = std::abs(std::tan(field.angleRad)) * std::abs(frame.z - frame.startZ);
     const double half = std::max(frame.frontRadius, frame.radius) + shift + frame.radius;
     constexpr int kCoarse = 48;
     const Bundle coarse = gridBundle(frame, field, kCoarse, 0.0, 0.0, half, false);
+    std::vector<RayResult> hits(coarse.rays.size());
+    traceAnalytic(L, steps, coarse.rays, hits);
     double xMin = 1e300, xMax = -1e300, yMin = 1e300, yMax = -1e300;
     for (int j = 0; j < kCoarse; ++j)
         for (int i = 0; i < kCoarse; ++i) {
             const std::size_t k = static_cast<std::size_t>(j) * kCoarse + i;
-            if (traceSequential(L, steps, coarse.rays[k]).status != optics::RayStatus::Ok) continue;
+            if (hits[k].status != optics::RayStatus::Ok) continue;
             const double x = coarse.x0 + (i + 0.5) * coarse.cell, y = coarse.y0 + (j + 0.5) * coarse.cell;
             xMin = std::min(xMin, x), xMax = std::max(xMax, x), yMin = std::min(yMin, y), yMax = std::max(yMax, y);
         }
-    if (xMin > xMax) { // nothing gets through: an empty bundle over the paraxial pupil
-        Bundle b = gridBundle(frame, field, n, 0.0, 0.0, frame.radius, true);
-        return b;
-    }
-    // One coarse cell of margin on every side, then a square grid over the box.
-    const double cx = 0.5 * (xMin + xMax), cy = 0.5 * (yMin + yMax);
-    const double h = 0.5 * std::max(xMax - xMin, yMax - yMin) + coarse.cell;
-    return gridBundle(frame, field, n, cx, cy, h, false);
+    if (xMin > xMax) return {0.0, 0.0, frame.radius, true}; // nothing gets through: the paraxial pupil
+    // One coarse cell of margin on every side, then a square over the box.
+    return {0.5 * (xMin + xMax), 0.5 * (yMin + yMax), 0.5 * std::max(xMax - xMin, yMax - yMin) + coarse.cell, false};
+}
+
+Bundle regionBundle(const PupilFrame& frame, const Field& field, const PupilRegion& r, int n) {
+    return gridBundle(frame, field, n, r.cx, r.cy, r.half, r.discOnly);
+}
+
+Bundle makeBundle(const PupilFrame& frame, const Field& field, Sampling sampling, int n, const LensAtWavelength& L,
+                  const std::vector<PathStep>& steps) {
+    return regionBundle(frame, field, pupilRegion(frame, field, sampling, L, steps), n);
 }
 
 } // namespace ff::trace

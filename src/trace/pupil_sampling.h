@@ -55,6 +55,21 @@ PupilFrame pupilFrame(const optics::Lens& lens);
 /// A grid of n x n rays over the square [cx - h, cx + h] x [cy - h, cy + h] of the pupil plane.
 Bundle gridBundle(const PupilFrame& frame, const Field& field, int n, double cx, double cy, double halfSize, bool discOnly);
 
+/// The square of the pupil plane a path's grid covers: centre (cx, cy) and half side.
+struct PupilRegion {
+    double cx = 0.0, cy = 0.0, half = 0.0;
+    bool discOnly = false; ///< launch only inside the paraxial pupil disc (paraxial-grid sampling)
+};
+
+/// Where the grid of one path goes, by the chosen sampling. For Reaim, a coarse analytic pass at L's
+/// wavelength; its one-coarse-cell margin also covers the small shift of the pupil with wavelength,
+/// so one region serves every wavelength of a path.
+PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
+                        const std::vector<PathStep>& steps);
+
+/// The n x n bundle over a region.
+Bundle regionBundle(const PupilFrame& frame, const Field& field, const PupilRegion& region, int n);
+
 /// The bundle for one path at one field and wavelength, by the chosen sampling.
 Bundle makeBundle(const PupilFrame& frame, const Field& field, Sampling sampling, int n, const LensAtWavelength& L,
                   const std::vector<PathStep>& steps);

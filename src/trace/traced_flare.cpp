@@ -106,23 +106,32 @@ TracedFlare renderTracedFlare(const optics::Lens& lensIn, const TracedFlareOptio
 
     // One flux image per wavelength, rendered in parallel; each is filled in a fixed order, so the
     // result does not depend on the number of threads.
+    // Each path's pupil region, found once (at the d line) for all wavelengths.
+    std::vector<std::vector<PathStep>> ghostSteps;
+    std::vector<PupilRegion> regions;
+    const auto directSteps = pathSteps(lens, std::nullopt);
+    const PupilRegion directRegion = pupilRegion(pupil, o.field, o.sampling, geometry, directSteps);
+    for (const GhostPair& g : ghosts) {
+        ghostSteps.push_back(pathSteps(lens, g));
+        regions.push_back(pupilRegion(pupil, o.field, o.sampling, geometry, ghostSteps.back()));
+    }
+
     std::vector<std::vector<double>> layers(out.wavelengthsNm.size());
     out.stats.resize(out.wavelengthsNm.size());
     tbb::parallel_for(std::size_t(0), out.wavelengthsNm.size(), [&](std::size_t w) {
         const LensAtWavelength L(lens, out.wavelengthsNm[w], sensorZ);
         layers[w].assign(pixels, 0.0);
         // The direct image's energy normalises the flux.
-        const auto directSteps = pathSteps(lens, std::nullopt);
-        const Bundle direct = makeBundle(pupil, o.field, o.sampling, o.grid, L, directSteps);
+        const Bundle direct = regionBundle(pupil, o.field, directRegion, o.grid);
         std::vector<RayResult> hits(direct.rays.size());
         tracer.trace(L, directSteps, direct.rays, hits);
         double directEnergy = 0.0;
         for (std::size_t i = 0; i < hits.size(); ++i)
             if (direct.launched[i]) directEnergy += hits[i].weight * direct.cellArea;
         if (directEnergy <= 0.0) return; // the source is fully vignetted: no flare
-        for (const GhostPair& g : ghosts) {
-            const auto steps = pathSteps(lens, g);
-            const Bundle centres = makeBundle(pupil, o.field, o.sampling, o.grid, L, steps);
+        for (std::size_t gi = 0; gi < ghosts.size(); ++gi) {
+            const auto& steps = ghostSteps[gi];
+            const Bundle centres = regionBundle(pupil, o.field, regions[gi], o.grid);
             const Bundle corners = cornerBundle(pupil, o.field, centres);
             std::vector<RayResult> c(centres.rays.size()), k(corners.rays.size());
             tracer.trace(L, steps, centres.rays, c);
