@@ -1,10 +1,10 @@
 // `fourierflare ghosts`: the ghost report of a lens at one field angle.
 
 #include "cli/commands.h"
+#include "cli/trace_choices.h"
 #include "core/error.h"
 #include "core/text.h"
 #include "core/units.h"
-#include "optics/lens_loader.h"
 #include "trace/ghost_analysis.h"
 
 #include <CLI/CLI.hpp>
@@ -72,18 +72,15 @@ void printPath(const trace::PathStats& p, std::size_t rank) {
 
 void runGhosts(const GhostsOptions& o, const GlobalOptions& g) {
     ConsoleReporter reporter(g);
-    optics::Lens lens = optics::loadLens(o.file, &reporter);
-    if (!o.zoom.empty()) lens = optics::atZoom(lens, optics::findZoomPosition(lens, o.zoom));
-    if (!lens.rotationallySymmetric())
-        throw Error(ErrorKind::Input, SourceLocation{lens.file}, "the lens has anamorphic surfaces; the ghost tracer needs a rotationally symmetric lens");
+    const optics::Lens lens = loadTraceableLens(o.file, o.zoom, reporter);
 
     trace::GhostAnalysisOptions a;
     a.field = {degToRad(o.angleDeg), degToRad(o.azimuthDeg)};
     a.wavelengthsNm = o.wavelengths;
     a.grid = o.grid;
-    a.sampling = o.sampling == "paraxial-grid" ? trace::Sampling::ParaxialGrid : trace::Sampling::Reaim;
-    a.sensor = o.sensor == "paraxial" ? trace::SensorPlane::Paraxial : trace::SensorPlane::File;
-    a.coating = o.coating == "none" ? trace::CoatingChoice::None : o.coating == "mgf2" ? trace::CoatingChoice::MgF2 : trace::CoatingChoice::File;
+    a.sampling = samplingFrom(o.sampling);
+    a.sensor = sensorFrom(o.sensor);
+    a.coating = coatingFrom(o.coating);
     const trace::GhostReport r = trace::analyzeGhosts(lens, a);
     const std::size_t nGhosts = r.wavelengths.empty() ? 0 : r.wavelengths[0].ghosts.size();
     const std::size_t shown = o.top > 0 ? std::min<std::size_t>(static_cast<std::size_t>(o.top), nGhosts) : nGhosts;

@@ -1,13 +1,13 @@
 // `fourierflare render`: the flare of one light source as an image (mode traced for now).
 
 #include "cli/commands.h"
+#include "cli/trace_choices.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/text.h"
 #include "core/units.h"
 #include "ff/version.h"
 #include "image/image_output.h"
-#include "optics/lens_loader.h"
 #include "trace/traced_flare.h"
 
 #include <CLI/CLI.hpp>
@@ -54,20 +54,17 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
         throw Error(ErrorKind::Usage, "--size must be whole pixels between 1 and 16384, got " + text::quoted(o.size));
 
     ConsoleReporter reporter(g);
-    optics::Lens lens = optics::loadLens(o.lens, &reporter);
-    if (!o.zoom.empty()) lens = optics::atZoom(lens, optics::findZoomPosition(lens, o.zoom));
-    if (!lens.rotationallySymmetric())
-        throw Error(ErrorKind::Input, SourceLocation{lens.file}, "the lens has anamorphic surfaces; the ghost tracer needs a rotationally symmetric lens");
+    const optics::Lens lens = loadTraceableLens(o.lens, o.zoom, reporter);
     std::pair<double, double> sensorMm = lens.sensorMm.value_or(std::make_pair(36.0, 24.0));
     if (!o.sensorSize.empty()) sensorMm = parsePair(o.sensorSize, 'x', "--sensor-size WIDTHxHEIGHT in mm (e.g. 36x24)");
 
     trace::TracedFlareOptions t;
     t.frame = {static_cast<int>(w), static_cast<int>(h), sensorMm.first / w};
     t.spectralSamples = o.spectral;
-    t.sampling = o.sampling == "paraxial-grid" ? trace::Sampling::ParaxialGrid : trace::Sampling::Reaim;
+    t.sampling = samplingFrom(o.sampling);
     t.grid = o.grid;
-    t.sensor = o.sensor == "paraxial" ? trace::SensorPlane::Paraxial : trace::SensorPlane::File;
-    t.coating = o.coating == "none" ? trace::CoatingChoice::None : o.coating == "mgf2" ? trace::CoatingChoice::MgF2 : trace::CoatingChoice::File;
+    t.sensor = sensorFrom(o.sensor);
+    t.coating = coatingFrom(o.coating);
     if (!o.angle.empty()) {
         const auto parts = text::split(o.angle, ',');
         auto deg = parts.size() <= 2 ? text::parseNumber(parts[0]) : std::nullopt;

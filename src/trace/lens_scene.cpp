@@ -35,21 +35,19 @@ struct LensScene::BarrelPrim {
 
 namespace {
 
-constexpr float kInfinity = std::numeric_limits<float>::infinity();
-
 const QueryContext& context(RTCIntersectContext* c) { return *reinterpret_cast<const QueryContext*>(c); }
 
 bool ignored(const QueryContext& ctx, unsigned rayId, unsigned geomID) { return ctx.ignore && ctx.ignore[rayId] == geomID; }
 
-// Records a hit at parameter t if it is nearer than the ray's current tfar.
-void recordHit(const RTCIntersectFunctionNArguments* args, RTCRayN* rays, RTCHitN* hits, unsigned i, double t,
-               const glm::dvec3& normal) {
+// Records a hit at parameter t if it is nearer than the ray's current tfar. Ng is left zero: callers
+// compute normals in double precision from the surface they asked about.
+void recordHit(const RTCIntersectFunctionNArguments* args, RTCRayN* rays, RTCHitN* hits, unsigned i, double t) {
     const unsigned N = args->N;
     if (!(t < static_cast<double>(RTCRayN_tfar(rays, N, i)))) return;
     RTCRayN_tfar(rays, N, i) = static_cast<float>(t);
-    RTCHitN_Ng_x(hits, N, i) = static_cast<float>(normal.x);
-    RTCHitN_Ng_y(hits, N, i) = static_cast<float>(normal.y);
-    RTCHitN_Ng_z(hits, N, i) = static_cast<float>(normal.z);
+    RTCHitN_Ng_x(hits, N, i) = 0.0f;
+    RTCHitN_Ng_y(hits, N, i) = 0.0f;
+    RTCHitN_Ng_z(hits, N, i) = 0.0f;
     RTCHitN_u(hits, N, i) = 0.0f;
     RTCHitN_v(hits, N, i) = 0.0f;
     RTCHitN_primID(hits, N, i) = args->primID;
@@ -105,7 +103,8 @@ void intersectN(const RTCIntersectFunctionNArguments* args) {
         if (args->valid[i] != -1) continue;
         const unsigned id = RTCRayN_id(rays, args->N, i);
         if (ignored(ctx, id, args->geomID)) continue;
-        if (auto t = HitT(*p, ctx.rays[id], RTCRayN_tnear(rays, args->N, i), RTCRayN_tfar(rays, args->N, i))) recordHit(args, rays, hits, i, *t, glm::dvec3(0.0, 0.0, 1.0));
+        if (auto t = HitT(*p, ctx.rays[id], RTCRayN_tnear(rays, args->N, i), RTCRayN_tfar(rays, args->N, i)))
+            recordHit(args, rays, hits, i, *t);
     }
 }
 

@@ -1,0 +1,20 @@
+#pragma once
+// What the tracing commands (ghosts, render) share: reading a lens they can trace and turning the
+// option strings into the tracer's choices. The strings are validated by CLI11 beforehand.
+
+#include "cli/console.h"
+#include "optics/lens.h"
+#include "trace/ghost_analysis.h"
+
+#include <string>
+
+namespace ff::cli {
+
+/// Loads the lens at the given zoom position ("" = the first) and refuses anamorphic lenses.
+optics::Lens loadTraceableLens(const std::string& file, const std::string& zoom, Reporter& reporter);
+
+trace::Sampling samplingFrom(const std::string& s);   ///< reaim | paraxial-grid
+trace::SensorPlane sensorFrom(const std::string& s);  ///< file | paraxial
+trace::CoatingChoice coatingFrom(const std::string& s); ///< file | none | mgf2
+
+} // namespace ff::cli
