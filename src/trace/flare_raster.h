@@ -27,15 +27,17 @@
 namespace ff::trace {
 
 /// Maps sensor millimetres (origin on the axis, +y up) to image pixels (origin top-left, +y down,
-/// pixel centres at +0.5): one named conversion each way.
+/// pixel centres at +0.5): one named conversion each way. A frame may be centred off the axis (the
+/// local image of one ghost).
 struct ImageFrame {
     int width = 0, height = 0;
     double pitchMm = 0.0; ///< sensor millimetres per pixel
+    double centreXMm = 0.0, centreYMm = 0.0; ///< sensor point at the image centre (the axis by default)
     glm::dvec2 sensorToPixel(double xMm, double yMm) const {
-        return {0.5 * width + xMm / pitchMm, 0.5 * height - yMm / pitchMm};
+        return {0.5 * width + (xMm - centreXMm) / pitchMm, 0.5 * height - (yMm - centreYMm) / pitchMm};
     }
     glm::dvec2 pixelToSensor(double px, double py) const {
-        return {(px - 0.5 * width) * pitchMm, (0.5 * height - py) * pitchMm};
+        return {centreXMm + (px - 0.5 * width) * pitchMm, centreYMm + (0.5 * height - py) * pitchMm};
     }
 };
 

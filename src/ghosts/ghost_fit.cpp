@@ -1,0 +1,132 @@
+#include "ghosts/ghost_fit.h"
+
+#include "trace/flare_raster.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace ff::ghosts {
+
+const char* toString(Profile p) { return p == Profile::Gaussian ? "gaussian" : "cos2"; }
+
+double profileValue(Profile p, double wr, double wt, double u, double v) {
+    if (p == Profile::Gaussian) return std::exp(-0.5 * (u * u / (wr * wr) + v * v / (wt * wt)));
+    if (std::abs(u) >= wr || std::abs(v) >= wt) return 0.0;
+    const double a = std::cos(0.5 * std::numbers::pi * u / wr), b = std::cos(0.5 * std::numbers::pi * v / wt);
+    return a * a * b * b;
+}
+
+double profileArea(Profile p, double wr, double wt) {
+    return p == Profile::Gaussian ? 2.0 * std::numbers::pi * wr * wt : wr * wt;
+}
+
+namespace {
+
+// The traced irradiance (flux per pixel) on a local square frame around the centroid.
+struct LocalImage {
+    trace::ImageFrame frame;
+    std::vector<double> flux;
+};
+
+// Sum of squared differences between the flux-normalised profile and the image, pixel by pixel
+// (the profile sampled at pixel centres times the pixel area).
+double misfit(const LocalImage& img, Profile p, double flux, double wr, double wt) {
+    const double a = img.frame.pitchMm * img.frame.pitchMm * flux / profileArea(p, wr, wt);
+    double sum = 0.0;
+    for (int y = 0; y < img.frame.height; ++y)
+        for (int x = 0; x < img.frame.width; ++x) {
+            const glm::dvec2 s = img.frame.pixelToSensor(x + 0.5, y + 0.5);
+            const double model = a * profileValue(p, wr, wt, s.y - img.frame.centreYMm, s.x - img.frame.centreXMm);
+            const double d = model - img.flux[static_cast<std::size_t>(y) * img.frame.width + x];
+            sum += d * d;
+        }
+    return sum;
+}
+
+// Golden-section search of f over log(x) in [lo, hi].
+template <typename F>
+double goldenLog(F f, double lo, double hi, int iterations) {
+    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+    double a = std::log(lo), b = std::log(hi);
+    double c = b - g * (b - a), d = a + g * (b - a);
+    double fc = f(std::exp(c)), fd = f(std::exp(d));
+    for (int i = 0; i < iterations; ++i) {
+        if (fc < fd) {
+            b = d, d = c, fd = fc;
+            c = b - g * (b - a);
+            fc = f(std::exp(c));
+        } else {
+            a = c, c = d, fc = fd;
+            d = a + g * (b - a);
+            fd = f(std::exp(d));
+        }
+    }
+    return std::exp(0.5 * (a + b));
+}
+
+ProfileFit fitProfile(const LocalImage& img, Profile p, double flux, double startR, double startT, double imageNorm2) {
+    // Least squares over the two widths: alternate one-dimensional searches over a factor of 4
+    // around the current value, three rounds (the misfit is smooth and unimodal near the moments).
+    double wr = startR, wt = startT;
+    for (int round = 0; round < 3; ++round) {
+        wr = goldenLog([&](double x) { return misfit(img, p, flux, x, wt); }, 0.5 * wr, 2.0 * wr, 24);
+        wt = goldenLog([&](double x) { return misfit(img, p, flux, wr, x); }, 0.5 * wt, 2.0 * wt, 24);
+    }
+    ProfileFit f;
+    f.widthR = wr;
+    f.widthT = wt;
+    f.peak = flux / profileArea(p, wr, wt);
+    f.error = imageNorm2 > 0.0 ? std::sqrt(misfit(img, p, flux, wr, wt) / imageNorm2) : 0.0;
+    return f;
+}
+
+} // namespace
+
+GhostFit fitGhost(const trace::Bundle& b, const std::vector<trace::RayResult>& c, const std::vector<trace::RayResult>& k,
+                  double scale, const FitOptions& o) {
+    GhostFit fit;
+    double e = 0.0, sx = 0.0, sy = 0.0;
+    std::size_t launched = 0, surviving = 0;
+    for (std::size_t i = 0; i < c.size(); ++i) {
+        if (!b.launched[i]) continue;
+        ++launched;
+        if (c[i].status != optics::RayStatus::Ok) continue;
+        ++surviving;
+        const double w = c[i].weight * b.cellArea * scale;
+        e += w;
+        sx += w * c[i].sensorPoint.x;
+        sy += w * c[i].sensorPoint.y;
+    }
+    fit.survivingFraction = launched ? double(surviving) / double(launched) : 0.0;
+    if (e <= 0.0) return fit;
+    fit.flux = e;
+    fit.centroidX = sx / e;
+    fit.centroidY = sy / e;
+    double mxx = 0.0, myy = 0.0, mxy = 0.0;
+    for (std::size_t i = 0; i < c.size(); ++i) {
+        if (!b.launched[i] || c[i].status != optics::RayStatus::Ok) continue;
+        const double w = c[i].weight * b.cellArea * scale;
+        const double dx = c[i].sensorPoint.x - fit.centroidX, dy = c[i].sensorPoint.y - fit.centroidY;
+        mxx += w * dx * dx, myy += w * dy * dy, mxy += w * dx * dy;
+    }
+    fit.sigmaT = std::sqrt(mxx / e);
+    fit.sigmaR = std::sqrt(myy / e);
+    fit.covRT = mxy / e;
+
+    // The traced image around the centroid; spreads below 1 micron are treated as 1 micron.
+    const double sR = std::max(fit.sigmaR, 1e-3), sT = std::max(fit.sigmaT, 1e-3);
+    LocalImage img;
+    img.frame = {o.imageSize, o.imageSize, 2.0 * o.extentSigmas * std::max(sR, sT) / o.imageSize, fit.centroidX, fit.centroidY};
+    img.flux.assign(static_cast<std::size_t>(o.imageSize) * o.imageSize, 0.0);
+    trace::RasterStats stats;
+    trace::rasterizeCells(b, c, k, scale, img.frame, img.flux, stats);
+    double norm2 = 0.0;
+    for (double v : img.flux) norm2 += v * v;
+
+    fit.gaussian = fitProfile(img, Profile::Gaussian, e, sR, sT, norm2);
+    fit.cos2 = fitProfile(img, Profile::Cos2, e, 2.766 * sR, 2.766 * sT, norm2);
+    return fit;
+}
+
+} // namespace ff::ghosts
