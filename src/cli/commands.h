@@ -13,5 +13,6 @@ namespace ff::cli {
 void addLensCommand(CLI::App& app, GlobalOptions& global);
 void addGhostsCommand(CLI::App& app, GlobalOptions& global);
 void addRenderCommand(CLI::App& app, GlobalOptions& global);
+void addTableCommand(CLI::App& app, GlobalOptions& global);
 
 } // namespace ff::cli

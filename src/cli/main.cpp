@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
     addLensCommand(app, global);
     addGhostsCommand(app, global);
     addRenderCommand(app, global);
+    addTableCommand(app, global);
 
     try {
         app.parse(argc, argv);

@@ -1,0 +1,97 @@
+// `fourierflare table`: build (or fetch from the cache) a lens's ghost table and write it as JSON.
+
+#include "cli/commands.h"
+#include "cli/trace_choices.h"
+#include "core/error.h"
+#include "core/file_io.h"
+#include "ghosts/table_cache.h"
+#include "ghosts/table_json.h"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <unistd.h>
+#include <vector>
+
+namespace ff::cli {
+
+namespace {
+
+struct TableOptions {
+    std::string lens, output, zoom;
+    int grid = 32;
+    std::string sampling = "reaim", sensor = "file", coating = "file";
+    double maxAngle = 0.0;
+    bool noCache = false;
+};
+
+void runTable(const TableOptions& o, const GlobalOptions& g) {
+    if (samePath(o.output, o.lens)) throw Error(ErrorKind::Usage, "the output '" + o.output + "' is the input lens file");
+    ConsoleReporter reporter(g);
+    const optics::Lens lens = loadTraceableLens(o.lens, o.zoom, reporter);
+    ghosts::TableSettings s;
+    s.grid = o.grid;
+    s.sampling = samplingFrom(o.sampling);
+    s.sensor = sensorFrom(o.sensor);
+    s.coating = coatingFrom(o.coating);
+    s.maxAngleDeg = o.maxAngle;
+    const bool bar = !g.quiet && isatty(STDERR_FILENO);
+    ghosts::Progress progress;
+    if (bar)
+        progress = [](std::size_t done, std::size_t total) {
+            const int width = 40, filled = static_cast<int>(width * std::min(1.0, double(done) / double(total)));
+            std::fprintf(stderr, "\rfourierflare: tracing and fitting ghosts [%.*s%*s] %zu", filled,
+                         "########################################", width - filled, "", done);
+            std::fflush(stderr);
+        };
+    bool cached = false;
+    const ghosts::GhostTable t = ghosts::tableFor(lens, s, !o.noCache, progress, reporter, &cached);
+    if (bar) std::fprintf(stderr, "\n");
+    writeFileAtomic(o.output, ghosts::tableToJson(t));
+
+    if (g.quiet) return;
+    // Fit quality over every ghost, wavelength and angle with flux (median and worst).
+    std::vector<double> ge, ce;
+    for (const auto& gh : t.ghosts)
+        for (const auto& row : gh.entries)
+            for (const auto& e : row)
+                if (e.flux > 0.0) ge.push_back(e.gaussian.error), ce.push_back(e.cos2.error);
+    auto median = [](std::vector<double> v) {
+        if (v.empty()) return 0.0;
+        std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+        return v[v.size() / 2];
+    };
+    auto worst = [](const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); };
+    std::fprintf(stderr, "fourierflare: %s ghost table: %zu ghosts x %zu wavelengths x %zu field angles (0..%.2f deg)%s\n",
+                 cached ? "cached" : "built", t.ghosts.size(), t.wavelengthsNm.size(), t.anglesDeg.size(), t.anglesDeg.back(),
+                 cached ? "" : (" in " + std::to_string(static_cast<int>(std::lround(t.buildSeconds))) + " s").c_str());
+    std::fprintf(stderr, "fourierflare: interpolation error at mid-angles: median %.2f %%, 95th percentile %.2f %%, worst %.2f %%\n",
+                 100.0 * t.interpolationErrorMedian, 100.0 * t.interpolationErrorP95, 100.0 * t.interpolationError);
+    std::fprintf(stderr, "fourierflare: fit error (relative L2): Gaussian median %.3f, worst %.3f; cos2 median %.3f, worst %.3f\n",
+                 median(ge), worst(ge), median(ce), worst(ce));
+    std::fprintf(stderr, "fourierflare: wrote %s\n", o.output.c_str());
+}
+
+} // namespace
+
+void addTableCommand(CLI::App& app, GlobalOptions& global) {
+    auto o = std::make_shared<TableOptions>();
+    CLI::App* cmd = app.add_subcommand("table", "Build a lens's ghost table (fitted ghosts over field angle) and write it as JSON");
+    cmd->add_option("lens", o->lens, "Lens file (.lens, .zmx or .dat)")->required()->check(CLI::ExistingFile);
+    cmd->add_option("-o,--output", o->output, "JSON file to write (the canonical table, docs/ghost-table.md)")->required();
+    cmd->add_option("--grid", o->grid, "Rays per side of each ghost's pupil grid")->check(CLI::Range(4, 512));
+    cmd->add_option("--sampling", o->sampling, "Pupil sampling: reaim or paraxial-grid")->check(CLI::IsMember({"reaim", "paraxial-grid"}));
+    cmd->add_option("--sensor", o->sensor, "Sensor plane: file or paraxial")->check(CLI::IsMember({"file", "paraxial"}));
+    cmd->add_option("--coating", o->coating, "Coatings: file, none or mgf2")->check(CLI::IsMember({"file", "none", "mgf2"}));
+    cmd->add_option("--max-angle", o->maxAngle, "Largest field angle in degrees (0: the sensor's half-diagonal plus 5 %)")->check(CLI::Range(0.0, 85.0));
+    cmd->add_option("--zoom", o->zoom, "Zoom position (label or 1-based index)");
+    cmd->add_flag("--no-cache", o->noCache, "Build the table even if a cached one exists, and do not store it");
+    cmd->footer("The table is cached under $FF_CACHE_DIR, $XDG_CACHE_HOME/fourierflare or ~/.cache/fourierflare.\n"
+                "Example: fourierflare table lenses/double-gauss-50mm-f2.lens -o dg.ghosts.json");
+    cmd->callback([o, &global] { runTable(*o, global); });
+}
+
+} // namespace ff::cli

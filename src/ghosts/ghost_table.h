@@ -1,0 +1,85 @@
+#pragma once
+// The ghost table of a lens: every two-bounce ghost fitted (ghost_fit.h) per wavelength over field
+// angles 0..thetaMax, so that a light anywhere in the frame costs a lookup, not a trace.
+//
+// Field angles start on 9 uniform steps. The builder then measures, for each interval, the error of
+// linear interpolation at its mid-angle against a direct trace (centroid relative to
+// max(|centroid|, sigma), sigma relative to itself, over ghosts carrying at least 1 % of the strongest
+// ghost's flux there) and keeps the mid-angle as a new entry; only intervals above the tolerance are
+// split further, so angles gather where ghosts change fast (vignetting onsets), until every interval
+// passes or the angle budget is spent. The measured errors (median, 95th percentile, worst) are stored
+// with the table; an interval whose halves could not be measured counts with its own error.
+//
+// Geometry follows the tracer: the source at azimuth 0, its direct image at +y; a ghost's centre is
+// m x (direct image position), m = ghost centroid y / direct centroid y. Lengths in mm on the sensor,
+// flux relative to the direct image at the same wavelength.
+
+#include "ghosts/ghost_fit.h"
+#include "optics/lens.h"
+#include "trace/ghost_analysis.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace ff::ghosts {
+
+struct TableSettings {
+    std::vector<double> wavelengthsNm = {650.0, 550.0, 450.0}; ///< R, G, B
+    trace::Sampling sampling = trace::Sampling::Reaim;
+    int grid = 32;
+    trace::SensorPlane sensor = trace::SensorPlane::File;
+    trace::CoatingChoice coating = trace::CoatingChoice::File;
+    double maxAngleDeg = 0.0;            ///< 0: the field of the sensor's half-diagonal plus 5 %
+    double interpolationTolerance = 0.005;
+    int maxAngles = 49;
+    std::pair<double, double> sensorSizeMm = {36.0, 24.0}; ///< used when the lens gives none
+
+    /// Every setting that changes the table, as text (part of the cache key).
+    std::string key() const;
+};
+
+struct TableEntry {
+    double centroidY = 0.0;              ///< mm (the centroid's x is 0 by symmetry)
+    double sigmaR = 0.0, sigmaT = 0.0;   ///< moment spreads, mm
+    double flux = 0.0;                   ///< relative to the direct image
+    double surviving = 0.0;              ///< surviving fraction of launched rays
+    ProfileFit gaussian, cos2;
+};
+
+struct TableGhost {
+    trace::GhostPair pair;
+    std::vector<std::vector<TableEntry>> entries; ///< [wavelength][angle]
+};
+
+struct GhostTable {
+    int schemaVersion = 1;
+    std::string lensName, lensFile, lensHash, settingsKey;
+    double efl = 0.0, sensorZ = 0.0;
+    std::pair<double, double> sensorSizeMm;
+    int apertureBlades = 0;
+    double bladeRotationDeg = 0.0;
+    std::vector<double> wavelengthsNm;
+    std::vector<double> anglesDeg;                 ///< increasing, from 0
+    std::vector<std::vector<double>> directY;      ///< [wavelength][angle] direct image centroid, mm
+    std::vector<TableGhost> ghosts;
+    /// Measured at the last refinement's mid-angles (before they joined the table, so an upper
+    /// estimate for the final table): median, 95th percentile and largest relative error.
+    double interpolationError = 0.0, interpolationErrorMedian = 0.0, interpolationErrorP95 = 0.0;
+    double buildSeconds = 0.0;
+
+    /// Linear interpolation of a ghost's entry at angleDeg (clamped to the table's range).
+    TableEntry at(std::size_t ghost, std::size_t wavelength, double angleDeg) const;
+    /// Direct image height at angleDeg, interpolated.
+    double directAt(std::size_t wavelength, double angleDeg) const;
+    /// Magnification m = ghost centroid / direct image height (the first non-zero angle's on axis).
+    double magnification(std::size_t ghost, std::size_t wavelength, double angleDeg) const;
+};
+
+/// Called with (done, total) work units while building; may be empty.
+using Progress = std::function<void(std::size_t, std::size_t)>;
+
+/// Builds the table (parallel over angles x ghosts). Throws ff::Error (Input) for an anamorphic lens.
+GhostTable buildGhostTable(const optics::Lens& lens, const TableSettings& settings, const Progress& progress = {});
+
+} // namespace ff::ghosts

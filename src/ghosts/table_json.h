@@ -1,0 +1,17 @@
+#pragma once
+// The ghost table as JSON: the canonical, schema-versioned format documented in docs/ghost-table.md.
+// It is what `fourierflare table` and `export --format json` write and what the on-disk cache holds.
+
+#include "ghosts/ghost_table.h"
+
+#include <string>
+
+namespace ff::ghosts {
+
+std::string tableToJson(const GhostTable& table);
+
+/// Parses a table written by tableToJson. Throws ff::Error (Input) naming `source` when the text is
+/// not such a table (bad JSON, other schema or version, missing or inconsistent fields).
+GhostTable tableFromJson(const std::string& text, const std::string& source);
+
+} // namespace ff::ghosts

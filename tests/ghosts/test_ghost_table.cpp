@@ -1,0 +1,108 @@
+#include "core/error.h"
+#include "core/units.h"
+#include "ghosts/table_cache.h"
+#include "ghosts/table_json.h"
+#include "optics/lens_loader.h"
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+
+using namespace ff;
+using namespace ff::ghosts;
+
+namespace {
+
+// A small, fast table: the Cooke triplet (15 ghosts), one wavelength, coarse grid, few angles.
+TableSettings small() {
+    TableSettings s;
+    s.wavelengthsNm = {550.0};
+    s.grid = 12;
+    s.maxAngles = 13;
+    s.maxAngleDeg = 12.0;
+    return s;
+}
+
+const optics::Lens& cooke() {
+    static const optics::Lens lens = optics::loadLens(test::lensPath("cooke-triplet-50mm-f5.lens"));
+    return lens;
+}
+
+const GhostTable& smallTable() {
+    static const GhostTable table = buildGhostTable(cooke(), small());
+    return table;
+}
+
+} // namespace
+
+TEST(GhostTable, CoversEveryGhostAndInterpolatesThroughItsEntries) {
+    const GhostTable& t = smallTable();
+    ASSERT_EQ(t.ghosts.size(), 15u);
+    ASSERT_GE(t.anglesDeg.size(), 9u);
+    EXPECT_LE(t.anglesDeg.size(), 13u);
+    EXPECT_EQ(t.anglesDeg.front(), 0.0);
+    EXPECT_EQ(t.anglesDeg.back(), 12.0);
+    EXPECT_TRUE(std::is_sorted(t.anglesDeg.begin(), t.anglesDeg.end()));
+    // At a table angle, interpolation returns the entry itself; halfway, the mean of its neighbours.
+    const auto& e = t.ghosts[3].entries[0];
+    EXPECT_EQ(t.at(3, 0, t.anglesDeg[2]).centroidY, e[2].centroidY);
+    EXPECT_DOUBLE_EQ(t.at(3, 0, 0.5 * (t.anglesDeg[2] + t.anglesDeg[3])).sigmaR, 0.5 * (e[2].sigmaR + e[3].sigmaR));
+    // The direct image climbs with the angle (+y, azimuth 0) and sits at EFL tan(theta) up to
+    // distortion and coma: within 2 % at 12 deg.
+    EXPECT_GT(t.directAt(0, 12.0), t.directAt(0, 6.0));
+    EXPECT_NEAR(t.directAt(0, 12.0) / (t.efl * std::tan(degToRad(12.0))), 1.0, 0.02);
+    // Every fitted profile keeps the ghost's flux: peak x area = flux.
+    for (const auto& g : t.ghosts)
+        for (const auto& en : g.entries[0]) {
+            if (en.flux <= 0.0) continue;
+            EXPECT_NEAR(en.gaussian.peak * profileArea(Profile::Gaussian, en.gaussian.widthR, en.gaussian.widthT), en.flux, 1e-9 * en.flux);
+        }
+}
+
+TEST(GhostTable, JsonRoundTripKeepsEverything) {
+    const GhostTable& t = smallTable();
+    const GhostTable u = tableFromJson(tableToJson(t), "t.json");
+    EXPECT_EQ(u.anglesDeg, t.anglesDeg);
+    EXPECT_EQ(u.directY, t.directY);
+    EXPECT_EQ(u.lensHash, t.lensHash);
+    EXPECT_EQ(u.settingsKey, t.settingsKey);
+    ASSERT_EQ(u.ghosts.size(), t.ghosts.size());
+    for (std::size_t g = 0; g < t.ghosts.size(); ++g) {
+        EXPECT_EQ(u.ghosts[g].pair, t.ghosts[g].pair);
+        for (std::size_t a = 0; a < t.anglesDeg.size(); ++a) {
+            EXPECT_DOUBLE_EQ(u.ghosts[g].entries[0][a].flux, t.ghosts[g].entries[0][a].flux);
+            EXPECT_DOUBLE_EQ(u.ghosts[g].entries[0][a].cos2.widthR, t.ghosts[g].entries[0][a].cos2.widthR);
+        }
+    }
+    EXPECT_THROW(tableFromJson("{\"schema\": \"other\"}", "x.json"), Error);
+    EXPECT_THROW(tableFromJson("not json", "x.json"), Error);
+}
+
+TEST(GhostTable, CacheHitsMissesAndRebuildsCorruptEntries) {
+    test::TempDir dir;
+    setenv("FF_CACHE_DIR", dir.path().c_str(), 1);
+    CollectingReporter rep;
+    bool cached = true;
+    const GhostTable first = tableFor(cooke(), small(), true, {}, rep, &cached);
+    EXPECT_FALSE(cached); // miss: built and stored
+    const auto file = cacheDirectory() / (cacheKey(cooke(), small()) + ".ghosts.json");
+    ASSERT_TRUE(std::filesystem::exists(file));
+    const GhostTable second = tableFor(cooke(), small(), true, {}, rep, &cached);
+    EXPECT_TRUE(cached); // hit
+    EXPECT_EQ(second.anglesDeg, first.anglesDeg);
+    // Another setting is another key.
+    TableSettings other = small();
+    other.grid = 10;
+    EXPECT_NE(cacheKey(cooke(), other), cacheKey(cooke(), small()));
+    // A corrupt entry is rebuilt, with a note, never trusted.
+    test::writeFile(file, "{ truncated");
+    const GhostTable third = tableFor(cooke(), small(), true, {}, rep, &cached);
+    EXPECT_FALSE(cached);
+    EXPECT_EQ(third.anglesDeg, first.anglesDeg);
+    ASSERT_FALSE(rep.diagnostics.empty());
+    EXPECT_NE(rep.diagnostics.back().message.find("rebuilding"), std::string::npos);
+    // The rebuilt entry replaced the corrupt one.
+    EXPECT_NO_THROW(tableFromJson(test::readFile(file), file.string()));
+    unsetenv("FF_CACHE_DIR");
+}
