@@ -36,6 +36,7 @@ target_include_directories(ff_blas SYSTEM INTERFACE ${FF_CBLAS_INCLUDE_DIR})
 add_library(ff::blas ALIAS ff_blas)
 if(FF_BUILD_TESTS)
   find_package(GTest 1.11 REQUIRED)
+  find_package(yaml-cpp 0.7 REQUIRED) # the tests parse exported Unity assets back
 endif()
 if(FF_BUILD_BENCHMARKS)
   find_package(benchmark 1.6 REQUIRED)

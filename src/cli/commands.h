@@ -14,5 +14,6 @@ void addLensCommand(CLI::App& app, GlobalOptions& global);
 void addGhostsCommand(CLI::App& app, GlobalOptions& global);
 void addRenderCommand(CLI::App& app, GlobalOptions& global);
 void addTableCommand(CLI::App& app, GlobalOptions& global);
+void addExportCommand(CLI::App& app, GlobalOptions& global);
 
 } // namespace ff::cli

@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
     addGhostsCommand(app, global);
     addRenderCommand(app, global);
     addTableCommand(app, global);
+    addExportCommand(app, global);
 
     try {
         app.parse(argc, argv);

@@ -1,0 +1,78 @@
+// `fourierflare export`: a lens's ghost table for game engines (json, csv, unity, unreal).
+
+#include "cli/commands.h"
+#include "cli/trace_choices.h"
+#include "core/error.h"
+#include "core/file_io.h"
+#include "core/text.h"
+#include "export/engine_exports.h"
+#include "ghosts/table_cache.h"
+#include "ghosts/table_json.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+namespace ff::cli {
+
+namespace {
+
+struct ExportOptions {
+    std::string lens, output, format = "json", zoom;
+    double fieldAngle = std::numeric_limits<double>::quiet_NaN();
+    int top = 0;
+    int grid = 32;
+    std::string coating = "file";
+};
+
+void runExport(const ExportOptions& o, const GlobalOptions& g) {
+    if (samePath(o.output, o.lens)) throw Error(ErrorKind::Usage, "the output '" + o.output + "' is the input lens file");
+    ConsoleReporter reporter(g);
+    const optics::Lens lens = loadTraceableLens(o.lens, o.zoom, reporter);
+    ghosts::TableSettings s;
+    s.grid = o.grid;
+    s.coating = coatingFrom(o.coating);
+    bool cached = false;
+    const ghosts::GhostTable t = ghosts::tableFor(lens, s, true, {}, reporter, &cached);
+    const double angle = std::isnan(o.fieldAngle) ? exporting::defaultFieldAngle(t) : o.fieldAngle;
+    if (angle < 0.0 || angle > t.anglesDeg.back())
+        throw Error(ErrorKind::Usage, "--field-angle " + text::roundTrip(angle) + " is outside the table's 0.." +
+                                          text::fixed(t.anglesDeg.back(), 2) + " deg");
+    const std::size_t top = static_cast<std::size_t>(o.top);
+    std::string content;
+    if (o.format == "json") content = ghosts::tableToJson(t);
+    else if (o.format == "csv") content = exporting::toCsv(t, angle, top);
+    else if (o.format == "unity") {
+        std::string name = std::filesystem::path(o.output).stem().string();
+        if (name.empty()) name = "FourierFlareGhosts";
+        content = exporting::toUnityAsset(t, angle, top, name);
+    } else content = exporting::toUnrealPreset(t, angle);
+    writeFileAtomic(o.output, content);
+    if (!g.quiet)
+        std::fprintf(stderr, "fourierflare: wrote %s (%s, %zu ghosts, field angle %.2f deg; table %s)\n", o.output.c_str(), o.format.c_str(),
+                     t.ghosts.size(), angle, cached ? "from the cache" : "built");
+}
+
+} // namespace
+
+void addExportCommand(CLI::App& app, GlobalOptions& global) {
+    auto o = std::make_shared<ExportOptions>();
+    CLI::App* cmd = app.add_subcommand("export", "Export a lens's ghosts for game engines (json, csv, unity, unreal)");
+    cmd->add_option("lens", o->lens, "Lens file (.lens, .zmx or .dat)")->required()->check(CLI::ExistingFile);
+    cmd->add_option("--format", o->format, "json (the full table), csv (Unreal DataTable), unity (LensFlareDataSRP .asset), unreal (LensFlareTints preset)")
+        ->check(CLI::IsMember({"json", "csv", "unity", "unreal"}));
+    cmd->add_option("-o,--output", o->output, "File to write")->required();
+    cmd->add_option("--field-angle", o->fieldAngle, "Reference field angle in degrees for csv/unity/unreal (default: half the table's range)");
+    cmd->add_option("--top", o->top, "Only the K strongest ghosts (csv, unity; 0 = all; unreal always takes 8)")->check(CLI::Range(0, 100000));
+    cmd->add_option("--grid", o->grid, "Rays per side of each ghost's pupil grid for the table")->check(CLI::Range(4, 512));
+    cmd->add_option("--coating", o->coating, "Coatings: file, none or mgf2")->check(CLI::IsMember({"file", "none", "mgf2"}));
+    cmd->add_option("--zoom", o->zoom, "Zoom position (label or 1-based index)");
+    cmd->footer("The ghost table comes from the cache when it is there (see 'fourierflare table').\n"
+                "Example: fourierflare export lenses/double-gauss-50mm-f2.lens --format unity -o dg.asset");
+    cmd->callback([o, &global] { runExport(*o, global); });
+}
+
+} // namespace ff::cli

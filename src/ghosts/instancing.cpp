@@ -1,0 +1,68 @@
+#include "ghosts/instancing.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ff::ghosts {
+
+namespace {
+
+std::size_t nearestWavelength(const GhostTable& t, double lambda) {
+    std::size_t best = 0;
+    for (std::size_t w = 1; w < t.wavelengthsNm.size(); ++w)
+        if (std::abs(t.wavelengthsNm[w] - lambda) < std::abs(t.wavelengthsNm[best] - lambda)) best = w;
+    return best;
+}
+
+} // namespace
+
+double fieldAngleForRadius(const GhostTable& t, double r) {
+    const std::size_t g = nearestWavelength(t, 550.0);
+    double lo = t.anglesDeg.front(), hi = t.anglesDeg.back();
+    if (r >= t.directAt(g, hi)) return hi;
+    // The direct image height grows with the angle: bisection on the interpolated table.
+    for (int i = 0; i < 60; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (t.directAt(g, mid) < r ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+std::vector<GhostInstance> instantiate(const GhostTable& t, const std::vector<Light>& lights, const Camera& cam, Profile profile) {
+    const std::array<std::size_t, 3> ch = {nearestWavelength(t, 650.0), nearestWavelength(t, 550.0), nearestWavelength(t, 450.0)};
+    const double pitch = cam.pitchMm();
+    std::vector<GhostInstance> out;
+    for (std::size_t l = 0; l < lights.size(); ++l) {
+        const Light& light = lights[l];
+        // Sensor position in mm with +y up; the image's y axis points down.
+        const double sx = (light.xPx - 0.5 * cam.width) * pitch, sy = (0.5 * cam.height - light.yPx) * pitch;
+        const double r = std::hypot(sx, sy);
+        const double ex = r > 0.0 ? sx / r : 0.0, ey = r > 0.0 ? sy / r : 1.0;
+        const double angle = fieldAngleForRadius(t, r);
+        for (std::size_t g = 0; g < t.ghosts.size(); ++g) {
+            GhostInstance gi;
+            gi.ghost = g;
+            gi.light = l;
+            gi.profile = profile;
+            bool any = false;
+            for (int c = 0; c < 3; ++c) {
+                const TableEntry e = t.at(g, ch[c], angle);
+                const ProfileFit& f = profile == Profile::Gaussian ? e.gaussian : e.cos2;
+                gi.flux[c] = light.flux[c] * e.flux;
+                gi.widthR[c] = f.widthR / pitch;
+                gi.widthT[c] = f.widthT / pitch;
+                any = any || gi.flux[c] > 0.0;
+            }
+            if (!any) continue;
+            // Centre m r e (green channel), back to pixels.
+            const double m = t.magnification(g, ch[1], angle);
+            gi.xPx = 0.5 * cam.width + m * r * ex / pitch;
+            gi.yPx = 0.5 * cam.height - m * r * ey / pitch;
+            gi.radialAngle = std::atan2(-ey, ex);
+            out.push_back(gi);
+        }
+    }
+    return out;
+}
+
+} // namespace ff::ghosts
