@@ -26,6 +26,7 @@ struct ExportOptions {
     int top = 0;
     int grid = 32;
     std::string coating = "file";
+    double maxAngle = 0.0;
 };
 
 void runExport(const ExportOptions& o, const GlobalOptions& g) {
@@ -35,6 +36,7 @@ void runExport(const ExportOptions& o, const GlobalOptions& g) {
     ghosts::TableSettings s;
     s.grid = o.grid;
     s.coating = coatingFrom(o.coating);
+    s.maxAngleDeg = o.maxAngle;
     bool cached = false;
     const ghosts::GhostTable t = ghosts::tableFor(lens, s, true, {}, reporter, &cached);
     const double angle = std::isnan(o.fieldAngle) ? exporting::defaultFieldAngle(t) : o.fieldAngle;
@@ -69,6 +71,7 @@ void addExportCommand(CLI::App& app, GlobalOptions& global) {
     cmd->add_option("--top", o->top, "Only the K strongest ghosts (csv, unity; 0 = all; unreal always takes 8)")->check(CLI::Range(0, 100000));
     cmd->add_option("--grid", o->grid, "Rays per side of each ghost's pupil grid for the table")->check(CLI::Range(4, 512));
     cmd->add_option("--coating", o->coating, "Coatings: file, none or mgf2")->check(CLI::IsMember({"file", "none", "mgf2"}));
+    cmd->add_option("--max-angle", o->maxAngle, "Largest field angle of the table in degrees (0: the sensor's half-diagonal plus 5 %)")->check(CLI::Range(0.0, 85.0));
     cmd->add_option("--zoom", o->zoom, "Zoom position (label or 1-based index)");
     cmd->footer("The ghost table comes from the cache when it is there (see 'fourierflare table').\n"
                 "Example: fourierflare export lenses/double-gauss-50mm-f2.lens --format unity -o dg.asset");

@@ -14,9 +14,10 @@ struct RunResult {
     std::string out, err;
 };
 
-inline RunResult run(const std::string& args) {
+/// env: optional "NAME=value ..." assignments for the command's environment.
+inline RunResult run(const std::string& args, const std::string& env = "") {
     TempDir dir;
-    const std::string cmd = std::string("cd '") + FF_SOURCE_DIR + "' && '" + FF_CLI_PATH + "' " + args + " >'" +
+    const std::string cmd = std::string("cd '") + FF_SOURCE_DIR + "' && " + env + " '" + FF_CLI_PATH + "' " + args + " >'" +
                             (dir / "out").string() + "' 2>'" + (dir / "err").string() + "'";
     const int status = std::system(cmd.c_str());
     RunResult r;
