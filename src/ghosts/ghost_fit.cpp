@@ -86,6 +86,13 @@ ProfileFit fitProfile(const LocalImage& img, Profile p, double flux, double star
 GhostFit fitGhost(const trace::Bundle& b, const std::vector<trace::RayResult>& c, const std::vector<trace::RayResult>& k,
                   double scale, const FitOptions& o) {
     GhostFit fit;
+    // Rays that count: arrived, and (if a limit is set) landed within maxRadiusMm of the axis.
+    std::vector<trace::RayResult> counted = c;
+    if (o.maxRadiusMm > 0.0)
+        for (auto& r : counted)
+            if (r.status == optics::RayStatus::Ok &&
+                r.sensorPoint.x * r.sensorPoint.x + r.sensorPoint.y * r.sensorPoint.y > o.maxRadiusMm * o.maxRadiusMm)
+                r.status = optics::RayStatus::Missed;
     double e = 0.0, sx = 0.0, sy = 0.0;
     std::size_t launched = 0, surviving = 0;
     for (std::size_t i = 0; i < c.size(); ++i) {
@@ -93,6 +100,7 @@ GhostFit fitGhost(const trace::Bundle& b, const std::vector<trace::RayResult>& c
         ++launched;
         if (c[i].status != optics::RayStatus::Ok) continue;
         ++surviving;
+        if (counted[i].status != optics::RayStatus::Ok) continue;
         const double w = c[i].weight * b.cellArea * scale;
         e += w;
         sx += w * c[i].sensorPoint.x;
@@ -100,14 +108,15 @@ GhostFit fitGhost(const trace::Bundle& b, const std::vector<trace::RayResult>& c
     }
     fit.survivingFraction = launched ? double(surviving) / double(launched) : 0.0;
     if (e <= 0.0) return fit;
+    const std::vector<trace::RayResult>& cc = counted;
     fit.flux = e;
     fit.centroidX = sx / e;
     fit.centroidY = sy / e;
     double mxx = 0.0, myy = 0.0, mxy = 0.0;
-    for (std::size_t i = 0; i < c.size(); ++i) {
-        if (!b.launched[i] || c[i].status != optics::RayStatus::Ok) continue;
-        const double w = c[i].weight * b.cellArea * scale;
-        const double dx = c[i].sensorPoint.x - fit.centroidX, dy = c[i].sensorPoint.y - fit.centroidY;
+    for (std::size_t i = 0; i < cc.size(); ++i) {
+        if (!b.launched[i] || cc[i].status != optics::RayStatus::Ok) continue;
+        const double w = cc[i].weight * b.cellArea * scale;
+        const double dx = cc[i].sensorPoint.x - fit.centroidX, dy = cc[i].sensorPoint.y - fit.centroidY;
         mxx += w * dx * dx, myy += w * dy * dy, mxy += w * dx * dy;
     }
     fit.sigmaT = std::sqrt(mxx / e);
@@ -120,7 +129,7 @@ GhostFit fitGhost(const trace::Bundle& b, const std::vector<trace::RayResult>& c
     img.frame = {o.imageSize, o.imageSize, 2.0 * o.extentSigmas * std::max(sR, sT) / o.imageSize, fit.centroidX, fit.centroidY};
     img.flux.assign(static_cast<std::size_t>(o.imageSize) * o.imageSize, 0.0);
     trace::RasterStats stats;
-    trace::rasterizeCells(b, c, k, scale, img.frame, img.flux, stats);
+    trace::rasterizeCells(b, cc, k, scale, img.frame, img.flux, stats);
     double norm2 = 0.0;
     for (double v : img.flux) norm2 += v * v;
 

@@ -42,10 +42,14 @@ struct GhostFit {
 struct FitOptions {
     int imageSize = 64;         ///< pixels per side of the local image the profiles are fitted to
     double extentSigmas = 4.0;  ///< half-side of that image in units of the larger moment spread
+    /// Only light landing within this distance of the axis counts (0 = all): rays that leave at
+    /// grazing angles land metres away, can never reach the frame, and would dominate the moments.
+    double maxRadiusMm = 0.0;
 };
 
 /// Fits one ghost. energyScale multiplies every ray's weight x cell area (e.g. 1 / direct energy).
-/// A ghost with no surviving ray gets a zero fit.
+/// Flux, moments and fits all use the rays that count (see FitOptions::maxRadiusMm). A ghost with no
+/// such ray gets a zero fit.
 GhostFit fitGhost(const trace::Bundle& centres, const std::vector<trace::RayResult>& centreHits,
                   const std::vector<trace::RayResult>& cornerHits, double energyScale, const FitOptions& options = {});
 

@@ -72,6 +72,9 @@ public:
             steps_.push_back(trace::pathSteps(lens, g));
         }
         for (double l : s.wavelengthsNm) atLambda_.emplace_back(lens, l, sensorZ_);
+        // Light landing beyond twice the sensor's half-diagonal can never reach the frame.
+        const auto size = lens.sensorMm.value_or(s.sensorSizeMm);
+        fitOptions_.maxRadiusMm = std::hypot(size.first, size.second);
         directSteps_ = trace::pathSteps(lens, std::nullopt);
     }
 
@@ -115,7 +118,7 @@ public:
                 std::vector<trace::RayResult> c(centres.rays.size()), k(corners.rays.size());
                 tracer_.trace(atLambda_[w], steps_[g], centres.rays, c);
                 tracer_.trace(atLambda_[w], steps_[g], corners.rays, k);
-                const GhostFit f = fitGhost(centres, c, k, 1.0 / directEnergy[a][w]);
+                const GhostFit f = fitGhost(centres, c, k, 1.0 / directEnergy[a][w], fitOptions_);
                 TableEntry& e = out[a].ghosts[g][w];
                 e.centroidY = f.centroidY;
                 e.sigmaR = f.sigmaR;
@@ -149,14 +152,16 @@ private:
     std::vector<trace::GhostPair> pairs_;
     std::vector<std::vector<trace::PathStep>> steps_;
     std::vector<trace::PathStep> directSteps_;
+    FitOptions fitOptions_;
     std::atomic<std::size_t> done_{0};
     std::size_t total_ = 0;
     std::mutex mutex_;
 };
 
 // Relative interpolation error at one mid-angle (see the header): the largest over the ghosts that
-// carry at least 1 % of the strongest ghost's flux there, over all wavelengths.
-double midError(const AngleResult& lo, const AngleResult& hi, const AngleResult& mid, std::size_t nW) {
+// carry at least 1 % of the strongest ghost's flux there, over all wavelengths. floorMm keeps the
+// centroid's scale from vanishing for tightly focused ghosts near the axis.
+double midError(const AngleResult& lo, const AngleResult& hi, const AngleResult& mid, std::size_t nW, double floorMm) {
     double worst = 0.0;
     for (std::size_t w = 0; w < nW; ++w) {
         double strongest = 0.0;
@@ -165,7 +170,7 @@ double midError(const AngleResult& lo, const AngleResult& hi, const AngleResult&
             const TableEntry& t = mid.ghosts[g][w];
             if (t.flux < 0.01 * strongest || t.sigmaR <= 0.0 || lo.ghosts[g][w].flux <= 0.0 || hi.ghosts[g][w].flux <= 0.0) continue;
             const TableEntry i = lerp(lo.ghosts[g][w], hi.ghosts[g][w], 0.5);
-            worst = std::max(worst, std::abs(i.centroidY - t.centroidY) / std::max(std::abs(t.centroidY), t.sigmaR));
+            worst = std::max(worst, std::abs(i.centroidY - t.centroidY) / std::max({std::abs(t.centroidY), t.sigmaR, floorMm}));
             worst = std::max(worst, std::abs(i.sigmaR - t.sigmaR) / t.sigmaR);
             if (t.sigmaT > 0.0) worst = std::max(worst, std::abs(i.sigmaT - t.sigmaT) / t.sigmaT);
         }
@@ -255,7 +260,7 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
             newRows.push_back(std::move(rows[i]));
             if (i + 1 == angles.size()) break;
             if (next < todo.size() && todo[next] == i) {
-                const double e = midError(newRows.back(), rows[i + 1], midRows[next], nW);
+                const double e = midError(newRows.back(), rows[i + 1], midRows[next], nW, 0.01 * 0.5 * t.sensorSizeMm.second);
                 const Interval half{e <= s.interpolationTolerance, e};
                 newIntervals.push_back(half);
                 newAngles.push_back(mids[next]);

@@ -4,12 +4,14 @@
 //
 // Field angles start on 9 uniform steps. The builder then measures, for each interval, the error of
 // linear interpolation at its mid-angle against a direct trace (centroid relative to
-// max(|centroid|, sigma), sigma relative to itself, over ghosts carrying at least 1 % of the strongest
-// ghost's flux there) and keeps the mid-angle as a new entry; only intervals above the tolerance are
+// max(|centroid|, sigma, 1 % of the sensor half-height), sigma relative to itself, over ghosts carrying
+// at least 1 % of the strongest ghost's flux there) and keeps the mid-angle as a new entry; only intervals above the tolerance are
 // split further, so angles gather where ghosts change fast (vignetting onsets), until every interval
 // passes or the angle budget is spent. The measured errors (median, 95th percentile, worst) are stored
 // with the table; an interval whose halves could not be measured counts with its own error.
 //
+// Each entry counts the light landing within twice the sensor's half-diagonal of the axis (grazing
+// rays that land metres away can never reach the frame and would dominate the moments).
 // Geometry follows the tracer: the source at azimuth 0, its direct image at +y; a ghost's centre is
 // m x (direct image position), m = ghost centroid y / direct centroid y. Lengths in mm on the sensor,
 // flux relative to the direct image at the same wavelength.
