@@ -21,24 +21,18 @@ namespace ff::cli {
 namespace {
 
 struct ExportOptions {
-    std::string lens, output, format = "json", zoom;
+    std::string lens, output, format = "json";
     double fieldAngle = std::numeric_limits<double>::quiet_NaN();
     int top = 0;
-    int grid = 32;
-    std::string coating = "file";
-    double maxAngle = 0.0;
+    TableOptions table;
 };
 
 void runExport(const ExportOptions& o, const GlobalOptions& g) {
     if (samePath(o.output, o.lens)) throw Error(ErrorKind::Usage, "the output '" + o.output + "' is the input lens file");
     ConsoleReporter reporter(g);
-    const optics::Lens lens = loadTraceableLens(o.lens, o.zoom, reporter);
-    ghosts::TableSettings s;
-    s.grid = o.grid;
-    s.coating = coatingFrom(o.coating);
-    s.maxAngleDeg = o.maxAngle;
+    const optics::Lens lens = loadTraceableLens(o.lens, o.table.zoom, reporter);
     bool cached = false;
-    const ghosts::GhostTable t = ghosts::tableFor(lens, s, true, {}, reporter, &cached);
+    const ghosts::GhostTable t = ghosts::tableFor(lens, o.table.settings(), true, {}, reporter, &cached);
     const double angle = std::isnan(o.fieldAngle) ? exporting::defaultFieldAngle(t) : o.fieldAngle;
     if (angle < 0.0 || angle > t.anglesDeg.back())
         throw Error(ErrorKind::Usage, "--field-angle " + text::roundTrip(angle) + " is outside the table's 0.." +
@@ -69,10 +63,7 @@ void addExportCommand(CLI::App& app, GlobalOptions& global) {
     cmd->add_option("-o,--output", o->output, "File to write")->required();
     cmd->add_option("--field-angle", o->fieldAngle, "Reference field angle in degrees for csv/unity/unreal (default: half the table's range)");
     cmd->add_option("--top", o->top, "Only the K strongest ghosts (csv, unity; 0 = all; unreal always takes 8)")->check(CLI::Range(0, 100000));
-    cmd->add_option("--grid", o->grid, "Rays per side of each ghost's pupil grid for the table")->check(CLI::Range(4, 512));
-    cmd->add_option("--coating", o->coating, "Coatings: file, none or mgf2")->check(CLI::IsMember({"file", "none", "mgf2"}));
-    cmd->add_option("--max-angle", o->maxAngle, "Largest field angle of the table in degrees (0: the sensor's half-diagonal plus 5 %)")->check(CLI::Range(0.0, 85.0));
-    cmd->add_option("--zoom", o->zoom, "Zoom position (label or 1-based index)");
+    o->table.addTo(*cmd);
     cmd->footer("The ghost table comes from the cache when it is there (see 'fourierflare table').\n"
                 "Example: fourierflare export lenses/double-gauss-50mm-f2.lens --format unity -o dg.asset");
     cmd->callback([o, &global] { runExport(*o, global); });

@@ -20,24 +20,17 @@ namespace ff::cli {
 
 namespace {
 
-struct TableOptions {
-    std::string lens, output, zoom;
-    int grid = 32;
-    std::string sampling = "reaim", sensor = "file", coating = "file";
-    double maxAngle = 0.0;
+struct TableCommandOptions {
+    std::string lens, output;
+    TableOptions table;
     bool noCache = false;
 };
 
-void runTable(const TableOptions& o, const GlobalOptions& g) {
+void runTable(const TableCommandOptions& o, const GlobalOptions& g) {
     if (samePath(o.output, o.lens)) throw Error(ErrorKind::Usage, "the output '" + o.output + "' is the input lens file");
     ConsoleReporter reporter(g);
-    const optics::Lens lens = loadTraceableLens(o.lens, o.zoom, reporter);
-    ghosts::TableSettings s;
-    s.grid = o.grid;
-    s.sampling = samplingFrom(o.sampling);
-    s.sensor = sensorFrom(o.sensor);
-    s.coating = coatingFrom(o.coating);
-    s.maxAngleDeg = o.maxAngle;
+    const optics::Lens lens = loadTraceableLens(o.lens, o.table.zoom, reporter);
+    const ghosts::TableSettings s = o.table.settings();
     const bool bar = !g.quiet && isatty(STDERR_FILENO);
     ghosts::Progress progress;
     if (bar)
@@ -78,16 +71,11 @@ void runTable(const TableOptions& o, const GlobalOptions& g) {
 } // namespace
 
 void addTableCommand(CLI::App& app, GlobalOptions& global) {
-    auto o = std::make_shared<TableOptions>();
+    auto o = std::make_shared<TableCommandOptions>();
     CLI::App* cmd = app.add_subcommand("table", "Build a lens's ghost table (fitted ghosts over field angle) and write it as JSON");
     cmd->add_option("lens", o->lens, "Lens file (.lens, .zmx or .dat)")->required()->check(CLI::ExistingFile);
     cmd->add_option("-o,--output", o->output, "JSON file to write (the canonical table, docs/ghost-table.md)")->required();
-    cmd->add_option("--grid", o->grid, "Rays per side of each ghost's pupil grid")->check(CLI::Range(4, 512));
-    cmd->add_option("--sampling", o->sampling, "Pupil sampling: reaim or paraxial-grid")->check(CLI::IsMember({"reaim", "paraxial-grid"}));
-    cmd->add_option("--sensor", o->sensor, "Sensor plane: file or paraxial")->check(CLI::IsMember({"file", "paraxial"}));
-    cmd->add_option("--coating", o->coating, "Coatings: file, none or mgf2")->check(CLI::IsMember({"file", "none", "mgf2"}));
-    cmd->add_option("--max-angle", o->maxAngle, "Largest field angle in degrees (0: the sensor's half-diagonal plus 5 %)")->check(CLI::Range(0.0, 85.0));
-    cmd->add_option("--zoom", o->zoom, "Zoom position (label or 1-based index)");
+    o->table.addTo(*cmd);
     cmd->add_flag("--no-cache", o->noCache, "Build the table even if a cached one exists, and do not store it");
     cmd->footer("The table is cached under $FF_CACHE_DIR, $XDG_CACHE_HOME/fourierflare or ~/.cache/fourierflare.\n"
                 "Example: fourierflare table lenses/double-gauss-50mm-f2.lens -o dg.ghosts.json");

@@ -3,6 +3,8 @@
 #include "core/error.h"
 #include "optics/lens_loader.h"
 
+#include <CLI/CLI.hpp>
+
 namespace ff::cli {
 
 optics::Lens loadTraceableLens(const std::string& file, const std::string& zoom, Reporter& reporter) {
@@ -26,6 +28,26 @@ trace::CoatingChoice coatingFrom(const std::string& s) {
     if (s == "none") return trace::CoatingChoice::None;
     if (s == "mgf2") return trace::CoatingChoice::MgF2;
     return trace::CoatingChoice::File;
+}
+
+void TableOptions::addTo(CLI::App& cmd) {
+    cmd.add_option("--grid", grid, "Rays per side of each ghost's pupil grid for the table")->check(CLI::Range(4, 512));
+    cmd.add_option("--sampling", sampling, "Pupil sampling: reaim or paraxial-grid")->check(CLI::IsMember({"reaim", "paraxial-grid"}));
+    cmd.add_option("--sensor", sensor, "Sensor plane: file or paraxial")->check(CLI::IsMember({"file", "paraxial"}));
+    cmd.add_option("--coating", coating, "Coatings: file, none or mgf2")->check(CLI::IsMember({"file", "none", "mgf2"}));
+    cmd.add_option("--max-angle", maxAngle, "Largest field angle of the table in degrees (0: the sensor's half-diagonal plus 5 %)")
+        ->check(CLI::Range(0.0, 85.0));
+    cmd.add_option("--zoom", zoom, "Zoom position (label or 1-based index)");
+}
+
+ghosts::TableSettings TableOptions::settings() const {
+    ghosts::TableSettings s;
+    s.grid = grid;
+    s.sampling = samplingFrom(sampling);
+    s.sensor = sensorFrom(sensor);
+    s.coating = coatingFrom(coating);
+    s.maxAngleDeg = maxAngle;
+    return s;
 }
 
 } // namespace ff::cli

@@ -4,9 +4,14 @@
 
 #include "cli/console.h"
 #include "optics/lens.h"
+#include "ghosts/ghost_table.h"
 #include "trace/ghost_analysis.h"
 
 #include <string>
+
+namespace CLI {
+class App;
+}
 
 namespace ff::cli {
 
@@ -16,5 +21,17 @@ optics::Lens loadTraceableLens(const std::string& file, const std::string& zoom,
 trace::Sampling samplingFrom(const std::string& s);   ///< reaim | paraxial-grid
 trace::SensorPlane sensorFrom(const std::string& s);  ///< file | paraxial
 trace::CoatingChoice coatingFrom(const std::string& s); ///< file | none | mgf2
+
+/// The options that decide a ghost table, shared by `table` and `export` so that the same values
+/// find the same cache entry.
+struct TableOptions {
+    int grid = 32;
+    std::string sampling = "reaim", sensor = "file", coating = "file";
+    double maxAngle = 0.0;
+    std::string zoom;
+
+    void addTo(CLI::App& cmd);
+    ghosts::TableSettings settings() const;
+};
 
 } // namespace ff::cli

@@ -6,21 +6,10 @@
 
 namespace ff::exporting {
 
-namespace {
-
-std::size_t nearestWavelength(const ghosts::GhostTable& t, double lambda) {
-    std::size_t best = 0;
-    for (std::size_t w = 1; w < t.wavelengthsNm.size(); ++w)
-        if (std::abs(t.wavelengthsNm[w] - lambda) < std::abs(t.wavelengthsNm[best] - lambda)) best = w;
-    return best;
-}
-
-} // namespace
-
 double defaultFieldAngle(const ghosts::GhostTable& t) { return t.anglesDeg.empty() ? 0.0 : 0.5 * t.anglesDeg.back(); }
 
 std::vector<GhostSummary> summarize(const ghosts::GhostTable& t, double angle, std::size_t top) {
-    const std::array<std::size_t, 3> channel = {nearestWavelength(t, 650.0), nearestWavelength(t, 550.0), nearestWavelength(t, 450.0)};
+    const std::array<std::size_t, 3> channel = t.rgbChannels();
     std::vector<GhostSummary> out;
     for (std::size_t g = 0; g < t.ghosts.size(); ++g) {
         GhostSummary s;

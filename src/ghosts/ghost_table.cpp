@@ -209,6 +209,17 @@ double GhostTable::magnification(std::size_t ghost, std::size_t w, double a) con
     return d != 0.0 ? at(ghost, w, angle).centroidY / d : 0.0;
 }
 
+std::size_t GhostTable::nearestWavelength(double lambda) const {
+    std::size_t best = 0;
+    for (std::size_t w = 1; w < wavelengthsNm.size(); ++w)
+        if (std::abs(wavelengthsNm[w] - lambda) < std::abs(wavelengthsNm[best] - lambda)) best = w;
+    return best;
+}
+
+std::array<std::size_t, 3> GhostTable::rgbChannels() const {
+    return {nearestWavelength(650.0), nearestWavelength(550.0), nearestWavelength(450.0)};
+}
+
 GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, const Progress& progress) {
     if (!lensIn.rotationallySymmetric())
         throw Error(ErrorKind::Input, SourceLocation{lensIn.file}, "the lens has anamorphic surfaces; a ghost table needs a rotationally symmetric lens");

@@ -20,6 +20,7 @@
 #include "optics/lens.h"
 #include "trace/ghost_analysis.h"
 
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
@@ -76,6 +77,10 @@ struct GhostTable {
     double directAt(std::size_t wavelength, double angleDeg) const;
     /// Magnification m = ghost centroid / direct image height (the first non-zero angle's on axis).
     double magnification(std::size_t ghost, std::size_t wavelength, double angleDeg) const;
+    /// Index of the table wavelength nearest to lambdaNm.
+    std::size_t nearestWavelength(double lambdaNm) const;
+    /// The wavelengths standing for R, G, B: those nearest to 650, 550 and 450 nm.
+    std::array<std::size_t, 3> rgbChannels() const;
 };
 
 /// Called with (done, total) work units while building; may be empty.

@@ -5,19 +5,8 @@
 
 namespace ff::ghosts {
 
-namespace {
-
-std::size_t nearestWavelength(const GhostTable& t, double lambda) {
-    std::size_t best = 0;
-    for (std::size_t w = 1; w < t.wavelengthsNm.size(); ++w)
-        if (std::abs(t.wavelengthsNm[w] - lambda) < std::abs(t.wavelengthsNm[best] - lambda)) best = w;
-    return best;
-}
-
-} // namespace
-
 double fieldAngleForRadius(const GhostTable& t, double r) {
-    const std::size_t g = nearestWavelength(t, 550.0);
+    const std::size_t g = t.nearestWavelength(550.0);
     double lo = t.anglesDeg.front(), hi = t.anglesDeg.back();
     if (r >= t.directAt(g, hi)) return hi;
     // The direct image height grows with the angle: bisection on the interpolated table.
@@ -29,7 +18,7 @@ double fieldAngleForRadius(const GhostTable& t, double r) {
 }
 
 std::vector<GhostInstance> instantiate(const GhostTable& t, const std::vector<Light>& lights, const Camera& cam, Profile profile) {
-    const std::array<std::size_t, 3> ch = {nearestWavelength(t, 650.0), nearestWavelength(t, 550.0), nearestWavelength(t, 450.0)};
+    const std::array<std::size_t, 3> ch = t.rgbChannels();
     const double pitch = cam.pitchMm();
     std::vector<GhostInstance> out;
     for (std::size_t l = 0; l < lights.size(); ++l) {
