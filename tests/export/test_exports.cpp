@@ -6,7 +6,8 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
-#include <regex>
+#include <algorithm>
+#include <cstdio>
 #include <sstream>
 
 using namespace ff;
@@ -60,7 +61,11 @@ TEST(Exports, CsvIsAnUnrealDataTableWithTheMappedNumbers) {
         EXPECT_EQ(f[0], g.id);
         EXPECT_DOUBLE_EQ(std::stod(f[5]), g.magnification);
         EXPECT_DOUBLE_EQ(std::stod(f[9]), g.flux[1]);
-        EXPECT_TRUE(std::regex_match(f[11], std::regex(R"(\(R=[0-9.]+,G=[0-9.]+,B=[0-9.]+,A=1\.0\))"))) << f[11];
+        double r = -1, gg = -1, b = -1;
+        int consumed = 0;
+        ASSERT_EQ(std::sscanf(f[11].c_str(), "(R=%lf,G=%lf,B=%lf,A=1.0)%n", &r, &gg, &b, &consumed), 3) << f[11];
+        EXPECT_EQ(static_cast<std::size_t>(consumed), f[11].size()) << f[11];
+        EXPECT_NEAR(std::max({r, gg, b}), 1.0, 1e-4);
         EXPECT_NEAR(std::stod(f[7]), g.radiusMm / (0.5 * t.sensorSizeMm.second), 1e-12);
     }
     EXPECT_EQ(rows, ghosts.size());
@@ -98,13 +103,17 @@ TEST(Exports, UnrealPresetMapsMagnificationToAlpha) {
     const auto& t = table(0);
     const auto ghosts = summarize(t, 7.0, 8);
     const std::string text = toUnrealPreset(t, 7.0);
-    const std::regex tint(R"(LensFlareTints\[(\d)\]=\(R=([-0-9.]+),G=([-0-9.]+),B=([-0-9.]+),A=([-0-9.]+)\))");
     std::size_t found = 0;
-    for (std::sregex_iterator it(text.begin(), text.end(), tint), end; it != end; ++it) {
-        const std::size_t i = std::stoul((*it)[1]);
+    std::istringstream lines(text);
+    std::string line;
+    while (std::getline(lines, line)) {
+        if (line.rfind("LensFlareTints[", 0) != 0) continue;
+        unsigned i = 99;
+        double r, g, b, a;
+        ASSERT_EQ(std::sscanf(line.c_str(), "LensFlareTints[%u]=(R=%lf,G=%lf,B=%lf,A=%lf)", &i, &r, &g, &b, &a), 5) << line;
         ASSERT_EQ(i, found++);
         if (i < ghosts.size()) {
-            EXPECT_NEAR(std::stod((*it)[5]), (ghosts[i].magnification + 7.0) / 14.0, 1e-4);
+            EXPECT_NEAR(a, (ghosts[i].magnification + 7.0) / 14.0, 1e-4);
         }
     }
     EXPECT_EQ(found, 8u);
