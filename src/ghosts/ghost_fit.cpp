@@ -1,5 +1,6 @@
 #include "ghosts/ghost_fit.h"
 
+#include "trace/bundle_moments.h"
 #include "trace/flare_raster.h"
 
 #include <algorithm>
@@ -86,42 +87,23 @@ ProfileFit fitProfile(const LocalImage& img, Profile p, double flux, double star
 GhostFit fitGhost(const trace::Bundle& b, const std::vector<trace::RayResult>& c, const std::vector<trace::RayResult>& k,
                   double scale, const FitOptions& o) {
     GhostFit fit;
-    // Rays that count: arrived, and (if a limit is set) landed within maxRadiusMm of the axis.
-    std::vector<trace::RayResult> counted = c;
+    const trace::BundleMoments m = trace::measureBundle(b, c, scale, o.maxRadiusMm);
+    fit.survivingFraction = m.launched ? double(m.surviving) / double(m.launched) : 0.0;
+    if (m.energy <= 0.0) return fit;
+    const double e = m.energy;
+    fit.flux = e;
+    fit.centroidX = m.centroidX;
+    fit.centroidY = m.centroidY;
+    fit.sigmaT = std::sqrt(m.mxx);
+    fit.sigmaR = std::sqrt(m.myy);
+    fit.covRT = m.mxy;
+    // The rays drawn into the fit image are the ones that counted (see FitOptions::maxRadiusMm).
+    std::vector<trace::RayResult> cc = c;
     if (o.maxRadiusMm > 0.0)
-        for (auto& r : counted)
+        for (auto& r : cc)
             if (r.status == optics::RayStatus::Ok &&
                 r.sensorPoint.x * r.sensorPoint.x + r.sensorPoint.y * r.sensorPoint.y > o.maxRadiusMm * o.maxRadiusMm)
                 r.status = optics::RayStatus::Missed;
-    double e = 0.0, sx = 0.0, sy = 0.0;
-    std::size_t launched = 0, surviving = 0;
-    for (std::size_t i = 0; i < c.size(); ++i) {
-        if (!b.launched[i]) continue;
-        ++launched;
-        if (c[i].status != optics::RayStatus::Ok) continue;
-        ++surviving;
-        if (counted[i].status != optics::RayStatus::Ok) continue;
-        const double w = c[i].weight * b.cellArea * scale;
-        e += w;
-        sx += w * c[i].sensorPoint.x;
-        sy += w * c[i].sensorPoint.y;
-    }
-    fit.survivingFraction = launched ? double(surviving) / double(launched) : 0.0;
-    if (e <= 0.0) return fit;
-    const std::vector<trace::RayResult>& cc = counted;
-    fit.flux = e;
-    fit.centroidX = sx / e;
-    fit.centroidY = sy / e;
-    double mxx = 0.0, myy = 0.0, mxy = 0.0;
-    for (std::size_t i = 0; i < cc.size(); ++i) {
-        if (!b.launched[i] || cc[i].status != optics::RayStatus::Ok) continue;
-        const double w = cc[i].weight * b.cellArea * scale;
-        const double dx = cc[i].sensorPoint.x - fit.centroidX, dy = cc[i].sensorPoint.y - fit.centroidY;
-        mxx += w * dx * dx, myy += w * dy * dy, mxy += w * dx * dy;
-    }
-    fit.sigmaT = std::sqrt(mxx / e);
-    fit.sigmaR = std::sqrt(myy / e);
-    fit.covRT = mxy / e;
 
     // The traced image around the centroid; spreads below 1 micron are treated as 1 micron.
     const double sR = std::max(fit.sigmaR, 1e-3), sT = std::max(fit.sigmaT, 1e-3);

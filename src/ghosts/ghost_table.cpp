@@ -4,6 +4,7 @@
 #include "core/text.h"
 #include "core/units.h"
 #include "optics/paraxial.h"
+#include "trace/bundle_moments.h"
 #include "trace/flare_raster.h"
 #include "trace/traced_flare.h"
 
@@ -97,14 +98,9 @@ public:
             for (std::size_t w = 0; w < nW; ++w) {
                 std::vector<trace::RayResult> hits(b.rays.size());
                 tracer_.trace(atLambda_[w], directSteps_, b.rays, hits);
-                double e = 0.0, ey = 0.0;
-                for (std::size_t i = 0; i < hits.size(); ++i) {
-                    if (!b.launched[i] || hits[i].status != optics::RayStatus::Ok) continue;
-                    e += hits[i].weight * b.cellArea;
-                    ey += hits[i].weight * b.cellArea * hits[i].sensorPoint.y;
-                }
-                directEnergy[a][w] = e;
-                out[a].directY[w] = e > 0.0 ? ey / e : 0.0;
+                const trace::BundleMoments m = trace::measureBundle(b, hits);
+                directEnergy[a][w] = m.energy;
+                out[a].directY[w] = m.centroidY;
             }
         });
         tbb::parallel_for(std::size_t(0), anglesDeg.size() * nG, [&](std::size_t task) {

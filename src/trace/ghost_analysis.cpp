@@ -2,6 +2,7 @@
 
 #include "core/units.h"
 #include "optics/paraxial.h"
+#include "trace/bundle_moments.h"
 #include "trace/embree_tracer.h"
 
 #include <tbb/parallel_for.h>
@@ -31,35 +32,23 @@ optics::Lens withCoating(const optics::Lens& lens, CoatingChoice choice) {
 namespace {
 
 PathStats statistics(const Bundle& b, const std::vector<RayResult>& results, double halfW, double halfH) {
+    const BundleMoments m = measureBundle(b, results);
     PathStats st;
-    double e = 0.0, sx = 0.0, sy = 0.0, inside = 0.0;
+    st.launched = m.launched;
+    st.surviving = m.surviving;
+    st.blocked = m.blocked;
+    st.energy = m.energy;
+    if (m.energy <= 0.0) return st;
+    st.centroidX = m.centroidX;
+    st.centroidY = m.centroidY;
+    st.rmsRadius = std::sqrt(m.mxx + m.myy);
+    double inside = 0.0;
     for (std::size_t i = 0; i < results.size(); ++i) {
-        if (!b.launched[i]) continue;
-        ++st.launched;
         const RayResult& r = results[i];
-        if (r.status == optics::RayStatus::Blocked) ++st.blocked;
-        if (r.status != optics::RayStatus::Ok) continue;
-        ++st.surviving;
-        const double w = r.weight * b.cellArea;
-        e += w;
-        sx += w * r.sensorPoint.x;
-        sy += w * r.sensorPoint.y;
-        if (std::abs(r.sensorPoint.x) <= halfW && std::abs(r.sensorPoint.y) <= halfH) inside += w;
+        if (b.launched[i] && r.status == optics::RayStatus::Ok && std::abs(r.sensorPoint.x) <= halfW && std::abs(r.sensorPoint.y) <= halfH)
+            inside += r.weight * b.cellArea;
     }
-    st.energy = e;
-    if (e > 0.0) {
-        st.centroidX = sx / e;
-        st.centroidY = sy / e;
-        double m2 = 0.0;
-        for (std::size_t i = 0; i < results.size(); ++i) {
-            const RayResult& r = results[i];
-            if (!b.launched[i] || r.status != optics::RayStatus::Ok) continue;
-            const double dx = r.sensorPoint.x - st.centroidX, dy = r.sensorPoint.y - st.centroidY;
-            m2 += r.weight * b.cellArea * (dx * dx + dy * dy);
-        }
-        st.rmsRadius = std::sqrt(m2 / e);
-        st.onSensor = inside / e;
-    }
+    st.onSensor = inside / m.energy;
     return st;
 }
 

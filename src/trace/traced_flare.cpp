@@ -4,6 +4,7 @@
 #include "core/text.h"
 #include "core/units.h"
 #include "optics/paraxial.h"
+#include "trace/bundle_moments.h"
 
 #include <tbb/parallel_for.h>
 
@@ -125,9 +126,7 @@ TracedFlare renderTracedFlare(const optics::Lens& lensIn, const TracedFlareOptio
         const Bundle direct = regionBundle(pupil, o.field, directRegion, o.grid);
         std::vector<RayResult> hits(direct.rays.size());
         tracer.trace(L, directSteps, direct.rays, hits);
-        double directEnergy = 0.0;
-        for (std::size_t i = 0; i < hits.size(); ++i)
-            if (direct.launched[i]) directEnergy += hits[i].weight * direct.cellArea;
+        const double directEnergy = measureBundle(direct, hits).energy;
         if (directEnergy <= 0.0) return; // the source is fully vignetted: no flare
         for (std::size_t gi = 0; gi < ghosts.size(); ++gi) {
             const auto& steps = ghostSteps[gi];
