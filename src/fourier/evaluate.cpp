@@ -1,0 +1,134 @@
+#include "fourier/evaluate.h"
+
+#include "core/error.h"
+
+#include <cblas.h>
+#include <fftw3.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <complex>
+#include <memory>
+#include <mutex>
+#include <numbers>
+
+namespace ff::fourier {
+
+namespace {
+
+double sinc(double u) { return u == 0.0 ? 1.0 : std::sin(u) / u; }
+
+// [kappa_n c_n(i + 0.5) sinc_n; kappa_n s_n(i + 0.5) sinc_n] for n < terms, i < pixels: 2 terms x pixels.
+std::vector<float> basis(int terms, int pixels, double period) {
+    std::vector<float> b(static_cast<std::size_t>(2) * terms * pixels);
+    const double w = 2.0 * std::numbers::pi / period;
+    for (int n = 0; n < terms; ++n) {
+        const double k = (n == 0 ? 1.0 : 2.0) * sinc(0.5 * n * w);
+        float* c = &b[static_cast<std::size_t>(n) * pixels];
+        float* s = &b[static_cast<std::size_t>(terms + n) * pixels];
+        for (int i = 0; i < pixels; ++i) {
+            // The phase reduced modulo 2 pi in float64 before the float32 store.
+            const double phase = std::fmod(n * w * (i + 0.5), 2.0 * std::numbers::pi);
+            c[i] = static_cast<float>(k * std::cos(phase));
+            s[i] = static_cast<float>(k * std::sin(phase));
+        }
+    }
+    return b;
+}
+
+void evaluateMatrix(const Coefficients& z, FlareImage& image) {
+    const int n = z.n, m = z.m, W = image.width, H = image.height;
+    const std::vector<float> X = basis(n, W, z.periodX), Y = basis(m, H, z.periodY);
+    std::vector<float> Z(static_cast<std::size_t>(4) * n * m), T(static_cast<std::size_t>(2) * n * H);
+    for (int c = 0; c < 3; ++c) {
+        for (std::size_t i = 0; i < Z.size(); ++i) Z[i] = static_cast<float>(z.z[c][i]);
+        // T (2N x H) = Z (2N x 2M) Y (2M x H); image (H x W) = T^T X (2N x W).
+        cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, 2 * n, H, 2 * m, 1.0f, Z.data(), 2 * m, Y.data(), H, 0.0f, T.data(), H);
+        cblas_sgemm(CblasRowMajor, CblasTrans, CblasNoTrans, H, W, 2 * n, 1.0f, T.data(), H, X.data(), W, 0.0f, image.channel[c].data(), W);
+    }
+}
+
+// FFTW's planner is not thread-safe; execution of an existing plan on new arrays is.
+std::mutex& plannerMutex() {
+    static std::mutex m;
+    return m;
+}
+
+struct FftwFree {
+    void operator()(void* p) const { fftwf_free(p); }
+};
+
+void evaluateFft(const Coefficients& z, FlareImage& image) {
+    const int px = static_cast<int>(std::lround(z.periodX)), py = static_cast<int>(std::lround(z.periodY));
+    if (std::abs(px - z.periodX) > 1e-9 || std::abs(py - z.periodY) > 1e-9)
+        throw Error(ErrorKind::Usage, "the FFT evaluation needs whole-pixel periods");
+    if (px < image.width || py < image.height)
+        throw Error(ErrorKind::Usage, "the FFT evaluation needs periods of at least the frame");
+    const int hx = px / 2 + 1;
+    const std::size_t inSize = static_cast<std::size_t>(py) * hx, outSize = static_cast<std::size_t>(py) * px;
+    std::array<std::unique_ptr<fftwf_complex, FftwFree>, 3> in;
+    std::array<std::unique_ptr<float, FftwFree>, 3> out;
+    for (int c = 0; c < 3; ++c) {
+        in[c].reset(static_cast<fftwf_complex*>(fftwf_malloc(sizeof(fftwf_complex) * inSize)));
+        out[c].reset(static_cast<float*>(fftwf_malloc(sizeof(float) * outSize)));
+        if (!in[c] || !out[c]) throw Error(ErrorKind::Runtime, "out of memory for the FFT evaluation");
+    }
+    fftwf_plan plan;
+    {
+        std::lock_guard<std::mutex> lock(plannerMutex());
+        plan = fftwf_plan_dft_c2r_2d(py, px, in[0].get(), out[0].get(), FFTW_ESTIMATE);
+    }
+    if (!plan) throw Error(ErrorKind::Runtime, "FFTW could not plan the evaluation");
+    const double wx = 2.0 * std::numbers::pi / z.periodX, wy = 2.0 * std::numbers::pi / z.periodY;
+    tbb::parallel_for(0, 3, [&](int c) {
+        using C = std::complex<double>;
+        fftwf_complex* dst = in[c].get();
+        std::fill_n(&dst[0][0], 2 * inSize, 0.0f);
+        // Pixel centres sit on whole pixels of the period grid, so a term of frequency (n, m) is seen
+        // at (n mod Px, m mod Py). The c2r transform adds the conjugate mirror of every stored
+        // entry: storing G / 2 in the half plane 0 < kx < Px / 2 gives Re(G e). The columns kx = 0
+        // and kx = Px / 2 mirror onto themselves and are made Hermitian: (G(r) + conj G(-r)) / 2.
+        std::vector<C> column0(static_cast<std::size_t>(py), C(0.0, 0.0)), columnNyquist(column0);
+        auto add = [&](int row, int n, C v) {
+            fftwf_complex& e = dst[static_cast<std::size_t>(row) * hx + n];
+            e[0] += static_cast<float>(v.real());
+            e[1] += static_cast<float>(v.imag());
+        };
+        auto term = [&](long long kx, long long ky, C g) {
+            const int x = static_cast<int>(((kx % px) + px) % px), y = static_cast<int>(((ky % py) + py) % py);
+            if (x == 0) column0[static_cast<std::size_t>(y)] += g;
+            else if (2 * x == px) columnNyquist[static_cast<std::size_t>(y)] += g;
+            else if (2 * x < px) add(y, x, 0.5 * g);
+            else add((py - y) % py, px - x, 0.5 * std::conj(g));
+        };
+        for (int n = 0; n < z.n; ++n)
+            for (int m = 0; m < z.m; ++m) {
+                const double A = z.at(c, n, m), B = z.at(c, n, z.m + m), Cc = z.at(c, z.n + n, m), D = z.at(c, z.n + n, z.m + m);
+                const double k = (n == 0 ? 1.0 : 2.0) * (m == 0 ? 1.0 : 2.0) * sinc(0.5 * n * wx) * sinc(0.5 * m * wy);
+                // I = Re sum [F+ e^{i(a + b)} + F- e^{i(a - b)}], a = n wx x, b = m wy y, at pixel centres.
+                term(n, m, 0.5 * k * C(A - D, -(B + Cc)) * std::polar(1.0, 0.5 * (n * wx + m * wy)));
+                term(n, -m, 0.5 * k * C(A + D, B - Cc) * std::polar(1.0, 0.5 * (n * wx - m * wy)));
+            }
+        for (int r = 0; r < py; ++r) {
+            const std::size_t i = static_cast<std::size_t>(r), mirror = static_cast<std::size_t>((py - r) % py);
+            add(r, 0, 0.5 * (column0[i] + std::conj(column0[mirror])));
+            if (px % 2 == 0) add(r, px / 2, 0.5 * (columnNyquist[i] + std::conj(columnNyquist[mirror])));
+        }
+        fftwf_execute_dft_c2r(plan, dst, out[c].get());
+        for (int y = 0; y < image.height; ++y)
+            std::copy_n(out[c].get() + static_cast<std::size_t>(y) * px, image.width, image.channel[c].data() + static_cast<std::size_t>(y) * image.width);
+    });
+    std::lock_guard<std::mutex> lock(plannerMutex());
+    fftwf_destroy_plan(plan);
+}
+
+} // namespace
+
+void evaluate(const Coefficients& z, Evaluation method, FlareImage& image) {
+    for (auto& ch : image.channel) std::fill(ch.begin(), ch.end(), 0.0f);
+    if (z.n == 0 || z.m == 0) return;
+    if (method == Evaluation::Fft) evaluateFft(z, image);
+    else evaluateMatrix(z, image);
+}
+
+} // namespace ff::fourier

@@ -1,0 +1,156 @@
+#include "fourier/plan.h"
+
+#include "core/text.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace ff::fourier {
+
+const char* toString(Evaluation e) {
+    switch (e) {
+    case Evaluation::Auto: return "auto";
+    case Evaluation::Matrix: return "matrix";
+    case Evaluation::Fft: return "fft";
+    }
+    return "?";
+}
+
+int fftFriendly(int n) {
+    for (int k = std::max(n, 1);; ++k) {
+        int r = k;
+        for (int p : {2, 3, 5})
+            while (r % p == 0) r /= p;
+        if (r == 1) return k;
+    }
+}
+
+std::string Plan::describe() const {
+    std::string s = "period " + text::fixed(periodX, 0) + "x" + text::fixed(periodY, 0) + " px, N " + std::to_string(n) + " x M " +
+                    std::to_string(m) + ", " + toString(evaluation) + " evaluation; ghosts: " + std::to_string(fourier) +
+                    " Fourier, " + std::to_string(direct) + " direct, " + std::to_string(culled) + " culled";
+    if (!reason.empty()) s += " (" + reason + ")";
+    return s;
+}
+
+namespace {
+
+// Distance beyond which a periodic copy of the ghost adds less than a tenth of the budget (relative to
+// its peak): the padding. cos^2 has compact support.
+double padExtent(const Ghost& g, double width, double error) {
+    return g.shape == Shape::Gaussian ? width * std::sqrt(2.0 * std::log(10.0 / error)) : width;
+}
+
+double widest(const std::array<double, 3>& w) { return std::max({w[0], w[1], w[2]}); }
+double narrowest(const std::array<double, 3>& w) { return std::min({w[0], w[1], w[2]}); }
+
+// Estimated floating-point work (3 channels) of each route.
+double evaluationFlops(int n, int m, int w, int h, double tx, double ty, Evaluation e) {
+    if (n == 0) return 0.0;
+    const double matrix = 3.0 * (8.0 * n * m * h + 4.0 * n * double(w) * h);
+    const double fft = 3.0 * 2.5 * tx * ty * std::log2(tx * ty);
+    if (e == Evaluation::Matrix) return matrix;
+    if (e == Evaluation::Fft) return fft;
+    return std::min(matrix, fft);
+}
+
+} // namespace
+
+Plan choosePlan(const std::vector<Ghost>& ghosts, int W, int H, const FourierSettings& s) {
+    Plan p;
+    const std::size_t K = ghosts.size();
+    p.route.assign(K, Route::Fourier);
+    p.termsX.assign(K, 0);
+    p.termsY.assign(K, 0);
+    std::vector<double> needX(K, 0.0), needY(K, 0.0), boxArea(K, 0.0);
+    const double cap = 2.0 * std::max(W, H);
+    for (std::size_t k = 0; k < K; ++k) {
+        const Ghost& g = ghosts[k];
+        const double ex = g.extentX(), ey = g.extentY();
+        const bool empty = g.flux[0] == 0.0 && g.flux[1] == 0.0 && g.flux[2] == 0.0;
+        if (empty || g.x + ex < 0.0 || g.x - ex > W || g.y + ey < 0.0 || g.y - ey > H) {
+            p.route[k] = Route::Culled;
+            continue;
+        }
+        const double px = padExtent(g, widest(g.widthX), s.error), py = padExtent(g, widest(g.widthY), s.error);
+        needX[k] = std::max(std::max(g.x, W - g.x) + px, 2.0 * px);
+        needY[k] = std::max(std::max(g.y, H - g.y) + py, 2.0 * py);
+        boxArea[k] = (std::min(double(W), g.x + ex) - std::max(0.0, g.x - ex) + 1.0) * (std::min(double(H), g.y + ey) - std::max(0.0, g.y - ey) + 1.0);
+        const double limitX = s.fixedPeriodX > 0.0 ? s.fixedPeriodX : cap, limitY = s.fixedPeriodY > 0.0 ? s.fixedPeriodY : cap;
+        if (s.hybrid && (needX[k] > limitX || needY[k] > limitY)) p.route[k] = Route::Direct;
+    }
+    // The period: the largest need of the ghosts still on the Fourier route.
+    double tx = W, ty = H;
+    for (std::size_t k = 0; k < K; ++k)
+        if (p.route[k] == Route::Fourier) tx = std::max(tx, needX[k]), ty = std::max(ty, needY[k]);
+    p.periodX = s.fixedPeriodX > 0.0 ? s.fixedPeriodX : fftFriendly(static_cast<int>(std::ceil(std::min(tx, cap))));
+    p.periodY = s.fixedPeriodY > 0.0 ? s.fixedPeriodY : fftFriendly(static_cast<int>(std::ceil(std::min(ty, cap))));
+
+    // Terms each ghost needs (its narrowest channel decides), and what it keeps when trimmed.
+    std::vector<int> needN(K, 0), needM(K, 0), trimN(K, 0), trimM(K, 0);
+    const double cut[2] = {spectralCutoff(Shape::Gaussian, s.error), spectralCutoff(Shape::Cos2, s.error)};
+    const double trimCut[2] = {s.trimFraction > 0.0 ? spectralCutoff(Shape::Gaussian, s.error * s.trimFraction) : 0.0,
+                               s.trimFraction > 0.0 ? spectralCutoff(Shape::Cos2, s.error * s.trimFraction) : 0.0};
+    int maxN = 0, maxM = 0;
+    for (std::size_t k = 0; k < K; ++k) {
+        if (p.route[k] != Route::Fourier) continue;
+        const Ghost& g = ghosts[k];
+        const int sh = g.shape == Shape::Gaussian ? 0 : 1;
+        needN[k] = termsForCutoff(cut[sh], narrowest(g.widthX), p.periodX);
+        needM[k] = termsForCutoff(cut[sh], narrowest(g.widthY), p.periodY);
+        trimN[k] = s.trimFraction > 0.0 ? termsForCutoff(trimCut[sh], narrowest(g.widthX), p.periodX) : std::numeric_limits<int>::max();
+        trimM[k] = s.trimFraction > 0.0 ? termsForCutoff(trimCut[sh], narrowest(g.widthY), p.periodY) : std::numeric_limits<int>::max();
+        maxN = std::max(maxN, needN[k]);
+        maxM = std::max(maxM, needM[k]);
+    }
+    auto mFor = [&](int n) { return s.fixedM > 0 ? s.fixedM : n == 0 ? 0 : std::max(1, static_cast<int>(std::ceil(n * p.periodY / p.periodX))); };
+    auto cost = [&](int n) {
+        const int m = mFor(n);
+        double c = evaluationFlops(n, m, W, H, p.periodX, p.periodY, s.evaluation);
+        for (std::size_t k = 0; k < K; ++k) {
+            if (p.route[k] == Route::Culled) continue;
+            if (p.route[k] == Route::Fourier && needN[k] <= n && needM[k] <= m)
+                c += 3.0 * (8.0 * std::min(n, trimN[k]) * std::min(m, trimM[k]) + 60.0 * (n + m));
+            else
+                c += 3.0 * (2.0 * boxArea[k] + 80.0 * std::sqrt(boxArea[k]));
+        }
+        return c;
+    };
+    constexpr int kMaxTerms = 1024;
+    if (s.fixedN > 0) {
+        p.n = s.fixedN;
+        p.reason = "N fixed by the caller";
+    } else if (!s.hybrid) {
+        p.n = std::min(kMaxTerms, std::max(maxN, static_cast<int>(std::ceil(maxM * p.periodX / p.periodY))));
+        p.reason = "every ghost through Fourier: N from the narrowest ghost, budget " + text::roundTrip(s.error);
+    } else {
+        double best = cost(0);
+        for (int n : {8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256, 384, 512}) {
+            const double c = cost(n);
+            if (c < best) best = c, p.n = n;
+        }
+        p.reason = "least estimated work for budget " + text::roundTrip(s.error);
+    }
+    p.m = mFor(p.n);
+    p.estimatedGflop = cost(p.n) * 1e-9;
+    p.evaluation = s.evaluation;
+    if (p.evaluation == Evaluation::Auto)
+        p.evaluation = evaluationFlops(p.n, p.m, W, H, p.periodX, p.periodY, Evaluation::Fft) <
+                               evaluationFlops(p.n, p.m, W, H, p.periodX, p.periodY, Evaluation::Matrix)
+                           ? Evaluation::Fft
+                           : Evaluation::Matrix;
+    for (std::size_t k = 0; k < K; ++k) {
+        if (p.route[k] == Route::Fourier && s.hybrid && (p.n == 0 || needN[k] > p.n || needM[k] > p.m)) p.route[k] = Route::Direct;
+        if (p.route[k] == Route::Fourier) {
+            p.termsX[k] = std::min(p.n, trimN[k]);
+            p.termsY[k] = std::min(p.m, trimM[k]);
+        }
+        p.fourier += p.route[k] == Route::Fourier;
+        p.direct += p.route[k] == Route::Direct;
+        p.culled += p.route[k] == Route::Culled;
+    }
+    return p;
+}
+
+} // namespace ff::fourier

@@ -1,0 +1,58 @@
+#pragma once
+// Choosing the period, the number of terms and the route of every ghost (docs/fourier.md).
+//
+// Period: wide enough that no ghost's periodic copy reaches the frame (T >= max(x_k, W - x_k) + e_k
+// and T >= 2 e_k, e_k its extent), rounded up to whole pixels of an FFT-friendly size. A ghost that
+// would need a period beyond twice the frame (centre far outside it) is drawn directly; one whose
+// footprint misses the frame is culled.
+// Terms: each ghost needs n_k = termsForError(width, T, budget) on x and m_k on y (the widest channel's
+// need is the narrowest's). Among candidate N (with M = N Ty / Tx), the plan takes the one with the
+// least estimated work: Fourier evaluation (two GEMMs per channel) + accumulation of the ghosts that
+// fit + direct drawing of the others over their footprints (the hybrid). Every choice is recorded.
+
+#include "fourier/ghost.h"
+
+#include <string>
+#include <vector>
+
+namespace ff::fourier {
+
+enum class Evaluation { Auto, Matrix, Fft };
+const char* toString(Evaluation e);
+
+struct FourierSettings {
+    double error = 1e-3;        ///< relative L2 budget per ghost
+    int fixedN = 0;             ///< > 0: use this N (x terms) instead of the budget's choice
+    int fixedM = 0;             ///< > 0: use this M (y terms); else N scaled by Ty / Tx
+    double fixedPeriodX = 0.0, fixedPeriodY = 0.0; ///< > 0: use these periods (pixels)
+    bool hybrid = true;         ///< draw ghosts that need more terms directly; false: all go through Fourier
+    /// Accumulate each ghost only over the terms it needs for this fraction of the budget (0: all N x M).
+    double trimFraction = 0.25;
+    GaussianForm gaussianForm = GaussianForm::Periodised;
+    bool dropDc = false;        ///< zero the A_00 term (removes the mean: off by default, see docs)
+    Evaluation evaluation = Evaluation::Auto;
+};
+
+enum class Route : unsigned char { Fourier, Direct, Culled };
+
+struct Plan {
+    double periodX = 0.0, periodY = 0.0; ///< pixels
+    int n = 0, m = 0;                    ///< terms per axis (0: nothing goes through Fourier)
+    Evaluation evaluation = Evaluation::Matrix;
+    std::vector<Route> route;            ///< per ghost
+    std::vector<int> termsX, termsY;     ///< per ghost: terms accumulated (trimmed, <= n, m)
+    std::size_t fourier = 0, direct = 0, culled = 0;
+    double estimatedGflop = 0.0;
+    std::string reason;                  ///< how n and the period were chosen, in words
+
+    /// One line for --verbose and the output metadata.
+    std::string describe() const;
+};
+
+/// The plan for drawing `ghosts` into a width x height frame.
+Plan choosePlan(const std::vector<Ghost>& ghosts, int width, int height, const FourierSettings& settings);
+
+/// The next size >= n whose only prime factors are 2, 3 and 5.
+int fftFriendly(int n);
+
+} // namespace ff::fourier
