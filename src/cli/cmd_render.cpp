@@ -1,6 +1,8 @@
-// `fourierflare render`: the flare of one light source as an image (mode traced for now).
+// `fourierflare render`: the flare of light sources as an image, traced, fitted or Fourier-aggregated.
 
 #include "cli/commands.h"
+#include "cli/flare_scene.h"
+#include "cli/fourier_choices.h"
 #include "cli/trace_choices.h"
 #include "core/error.h"
 #include "core/file_io.h"
@@ -8,6 +10,7 @@
 #include "core/units.h"
 #include "ff/version.h"
 #include "image/image_output.h"
+#include "fourier/render.h"
 #include "trace/traced_flare.h"
 
 #include <CLI/CLI.hpp>
@@ -23,18 +26,22 @@ namespace {
 struct RenderOptions {
     std::string lens;
     std::string angle;  ///< "DEG" or "DEG,AZ"
-    std::string light;  ///< "X,Y" in pixels
+    std::vector<std::string> lights; ///< "X,Y[,R,G,B]" in pixels
+    std::string lightsFile, ghostsFile;
     std::string size = "1280x720";
     std::string mode = "traced";
+    std::string profile = "gaussian";
     std::string output, preview;
+    std::vector<std::string> probes;
     int spectral = 0;
     std::string sampling = "reaim";
-    int grid = 64;
+    int grid = 64, tableGrid = 32;
     std::string sensor = "file";
     std::string coating = "file";
     std::string sensorSize;
     std::string zoom;
     double exposure = std::numeric_limits<double>::quiet_NaN();
+    FourierOptions fourier;
 };
 
 std::pair<double, double> parsePair(const std::string& s, char sep, const char* what) {
@@ -47,64 +54,119 @@ std::pair<double, double> parsePair(const std::string& s, char sep, const char* 
 void runRender(const RenderOptions& o, const GlobalOptions& g) {
     const auto start = std::chrono::steady_clock::now();
     for (const std::string& out : {o.output, o.preview})
-        if (!out.empty() && samePath(out, o.lens)) throw Error(ErrorKind::Usage, "the output '" + out + "' is the input lens file");
-    if (o.angle.empty() == o.light.empty()) throw Error(ErrorKind::Usage, "give exactly one of --angle DEG[,AZ] and --light X,Y");
+        for (const std::string& in : {o.lens, o.lightsFile, o.ghostsFile})
+            if (!out.empty() && !in.empty() && samePath(out, in)) throw Error(ErrorKind::Usage, "the output '" + out + "' is an input file");
+    const bool explicitGhosts = !o.ghostsFile.empty();
+    const int sources = !o.angle.empty() + (!o.lights.empty() || !o.lightsFile.empty()) + explicitGhosts;
+    if (sources != 1) throw Error(ErrorKind::Usage, "give exactly one of --angle DEG[,AZ], --light X,Y (or --lights FILE) and --ghosts FILE");
+    if (!o.lights.empty() && !o.lightsFile.empty()) throw Error(ErrorKind::Usage, "give lights with --light or with --lights, not both");
+    if (!o.angle.empty() && o.mode != "traced") throw Error(ErrorKind::Usage, "--angle works with --mode traced; give the light's position with --light X,Y");
+    if (explicitGhosts && o.mode == "traced") throw Error(ErrorKind::Usage, "--ghosts needs --mode fitted or fourier (a ghost list has nothing to trace)");
+    if (!explicitGhosts && o.lens.empty()) throw Error(ErrorKind::Usage, "a lens file is required (unless --ghosts gives the ghosts)");
     const auto [w, h] = parsePair(o.size, 'x', "--size WIDTHxHEIGHT in pixels (e.g. 1280x720)");
     if (w < 1 || h < 1 || w > 16384 || h > 16384 || w != std::floor(w) || h != std::floor(h))
         throw Error(ErrorKind::Usage, "--size must be whole pixels between 1 and 16384, got " + text::quoted(o.size));
+    const int W = static_cast<int>(w), H = static_cast<int>(h);
+    std::vector<std::pair<double, double>> probes;
+    for (const std::string& p : o.probes) {
+        const auto xy = parsePair(p, ',', "--probe X,Y in pixels");
+        if (xy.first < 0 || xy.second < 0 || xy.first >= W || xy.second >= H)
+            throw Error(ErrorKind::Usage, "--probe " + p + " lies outside the " + o.size + " frame");
+        probes.push_back(xy);
+    }
+    const fourier::FourierSettings fs = o.fourier.settings();
 
     ConsoleReporter reporter(g);
-    const optics::Lens lens = loadTraceableLens(o.lens, o.zoom, reporter);
-    std::pair<double, double> sensorMm = lens.sensorMm.value_or(std::make_pair(36.0, 24.0));
-    if (!o.sensorSize.empty()) sensorMm = parsePair(o.sensorSize, 'x', "--sensor-size WIDTHxHEIGHT in mm (e.g. 36x24)");
-
-    trace::TracedFlareOptions t;
-    t.frame = {static_cast<int>(w), static_cast<int>(h), sensorMm.first / w};
-    t.spectralSamples = o.spectral;
-    t.sampling = samplingFrom(o.sampling);
-    t.grid = o.grid;
-    t.sensor = sensorFrom(o.sensor);
-    t.coating = coatingFrom(o.coating);
-    if (!o.angle.empty()) {
-        const auto parts = text::split(o.angle, ',');
-        auto deg = parts.size() <= 2 ? text::parseNumber(parts[0]) : std::nullopt;
-        auto az = parts.size() == 2 ? text::parseNumber(parts[1]) : std::optional<double>(0.0);
-        if (!deg || !az || *deg < 0.0 || *deg >= 89.0) throw Error(ErrorKind::Usage, "expected --angle DEG[,AZ] with 0 <= DEG < 89, got " + text::quoted(o.angle));
-        t.field = {degToRad(*deg), degToRad(*az)};
+    image::Metadata meta = {{"Software", std::string("fourierflare ") + kVersion}, {"fourierflare:commandLine", g.commandLine},
+                            {"fourierflare:mode", o.mode}};
+    fourier::FlareImage image;
+    std::string summary;
+    if (explicitGhosts) {
+        const auto ghosts = readGhostsJson(o.ghostsFile);
+        meta.push_back({"fourierflare:ghosts", o.ghostsFile});
+        if (o.mode == "fitted") {
+            image = fourier::renderDirect(ghosts, W, H);
+            summary = "drew " + std::to_string(ghosts.size()) + " ghosts directly";
+        } else {
+            fourier::FourierRender r = fourier::renderFourier(ghosts, W, H, fs);
+            image = std::move(r.image);
+            meta.push_back({"fourierflare:fourier", r.plan.describe()});
+            summary = "aggregated " + std::to_string(ghosts.size()) + " ghosts: " + r.plan.describe();
+        }
+        meta.push_back({"fourierflare:units", "flux per pixel, in the ghost list's units"});
     } else {
-        const auto [px, py] = parsePair(o.light, ',', "--light X,Y in pixels");
-        const glm::dvec2 s = t.frame.pixelToSensor(px, py);
-        t.field = trace::fieldForSensorPoint(lens, trace::sensorPlaneZ(lens, t.sensor), s.x, s.y);
+        const optics::Lens lens = loadTraceableLens(o.lens, o.zoom, reporter);
+        std::pair<double, double> sensorMm = lens.sensorMm.value_or(std::make_pair(36.0, 24.0));
+        if (!o.sensorSize.empty()) sensorMm = parsePair(o.sensorSize, 'x', "--sensor-size WIDTHxHEIGHT in mm (e.g. 36x24)");
+        meta.push_back({"fourierflare:lens", lens.file});
+        meta.push_back({"fourierflare:lensHash", lens.contentHash});
+        meta.push_back({"fourierflare:units", "flux per pixel relative to the direct image of a unit light (= 1 per channel)"});
+        std::vector<ghosts::Light> lights = o.lightsFile.empty() ? std::vector<ghosts::Light>{} : readLightsJson(o.lightsFile);
+        for (const std::string& l : o.lights) lights.push_back(parseLight(l));
+        trace::TracedFlareOptions t;
+        t.frame = {W, H, sensorMm.first / w};
+        t.spectralSamples = o.spectral;
+        t.sampling = samplingFrom(o.sampling);
+        t.grid = o.grid;
+        t.sensor = sensorFrom(o.sensor);
+        t.coating = coatingFrom(o.coating);
+        if (o.mode == "traced") {
+            TracedScene traced;
+            if (!o.angle.empty()) {
+                const auto parts = text::split(o.angle, ',');
+                auto deg = parts.size() <= 2 ? text::parseNumber(parts[0]) : std::nullopt;
+                auto az = parts.size() == 2 ? text::parseNumber(parts[1]) : std::optional<double>(0.0);
+                if (!deg || !az || *deg < 0.0 || *deg >= 89.0) throw Error(ErrorKind::Usage, "expected --angle DEG[,AZ] with 0 <= DEG < 89, got " + text::quoted(o.angle));
+                t.field = {degToRad(*deg), degToRad(*az)};
+                traced = renderTracedField(lens, t);
+                meta.push_back({"fourierflare:fieldAngleDeg", text::fixed(*deg, 6)});
+                meta.push_back({"fourierflare:azimuthDeg", text::fixed(*az, 6)});
+            } else {
+                traced = renderTracedScene(lens, lights, t);
+            }
+            image = std::move(traced.image);
+            meta.push_back({"fourierflare:grid", std::to_string(o.grid) + " " + o.sampling});
+            summary = "traced " + std::to_string(traced.ghostCount) + " ghosts at " + std::to_string(traced.wavelengths) + " wavelengths for " +
+                      std::to_string(std::max<std::size_t>(lights.size(), 1)) + " light(s); ghost flux relative to the direct image, summed "
+                      "over wavelengths: " + text::scientific(traced.inFrame, 4) + " in the frame, " + text::scientific(traced.outside, 4) + " outside";
+        } else {
+            TableOptions table;
+            table.grid = o.tableGrid;
+            table.sampling = o.sampling;
+            table.sensor = o.sensor;
+            table.coating = o.coating;
+            table.zoom = o.zoom;
+            const ghosts::GhostTable tab = loadTable(lens, table, g, reporter);
+            const ghosts::Camera cam{W, H, sensorMm.first};
+            const auto profile = o.profile == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
+            const auto ghosts = fourierGhosts(ghosts::instantiate(tab, lights, cam, profile));
+            meta.push_back({"fourierflare:profile", o.profile});
+            if (o.mode == "fitted") {
+                image = fourier::renderDirect(ghosts, W, H);
+                summary = "drew " + std::to_string(ghosts.size()) + " fitted ghosts of " + std::to_string(lights.size()) + " light(s) directly";
+            } else {
+                fourier::FourierRender r = fourier::renderFourier(ghosts, W, H, fs);
+                image = std::move(r.image);
+                meta.push_back({"fourierflare:fourier", r.plan.describe()});
+                summary = "aggregated " + std::to_string(ghosts.size()) + " ghosts of " + std::to_string(lights.size()) + " light(s): " + r.plan.describe();
+            }
+        }
     }
-
-    const trace::TracedFlare flare = trace::renderTracedFlare(lens, t);
-    std::string lambdas;
-    for (double l : flare.wavelengthsNm) lambdas += (lambdas.empty() ? "" : " ") + text::fixed(l, 1);
-    const image::Metadata meta = {{"Software", std::string("fourierflare ") + kVersion},
-                                  {"fourierflare:commandLine", g.commandLine},
-                                  {"fourierflare:lens", lens.file},
-                                  {"fourierflare:lensHash", lens.contentHash},
-                                  {"fourierflare:mode", o.mode},
-                                  {"fourierflare:fieldAngleDeg", text::fixed(radToDeg(t.field.angleRad), 6)},
-                                  {"fourierflare:azimuthDeg", text::fixed(radToDeg(t.field.azimuthRad), 6)},
-                                  {"fourierflare:wavelengthsNm", lambdas},
-                                  {"fourierflare:grid", std::to_string(o.grid) + " " + o.sampling},
-                                  {"fourierflare:units", "flux per pixel relative to the direct image of the source (= 1 per channel)"}};
-    image::writeExr(o.output, flare.width, flare.height, {"R", "G", "B"}, flare.rgb, meta);
-    double drawn = 0.0, off = 0.0;
-    std::size_t quads = 0, splats = 0;
-    for (const auto& s : flare.stats) drawn += s.deposited, off += s.offImage, quads += s.quads, splats += s.splats;
+    const std::vector<float> rgb = image.interleaved();
+    image::writeExr(o.output, W, H, {"R", "G", "B"}, rgb, meta);
     double ev = o.exposure;
     if (!o.preview.empty()) {
-        if (std::isnan(ev)) ev = image::autoExposure(flare.rgb);
-        image::writePng(o.preview, flare.width, flare.height, image::tonemapPreview(flare.rgb, ev), meta);
+        if (std::isnan(ev)) ev = image::autoExposure(rgb);
+        image::writePng(o.preview, W, H, image::tonemapPreview(rgb, ev), meta);
+    }
+    for (const auto& [px, py] : probes) {
+        const std::size_t p = static_cast<std::size_t>(py) * W + static_cast<std::size_t>(px);
+        std::printf("probe %g,%g: %.9g %.9g %.9g\n", px, py, image.channel[0][p], image.channel[1][p], image.channel[2][p]);
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!g.quiet) {
-        std::fprintf(stderr, "fourierflare: traced %zu ghosts at %zu wavelengths (field %.3f deg, azimuth %.1f deg): %zu cells as quads, %zu as splats\n",
-                     flare.ghostCount, flare.wavelengthsNm.size(), radToDeg(t.field.angleRad), radToDeg(t.field.azimuthRad), quads, splats);
-        std::fprintf(stderr, "fourierflare: ghost flux relative to the direct image, summed over wavelengths: %.4e in the frame, %.4e outside\n",
-                     drawn, off);
+        std::fprintf(stderr, "fourierflare: %s\n", summary.c_str());
+        std::fprintf(stderr, "fourierflare: flux in the frame (R, G, B): %.4e %.4e %.4e\n", image.sum(0), image.sum(1), image.sum(2));
         std::fprintf(stderr, "fourierflare: wrote %s%s%s in %.2f s\n", o.output.c_str(), o.preview.empty() ? "" : " and ",
                      o.preview.empty() ? "" : (o.preview + " (exposure " + text::fixed(ev, 2) + " EV)").c_str(), seconds);
     }
@@ -114,24 +176,34 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
 
 void addRenderCommand(CLI::App& app, GlobalOptions& global) {
     auto o = std::make_shared<RenderOptions>();
-    CLI::App* cmd = app.add_subcommand("render", "Render the flare of one light source through a lens into an EXR image");
-    cmd->add_option("lens", o->lens, "Lens file (.lens, .zmx or .dat)")->required()->check(CLI::ExistingFile);
-    cmd->add_option("--angle", o->angle, "Field angle of the source in degrees, optionally with its azimuth: DEG[,AZ]");
-    cmd->add_option("--light", o->light, "Image position of the source in pixels: X,Y (its field angle comes from the traced chief ray)");
+    CLI::App* cmd = app.add_subcommand("render", "Render the flare of light sources through a lens into an EXR image");
+    cmd->add_option("lens", o->lens, "Lens file (.lens, .zmx or .dat); not needed with --ghosts")->check(CLI::ExistingFile);
+    cmd->add_option("--angle", o->angle, "Field angle of one source in degrees, optionally with its azimuth: DEG[,AZ] (traced mode)");
+    cmd->add_option("--light", o->lights, "A light at X,Y pixels, optionally with its RGB flux: X,Y[,R,G,B] (repeatable)");
+    cmd->add_option("--lights", o->lightsFile, "Lights from a JSON file: {\"lights\": [{\"x\", \"y\", \"flux\": [R, G, B]}]}")->check(CLI::ExistingFile);
+    cmd->add_option("--ghosts", o->ghostsFile, "Render an explicit ghost list (JSON, docs/fourier.md) instead of a lens's ghosts")->check(CLI::ExistingFile);
     cmd->add_option("--size", o->size, "Image size in pixels, WIDTHxHEIGHT; the image spans the sensor width");
-    cmd->add_option("--mode", o->mode, "Rendering mode: traced (every ghost ray-traced and rasterised)")->check(CLI::IsMember({"traced"}));
+    cmd->add_option("--mode", o->mode, "traced (every ghost ray-traced), fitted (the table's profiles drawn directly) or fourier (aggregated)")
+        ->check(CLI::IsMember({"traced", "fitted", "fourier"}));
+    cmd->add_option("--profile", o->profile, "Fitted profile for fitted and fourier: gaussian or cos2")->check(CLI::IsMember({"gaussian", "cos2"}));
     cmd->add_option("-o,--output", o->output, "EXR file to write (R, G, B = the flare alone, linear)")->required();
     cmd->add_option("--preview", o->preview, "Also write a tonemapped PNG preview");
+    cmd->add_option("--probe", o->probes, "Print the image's R G B at pixel X,Y (repeatable)");
     cmd->add_option("--exposure", o->exposure, "Preview exposure in EV (default: automatic, the 99th percentile of the flare at 1.0)");
     cmd->add_option("--spectral", o->spectral, "Trace N wavelengths over 400-700 nm through the CIE 1931 matching functions (8-16); 0 = 450/550/650 nm")
         ->check(CLI::IsMember({0, 8, 9, 10, 11, 12, 13, 14, 15, 16}));
     cmd->add_option("--sampling", o->sampling, "Pupil sampling: reaim or paraxial-grid")->check(CLI::IsMember({"reaim", "paraxial-grid"}));
-    cmd->add_option("--grid", o->grid, "Rays per side of each ghost's pupil grid")->check(CLI::Range(2, 1024));
+    cmd->add_option("--grid", o->grid, "Rays per side of each ghost's pupil grid (traced mode)")->check(CLI::Range(2, 1024));
+    cmd->add_option("--table-grid", o->tableGrid, "Rays per side of each ghost's pupil grid for the ghost table (fitted, fourier)")->check(CLI::Range(4, 512));
     cmd->add_option("--sensor", o->sensor, "Sensor plane: file (the last thickness) or paraxial")->check(CLI::IsMember({"file", "paraxial"}));
     cmd->add_option("--coating", o->coating, "Coatings: file, none or mgf2")->check(CLI::IsMember({"file", "none", "mgf2"}));
     cmd->add_option("--sensor-size", o->sensorSize, "Sensor size in mm, WIDTHxHEIGHT (default: the lens file's, else 36x24)");
     cmd->add_option("--zoom", o->zoom, "Zoom position (label or 1-based index)");
-    cmd->footer("Example: fourierflare render lenses/double-gauss-50mm-f2.lens --angle 10 --size 1280x720 --mode traced -o flare.exr --preview flare.png");
+    o->fourier.addTo(*cmd);
+    cmd->footer("Examples:\n"
+                "  fourierflare render lenses/double-gauss-50mm-f2.lens --angle 10 --size 1280x720 -o flare.exr --preview flare.png\n"
+                "  fourierflare render lenses/double-gauss-50mm-f2.lens --light 1400,300 --light 600,700,2,2,1 --size 1920x1080 --mode fourier -o f.exr\n"
+                "  fourierflare render --ghosts my-ghosts.json --size 1920x1080 --mode fourier --fourier-n 64 --probe 960,540 -o g.exr");
     cmd->callback([o, &global] { runRender(*o, global); });
 }
 

@@ -15,5 +15,6 @@ void addGhostsCommand(CLI::App& app, GlobalOptions& global);
 void addRenderCommand(CLI::App& app, GlobalOptions& global);
 void addTableCommand(CLI::App& app, GlobalOptions& global);
 void addExportCommand(CLI::App& app, GlobalOptions& global);
+void addCompareCommand(CLI::App& app, GlobalOptions& global);
 
 } // namespace ff::cli

@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
     addRenderCommand(app, global);
     addTableCommand(app, global);
     addExportCommand(app, global);
+    addCompareCommand(app, global);
 
     try {
         app.parse(argc, argv);

@@ -175,6 +175,12 @@ std::string fixed(double v, int decimals) {
     return buf;
 }
 
+std::string scientific(double v, int decimals) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*e", decimals, v);
+    return buf;
+}
+
 std::string roundTrip(double v) {
     char buf[64];
     const auto [ptr, ec] = std::to_chars(buf, buf + sizeof buf, v);

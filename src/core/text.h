@@ -54,6 +54,8 @@ std::string join(const std::vector<std::string>& items, std::string_view sep = "
 
 /// Formats a number with a fixed number of decimals ("%.*f").
 std::string fixed(double v, int decimals);
+/// Formats a number in scientific notation with `decimals` digits after the point ("%.*e").
+std::string scientific(double v, int decimals);
 
 /// Shortest representation that reads back to exactly the same double.
 std::string roundTrip(double v);

@@ -69,45 +69,55 @@ Coefficients accumulate(const std::vector<Ghost>& ghosts, const Plan& plan, cons
         if (plan.route[k] == Route::Fourier) groups[{band(plan.termsX[k], co.n), band(plan.termsY[k], co.m)}].push_back(k);
 
     const double wx = 2.0 * std::numbers::pi / co.periodX, wy = 2.0 * std::numbers::pi / co.periodY;
-    std::vector<float> U, V, W;
-    for (const auto& [bands, members] : groups) {
-        const int nb = bands.first, mb = bands.second;
-        for (std::size_t first = 0; first < members.size(); first += kChunk) {
-            const std::size_t count = std::min(kChunk, members.size() - first);
-            for (int c = 0; c < 3; ++c) {
-                U.assign(count * 2 * nb, 0.0f);
-                V.assign(count * 2 * mb, 0.0f);
-                tbb::parallel_for(std::size_t(0), count, [&](std::size_t r) {
-                    const Ghost& g = ghosts[members[first + r]];
-                    std::vector<double> coef(static_cast<std::size_t>(std::max(nb, mb))), cs(coef.size()), sn(coef.size());
-                    const double alpha = g.peak(c);
-                    profileCoefficients(g.shape, g.widthX[c], co.periodX, settings.gaussianForm, nb, coef.data());
-                    phases(g.x, wx, nb, cs.data(), sn.data());
-                    float* u = &U[r * 2 * nb];
-                    for (int i = 0; i < nb; ++i) {
-                        u[i] = static_cast<float>(alpha * coef[i] * cs[i]);
-                        u[nb + i] = static_cast<float>(alpha * coef[i] * sn[i]);
-                    }
-                    profileCoefficients(g.shape, g.widthY[c], co.periodY, settings.gaussianForm, mb, coef.data());
-                    phases(g.y, wy, mb, cs.data(), sn.data());
-                    float* v = &V[r * 2 * mb];
-                    for (int j = 0; j < mb; ++j) {
-                        v[j] = static_cast<float>(coef[j] * cs[j]);
-                        v[mb + j] = static_cast<float>(coef[j] * sn[j]);
-                    }
-                });
-                W.assign(static_cast<std::size_t>(4) * nb * mb, 0.0f);
-                cblas_sgemm(CblasRowMajor, CblasTrans, CblasNoTrans, 2 * nb, 2 * mb, static_cast<int>(count), 1.0f, U.data(), 2 * nb,
-                            V.data(), 2 * mb, 0.0f, W.data(), 2 * mb);
-                // The chunk's [[A, B], [C, D]] blocks into the full matrices, in float64.
-                for (int half = 0; half < 2; ++half)
-                    for (int i = 0; i < nb; ++i)
-                        for (int side = 0; side < 2; ++side)
-                            for (int j = 0; j < mb; ++j)
-                                co.at(c, half * co.n + i, side * co.m + j) += W[static_cast<std::size_t>(half * nb + i) * 2 * mb + side * mb + j];
+    // One task per (channel, group, chunk of ghosts), run in parallel, each with its own GEMM (a
+    // long inner dimension and a small output, which OpenBLAS runs on one thread); the tasks'
+    // results are then added in task order, so the sums do not depend on the thread count.
+    struct Task {
+        int channel, nb, mb;
+        const std::vector<std::size_t>* members;
+        std::size_t first, count;
+        std::vector<float> result; // 2nb x 2mb: [[A, B], [C, D]] of the chunk
+    };
+    std::vector<Task> tasks;
+    for (int c = 0; c < 3; ++c)
+        for (const auto& [bands, members] : groups)
+            for (std::size_t first = 0; first < members.size(); first += kChunk)
+                tasks.push_back({c, bands.first, bands.second, &members, first, std::min(kChunk, members.size() - first), {}});
+    tbb::parallel_for(std::size_t(0), tasks.size(), [&](std::size_t t) {
+        Task& task = tasks[t];
+        const int c = task.channel, nb = task.nb, mb = task.mb;
+        std::vector<double> coef(static_cast<std::size_t>(std::max(nb, mb))), cs(coef.size()), sn(coef.size());
+        std::vector<float> U(task.count * 2 * nb), V(task.count * 2 * mb);
+        for (std::size_t r = 0; r < task.count; ++r) {
+            const Ghost& g = ghosts[(*task.members)[task.first + r]];
+            const double alpha = g.peak(c);
+            profileCoefficients(g.shape, g.widthX[c], co.periodX, settings.gaussianForm, nb, coef.data());
+            phases(g.x, wx, nb, cs.data(), sn.data());
+            float* u = &U[r * 2 * nb];
+            for (int i = 0; i < nb; ++i) {
+                u[i] = static_cast<float>(alpha * coef[i] * cs[i]);
+                u[nb + i] = static_cast<float>(alpha * coef[i] * sn[i]);
+            }
+            profileCoefficients(g.shape, g.widthY[c], co.periodY, settings.gaussianForm, mb, coef.data());
+            phases(g.y, wy, mb, cs.data(), sn.data());
+            float* v = &V[r * 2 * mb];
+            for (int j = 0; j < mb; ++j) {
+                v[j] = static_cast<float>(coef[j] * cs[j]);
+                v[mb + j] = static_cast<float>(coef[j] * sn[j]);
             }
         }
-    }
+        task.result.assign(static_cast<std::size_t>(4) * nb * mb, 0.0f);
+        cblas_sgemm(CblasRowMajor, CblasTrans, CblasNoTrans, 2 * nb, 2 * mb, static_cast<int>(task.count), 1.0f, U.data(), 2 * nb, V.data(),
+                    2 * mb, 0.0f, task.result.data(), 2 * mb);
+    });
+    // Each chunk's blocks into the full matrices, in float64, in task order.
+    for (const Task& task : tasks)
+        for (int half = 0; half < 2; ++half)
+            for (int i = 0; i < task.nb; ++i)
+                for (int side = 0; side < 2; ++side)
+                    for (int j = 0; j < task.mb; ++j)
+                        co.at(task.channel, half * co.n + i, side * co.m + j) +=
+                            task.result[static_cast<std::size_t>(half * task.nb + i) * 2 * task.mb + side * task.mb + j];
     if (settings.dropDc)
         for (int c = 0; c < 3; ++c) co.at(c, 0, 0) = 0.0;
     return co;

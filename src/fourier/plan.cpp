@@ -45,11 +45,13 @@ double padExtent(const Ghost& g, double width, double error) {
 double widest(const std::array<double, 3>& w) { return std::max({w[0], w[1], w[2]}); }
 double narrowest(const std::array<double, 3>& w) { return std::min({w[0], w[1], w[2]}); }
 
-// Estimated floating-point work (3 channels) of each route.
+// Estimated work (3 channels) of each route, in GEMM-equivalent flops. The FFT's nominal
+// 2.5 P log2 P flops of a real inverse transform ran at about a fifth of sgemm's rate
+// (bench_fourier, docs/performance.md): weighted by 5.
 double evaluationFlops(int n, int m, int w, int h, double tx, double ty, Evaluation e) {
     if (n == 0) return 0.0;
     const double matrix = 3.0 * (8.0 * n * m * h + 4.0 * n * double(w) * h);
-    const double fft = 3.0 * 2.5 * tx * ty * std::log2(tx * ty);
+    const double fft = 3.0 * 5.0 * 2.5 * tx * ty * std::log2(tx * ty);
     if (e == Evaluation::Matrix) return matrix;
     if (e == Evaluation::Fft) return fft;
     return std::min(matrix, fft);

@@ -1,0 +1,285 @@
+// `fourierflare compare`: the traced flare of a scene against the fitted profiles drawn directly and
+// against their Fourier aggregation, with error metrics, difference pictures, error against the
+// number of terms and timings (docs/compare.md).
+
+#include "cli/commands.h"
+#include "cli/flare_scene.h"
+#include "cli/fourier_choices.h"
+#include "core/error.h"
+#include "core/file_io.h"
+#include "core/text.h"
+#include "ff/version.h"
+#include "fourier/render.h"
+#include "image/image_output.h"
+#include "image/metrics.h"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+namespace ff::cli {
+
+namespace {
+
+struct CompareOptions {
+    std::string lens;
+    std::vector<std::string> lights;
+    std::string lightsFile;
+    std::string size = "1920x1080";
+    std::string ns = "16,32,64,128,256";
+    std::string output;
+    int grid = 64, tableGrid = 32;
+    std::string sensorSize, zoom;
+    FourierOptions fourier;
+};
+
+using Clock = std::chrono::steady_clock;
+double seconds(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+nlohmann::json toJson(const image::ImageError& e) {
+    auto finite = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+    return {{"relativeL2", finite(e.relativeL2)}, {"psnrDb", finite(e.psnrDb)}, {"maxAbs", e.maxAbs},
+            {"maxRelative", e.maxRelative}, {"fluxRatio", e.fluxRatio}};
+}
+
+std::string row(const std::string& what, const image::ImageError& e) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "| %s | %.3e | %.1f | %.3e | %.4f |\n", what.c_str(), e.relativeL2, e.psnrDb, e.maxRelative, e.fluxRatio);
+    return buf;
+}
+
+// Log-log plot of relative L2 against N, one polyline per series, as a small standalone SVG.
+std::string errorPlot(const std::vector<int>& ns, const std::vector<std::pair<std::string, std::vector<double>>>& series, double budget) {
+    const double W = 640, H = 400, left = 70, right = 150, top = 20, bottom = 50;
+    double lo = budget, hi = budget;
+    for (const auto& s : series)
+        for (double v : s.second)
+            if (v > 0 && std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+    const double ly0 = std::floor(std::log10(lo)), ly1 = std::ceil(std::log10(hi) + 1e-9);
+    const double lx0 = std::log2(ns.front()), lx1 = std::max(lx0 + 1, std::log2(ns.back()));
+    auto X = [&](double n) { return left + (std::log2(n) - lx0) / (lx1 - lx0) * (W - left - right); };
+    auto Y = [&](double v) { return top + (ly1 - std::log10(v)) / (ly1 - ly0) * (H - top - bottom); };
+    std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"640\" height=\"400\" font-family=\"sans-serif\" font-size=\"12\">\n"
+                      "<rect width=\"640\" height=\"400\" fill=\"white\"/>\n";
+    for (double e = ly0; e <= ly1; ++e)
+        svg += "<line x1=\"" + text::fixed(left, 1) + "\" x2=\"" + text::fixed(W - right, 1) + "\" y1=\"" + text::fixed(Y(std::pow(10, e)), 1) + "\" y2=\"" +
+               text::fixed(Y(std::pow(10, e)), 1) + "\" stroke=\"#ddd\"/><text x=\"" + text::fixed(left - 8, 1) + "\" y=\"" +
+               text::fixed(Y(std::pow(10, e)) + 4, 1) + "\" text-anchor=\"end\">1e" + std::to_string(static_cast<int>(e)) + "</text>\n";
+    for (int n : ns)
+        svg += "<text x=\"" + text::fixed(X(n), 1) + "\" y=\"" + text::fixed(H - bottom + 18, 1) + "\" text-anchor=\"middle\">" + std::to_string(n) + "</text>\n";
+    svg += "<text x=\"" + text::fixed(0.5 * (left + W - right), 1) + "\" y=\"" + text::fixed(H - 10, 1) + "\" text-anchor=\"middle\">N (terms along x)</text>\n";
+    svg += "<text x=\"16\" y=\"" + text::fixed(0.5 * H, 1) + "\" transform=\"rotate(-90 16 " + text::fixed(0.5 * H, 1) + ")\" text-anchor=\"middle\">relative L2 error</text>\n";
+    svg += "<line x1=\"" + text::fixed(left, 1) + "\" x2=\"" + text::fixed(W - right, 1) + "\" y1=\"" + text::fixed(Y(budget), 1) + "\" y2=\"" +
+           text::fixed(Y(budget), 1) + "\" stroke=\"#888\" stroke-dasharray=\"4 3\"/><text x=\"" + text::fixed(W - right + 6, 1) + "\" y=\"" +
+           text::fixed(Y(budget) + 4, 1) + "\">budget</text>\n";
+    const char* colours[] = {"#d62728", "#1f77b4", "#ff7f0e", "#2ca02c"};
+    for (std::size_t s = 0; s < series.size(); ++s) {
+        std::string pts;
+        for (std::size_t i = 0; i < ns.size(); ++i)
+            if (series[s].second[i] > 0 && std::isfinite(series[s].second[i]))
+                pts += text::fixed(X(ns[i]), 1) + "," + text::fixed(Y(series[s].second[i]), 1) + " ";
+        const char* colour = colours[s % 4];
+        svg += std::string("<polyline fill=\"none\" stroke=\"") + colour + "\" stroke-width=\"2\" points=\"" + pts + "\"/>\n";
+        svg += "<text x=\"" + text::fixed(W - right + 6, 1) + "\" y=\"" + text::fixed(top + 16 + 16.0 * double(s), 1) + "\" fill=\"" + colour + "\">" +
+               series[s].first + "</text>\n";
+    }
+    return svg + "</svg>\n";
+}
+
+void runCompare(const CompareOptions& o, const GlobalOptions& g) {
+    if (o.lights.empty() == o.lightsFile.empty()) throw Error(ErrorKind::Usage, "give the lights with --light X,Y[,R,G,B] (repeatable) or --lights FILE");
+    const auto parts = text::split(o.size, 'x');
+    const auto w = parts.size() == 2 ? text::parseNumber(parts[0]) : std::nullopt, h = parts.size() == 2 ? text::parseNumber(parts[1]) : std::nullopt;
+    if (!w || !h || *w < 8 || *h < 8 || *w > 8192 || *h > 8192 || *w != std::floor(*w) || *h != std::floor(*h))
+        throw Error(ErrorKind::Usage, "--size must be whole pixels between 8 and 8192, got " + text::quoted(o.size));
+    const int W = static_cast<int>(*w), H = static_cast<int>(*h);
+    std::vector<int> ns;
+    for (auto p : text::split(o.ns, ',')) {
+        const auto v = text::parseNumber(p);
+        if (!v || *v < 1 || *v > 2048 || *v != std::floor(*v)) throw Error(ErrorKind::Usage, "expected --n as whole numbers 1..2048, got " + text::quoted(o.ns));
+        ns.push_back(static_cast<int>(*v));
+    }
+    std::sort(ns.begin(), ns.end());
+    namespace fs = std::filesystem;
+    const fs::path dir(o.output);
+    if (fs::exists(dir) && !fs::is_directory(dir)) throw Error(ErrorKind::Usage, "the report folder '" + o.output + "' exists and is not a folder");
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) throw Error(ErrorKind::Runtime, "cannot create the report folder '" + o.output + "': " + ec.message());
+
+    ConsoleReporter reporter(g);
+    const optics::Lens lens = loadTraceableLens(o.lens, o.zoom, reporter);
+    std::pair<double, double> sensorMm = lens.sensorMm.value_or(std::make_pair(36.0, 24.0));
+    if (!o.sensorSize.empty()) {
+        const auto sp = text::split(o.sensorSize, 'x');
+        const auto sw = sp.size() == 2 ? text::parseNumber(sp[0]) : std::nullopt, sh = sp.size() == 2 ? text::parseNumber(sp[1]) : std::nullopt;
+        if (!sw || !sh || !(*sw > 0) || !(*sh > 0)) throw Error(ErrorKind::Usage, "expected --sensor-size WIDTHxHEIGHT in mm, got " + text::quoted(o.sensorSize));
+        sensorMm = {*sw, *sh};
+    }
+    std::vector<ghosts::Light> lights = o.lightsFile.empty() ? std::vector<ghosts::Light>{} : readLightsJson(o.lightsFile);
+    for (const std::string& l : o.lights) lights.push_back(parseLight(l));
+    const image::Metadata meta = {{"Software", std::string("fourierflare ") + kVersion}, {"fourierflare:commandLine", g.commandLine},
+                                  {"fourierflare:lens", lens.file}, {"fourierflare:lensHash", lens.contentHash}};
+    auto say = [&](const std::string& s) {
+        if (!g.quiet) std::fprintf(stderr, "fourierflare: %s\n", s.c_str());
+    };
+
+    // Traced reference.
+    auto t0 = Clock::now();
+    trace::TracedFlareOptions to;
+    to.frame = {W, H, sensorMm.first / W};
+    to.grid = o.grid;
+    const fourier::FlareImage traced = renderTracedScene(lens, lights, to).image;
+    const double tracedSeconds = seconds(t0);
+    say("traced " + std::to_string(lights.size()) + " light(s) in " + text::fixed(tracedSeconds, 2) + " s");
+
+    t0 = Clock::now();
+    TableOptions table;
+    table.grid = o.tableGrid;
+    table.zoom = o.zoom;
+    const ghosts::GhostTable tab = loadTable(lens, table, g, reporter);
+    const double tableSeconds = seconds(t0);
+    const ghosts::Camera cam{W, H, sensorMm.first};
+    const fourier::FourierSettings base = o.fourier.settings();
+
+    const std::vector<float> tracedRgb = traced.interleaved();
+    const double exposure = image::autoExposure(tracedRgb);
+    auto save = [&](const std::string& name, const std::vector<float>& rgb) {
+        image::writeExr((dir / (name + ".exr")).string(), W, H, {"R", "G", "B"}, rgb, meta);
+        image::writePng((dir / (name + ".png")).string(), W, H, image::tonemapPreview(rgb, exposure), meta);
+    };
+    save("traced", tracedRgb);
+
+    nlohmann::json report;
+    report["tool"] = std::string("fourierflare ") + kVersion;
+    report["commandLine"] = g.commandLine;
+    report["lens"] = {{"file", lens.file}, {"name", lens.name}, {"hash", lens.contentHash}};
+    report["frame"] = {{"width", W}, {"height", H}, {"sensorMm", {sensorMm.first, sensorMm.second}}};
+    for (const auto& l : lights) report["lights"].push_back({{"x", l.xPx}, {"y", l.yPx}, {"flux", l.flux}});
+    report["budget"] = base.error;
+    report["previewExposureEv"] = exposure;
+    report["seconds"] = {{"traced", tracedSeconds}, {"table", tableSeconds}};
+    std::string md = "# Flare comparison: " + lens.name + "\n\n";
+    md += "Lens `" + lens.file + "`, frame " + std::to_string(W) + " x " + std::to_string(H) + " px over " + text::fixed(sensorMm.first, 1) + " x " +
+          text::fixed(sensorMm.second, 1) + " mm, " + std::to_string(lights.size()) + " light(s). Images are flux per pixel relative to each light's "
+          "direct image; previews share one exposure (" + text::fixed(exposure, 2) + " EV, from the traced image).\n\n";
+    md += "- **traced**: every ghost ray-traced (" + std::to_string(o.grid) + "² rays per ghost, 450/550/650 nm) and rasterised — the reference.\n";
+    md += "- **fitted**: the ghost table's profiles (per ghost, field angle and wavelength), axis-aligned, drawn directly over every pixel (no truncation).\n";
+    md += "- **fourier**: the same profiles aggregated through the separable Fourier series (budget " + text::roundTrip(base.error) + ", hybrid).\n\n";
+    md += "| comparison | relative L2 | PSNR (dB) | max error / peak | flux ratio |\n|---|---|---|---|---|\n";
+
+    std::vector<std::pair<std::string, std::vector<double>>> vsFitted, vsTraced;
+    std::string timing = "| mode | seconds |\n|---|---|\n| traced | " + text::fixed(tracedSeconds, 3) + " |\n| ghost table (load or build) | " + text::fixed(tableSeconds, 3) + " |\n";
+    for (const auto profile : {ghosts::Profile::Gaussian, ghosts::Profile::Cos2}) {
+        const std::string name = ghosts::toString(profile);
+        const auto ghosts = fourierGhosts(ghosts::instantiate(tab, lights, cam, profile));
+        t0 = Clock::now();
+        const fourier::FlareImage fitted = fourier::renderDirect(ghosts, W, H);
+        const double fittedSeconds = seconds(t0);
+        const fourier::FourierRender four = fourier::renderFourier(ghosts, W, H, base);
+        const std::vector<float> fittedRgb = fitted.interleaved(), fourierRgb = four.image.interleaved();
+        save("fitted-" + name, fittedRgb);
+        save("fourier-" + name, fourierRgb);
+        const auto eFit = image::compareImages(fittedRgb, tracedRgb), eTrunc = image::compareImages(fourierRgb, fittedRgb),
+                   eTotal = image::compareImages(fourierRgb, tracedRgb);
+        // Difference pictures, each scaled to its own 99.9th percentile of |luminance difference|.
+        const std::vector<std::pair<std::string, std::pair<const std::vector<float>*, const std::vector<float>*>>> diffs = {
+            {"diff-fitted-" + name + "-vs-traced", {&fittedRgb, &tracedRgb}},
+            {"diff-fourier-" + name + "-vs-fitted", {&fourierRgb, &fittedRgb}},
+            {"diff-fourier-" + name + "-vs-traced", {&fourierRgb, &tracedRgb}}};
+        nlohmann::json scales;
+        for (const auto& [file, pair] : diffs) {
+            const double scale = image::differenceQuantile(*pair.first, *pair.second, 0.999);
+            image::writePng((dir / (file + ".png")).string(), W, H, image::differencePicture(*pair.first, *pair.second, scale), meta);
+            scales[file] = scale;
+        }
+        md += row("fitted " + name + " vs traced (profile model)", eFit) + row("fourier " + name + " vs fitted (truncation)", eTrunc) +
+              row("fourier " + name + " vs traced (total)", eTotal);
+        timing += "| fitted " + name + " (direct, " + std::to_string(ghosts.size()) + " ghosts) | " + text::fixed(fittedSeconds, 3) + " |\n";
+        timing += "| fourier " + name + " (" + four.plan.describe() + ") | " + text::fixed(four.seconds.total(), 3) + " (accumulate " +
+                  text::fixed(four.seconds.accumulate, 3) + ", evaluate " + text::fixed(four.seconds.evaluate, 3) + ", direct " +
+                  text::fixed(four.seconds.direct, 3) + ") |\n";
+        nlohmann::json p;
+        p["ghosts"] = ghosts.size();
+        p["fittedVsTraced"] = toJson(eFit);
+        p["fourierVsFitted"] = toJson(eTrunc);
+        p["fourierVsTraced"] = toJson(eTotal);
+        p["fourier"] = {{"plan", four.plan.describe()}, {"n", four.plan.n}, {"m", four.plan.m}, {"periodX", four.plan.periodX},
+                        {"periodY", four.plan.periodY}, {"throughFourier", four.plan.fourier}, {"direct", four.plan.direct},
+                        {"culled", four.plan.culled}, {"evaluation", fourier::toString(four.plan.evaluation)}};
+        p["seconds"] = {{"fitted", fittedSeconds}, {"fourier", four.seconds.total()}, {"accumulate", four.seconds.accumulate},
+                        {"evaluate", four.seconds.evaluate}, {"direct", four.seconds.direct}};
+        p["differenceScales"] = scales;
+        // Error against N: every ghost through Fourier, all N terms (no hybrid, no trimming), the
+        // automatic period: the pure truncation error of the representation.
+        std::vector<double> errFit, errTraced;
+        for (int n : ns) {
+            fourier::FourierSettings s = base;
+            s.fixedN = n;
+            s.hybrid = false;
+            s.trimFraction = 0.0;
+            const fourier::FourierRender r = fourier::renderFourier(ghosts, W, H, s);
+            const std::vector<float> rgb = r.image.interleaved();
+            const auto a = image::compareImages(rgb, fittedRgb), b = image::compareImages(rgb, tracedRgb);
+            errFit.push_back(a.relativeL2);
+            errTraced.push_back(b.relativeL2);
+            p["errorVsN"].push_back({{"n", n}, {"m", r.plan.m}, {"vsFitted", toJson(a)}, {"vsTraced", toJson(b)}, {"seconds", r.seconds.total()}});
+        }
+        vsFitted.push_back({name + " vs fitted", errFit});
+        vsTraced.push_back({name + " vs traced", errTraced});
+        report["profiles"][name] = p;
+        say(name + ": fitted vs traced " + text::fixed(eFit.relativeL2, 4) + ", fourier vs fitted " + text::fixed(eTrunc.relativeL2, 6) + " (" +
+            four.plan.describe() + ")");
+    }
+    md += "\nPSNR uses the reference's peak. Flux ratio = total flux of the image / total flux of the reference.\n\n";
+    md += "## Error against the number of terms\n\nEvery ghost through Fourier with N terms along x (M in proportion to the periods), no hybrid "
+          "split and no per-ghost trimming; relative L2 against the fitted (truncation alone) and the traced image.\n\n| N |";
+    for (const auto& s : vsFitted) md += " " + s.first + " |";
+    for (const auto& s : vsTraced) md += " " + s.first + " |";
+    md += "\n|---|";
+    for (std::size_t i = 0; i < vsFitted.size() + vsTraced.size(); ++i) md += "---|";
+    md += "\n";
+    for (std::size_t i = 0; i < ns.size(); ++i) {
+        md += "| " + std::to_string(ns[i]) + " |";
+        for (const auto& s : vsFitted) md += " " + text::scientific(s.second[i], 3) + " |";
+        for (const auto& s : vsTraced) md += " " + text::scientific(s.second[i], 3) + " |";
+        md += "\n";
+    }
+    md += "\n![error against N](error-vs-n.svg)\n\n## Wall time\n\n" + timing;
+    md += "\n## Files\n\n`traced`, `fitted-*`, `fourier-*` as EXR (linear) and PNG (same exposure); `diff-A-vs-B.png`: luminance of A minus B, "
+          "red where A is brighter, blue where darker, white where equal, full colour at the 99.9th percentile of |A − B| (values in report.json, "
+          "`differenceScales`).\n";
+    auto all = vsFitted;
+    all.insert(all.end(), vsTraced.begin(), vsTraced.end());
+    writeFileAtomic((dir / "error-vs-n.svg").string(), errorPlot(ns, all, base.error));
+    writeFileAtomic((dir / "report.json").string(), report.dump(2) + "\n");
+    writeFileAtomic((dir / "report.md").string(), md);
+    say("wrote " + (dir / "report.md").string());
+}
+
+} // namespace
+
+void addCompareCommand(CLI::App& app, GlobalOptions& global) {
+    auto o = std::make_shared<CompareOptions>();
+    CLI::App* cmd = app.add_subcommand("compare", "Compare the traced flare of a scene with the fitted and the Fourier-aggregated ones");
+    cmd->add_option("lens", o->lens, "Lens file (.lens, .zmx or .dat)")->required()->check(CLI::ExistingFile);
+    cmd->add_option("--light", o->lights, "A light at X,Y pixels, optionally with its RGB flux: X,Y[,R,G,B] (repeatable)");
+    cmd->add_option("--lights", o->lightsFile, "Lights from a JSON file")->check(CLI::ExistingFile);
+    cmd->add_option("--size", o->size, "Frame size in pixels, WIDTHxHEIGHT; the frame spans the sensor width");
+    cmd->add_option("--n", o->ns, "Numbers of terms for the error-against-N table, comma-separated");
+    cmd->add_option("-o,--output", o->output, "Report folder (created if missing)")->required();
+    cmd->add_option("--grid", o->grid, "Rays per side of each ghost's pupil grid for the traced reference")->check(CLI::Range(4, 1024));
+    cmd->add_option("--table-grid", o->tableGrid, "Rays per side of each ghost's pupil grid for the ghost table")->check(CLI::Range(4, 512));
+    cmd->add_option("--sensor-size", o->sensorSize, "Sensor size in mm, WIDTHxHEIGHT (default: the lens file's, else 36x24)");
+    cmd->add_option("--zoom", o->zoom, "Zoom position (label or 1-based index)");
+    o->fourier.addTo(*cmd);
+    cmd->footer("Example: fourierflare compare lenses/double-gauss-50mm-f2.lens --light 1400,300 --light 600,700 --size 1920x1080 -o cmp/");
+    cmd->callback([o, &global] { runCompare(*o, global); });
+}
+
+} // namespace ff::cli

@@ -1,0 +1,182 @@
+#include "cli/flare_scene.h"
+
+#include "core/error.h"
+#include "core/file_io.h"
+#include "core/text.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+
+namespace ff::cli {
+
+ghosts::Light parseLight(const std::string& spec) {
+    const auto parts = text::split(spec, ',');
+    std::vector<double> v;
+    for (auto p : parts) {
+        const auto x = text::parseNumber(p);
+        if (!x || !std::isfinite(*x)) v.clear(), v.push_back(NAN);
+        else v.push_back(*x);
+    }
+    const bool ok = (v.size() == 2 || v.size() == 5) && std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
+    if (!ok || (v.size() == 5 && (v[2] < 0 || v[3] < 0 || v[4] < 0)))
+        throw Error(ErrorKind::Usage, "expected --light X,Y or X,Y,R,G,B (pixels; non-negative RGB flux), got " + text::quoted(spec));
+    ghosts::Light l;
+    l.xPx = v[0];
+    l.yPx = v[1];
+    if (v.size() == 5) l.flux = {v[2], v[3], v[4]};
+    return l;
+}
+
+namespace {
+
+using nlohmann::json;
+
+json parseJsonFile(const std::string& file) {
+    const std::string bytes = readFileBytes(file, 256u << 20); // 256 MiB: room for millions of ghosts
+    try {
+        return json::parse(bytes);
+    } catch (const json::parse_error& e) {
+        // Byte offset to line:column.
+        std::size_t line = 1, col = 1;
+        for (std::size_t i = 0; i + 1 < e.byte && i < bytes.size(); ++i) {
+            if (bytes[i] == '\n') ++line, col = 1;
+            else ++col;
+        }
+        std::string what = e.what();
+        if (const auto p = what.find("syntax error"); p != std::string::npos) what = what.substr(p);
+        throw Error(ErrorKind::Input, SourceLocation{file, static_cast<int>(line), static_cast<int>(col)}, "not valid JSON: " + what);
+    }
+}
+
+[[noreturn]] void bad(const std::string& file, const std::string& where, const std::string& what) {
+    throw Error(ErrorKind::Input, SourceLocation{file}, where + ": " + what);
+}
+
+// A number, or [R, G, B] of numbers: three values, each finite and >= 0 (> 0 when positive).
+std::array<double, 3> triple(const std::string& file, const std::string& where, const json& v, bool positive) {
+    std::array<double, 3> out{};
+    if (v.is_number()) out.fill(v.get<double>());
+    else if (v.is_array() && v.size() == 3 && v[0].is_number() && v[1].is_number() && v[2].is_number())
+        out = {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
+    else bad(file, where, "expected a number or [R, G, B]");
+    for (double x : out)
+        if (!std::isfinite(x) || x < 0.0 || (positive && x == 0.0))
+            bad(file, where, positive ? "values must be finite and positive" : "values must be finite and non-negative");
+    return out;
+}
+
+double number(const std::string& file, const std::string& where, const json& obj, const char* key) {
+    if (!obj.contains(key) || !obj[key].is_number()) bad(file, where, std::string("expected a number \"") + key + "\"");
+    const double v = obj[key].get<double>();
+    if (!std::isfinite(v)) bad(file, where, std::string("\"") + key + "\" must be finite");
+    return v;
+}
+
+const json& list(const std::string& file, const json& doc, const char* key) {
+    if (!doc.is_object() || !doc.contains(key) || !doc[key].is_array())
+        bad(file, "top level", std::string("expected an object with an array \"") + key + "\"");
+    return doc[key];
+}
+
+} // namespace
+
+std::vector<ghosts::Light> readLightsJson(const std::string& file) {
+    const json doc = parseJsonFile(file);
+    std::vector<ghosts::Light> out;
+    const json& lights = list(file, doc, "lights");
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        const std::string where = "lights[" + std::to_string(i) + "]";
+        if (!lights[i].is_object()) bad(file, where, "expected an object");
+        ghosts::Light l;
+        l.xPx = number(file, where, lights[i], "x");
+        l.yPx = number(file, where, lights[i], "y");
+        if (lights[i].contains("flux")) l.flux = triple(file, where + ".flux", lights[i]["flux"], false);
+        out.push_back(l);
+    }
+    return out;
+}
+
+std::vector<fourier::Ghost> readGhostsJson(const std::string& file) {
+    const json doc = parseJsonFile(file);
+    std::vector<fourier::Ghost> out;
+    const json& ghosts = list(file, doc, "ghosts");
+    for (std::size_t i = 0; i < ghosts.size(); ++i) {
+        const std::string where = "ghosts[" + std::to_string(i) + "]";
+        const json& g = ghosts[i];
+        if (!g.is_object()) bad(file, where, "expected an object");
+        fourier::Ghost k;
+        k.x = number(file, where, g, "x");
+        k.y = number(file, where, g, "y");
+        const std::string profile = g.value("profile", std::string("gaussian"));
+        if (profile != "gaussian" && profile != "cos2") bad(file, where + ".profile", "expected \"gaussian\" or \"cos2\", got \"" + profile + "\"");
+        k.shape = profile == "gaussian" ? fourier::Shape::Gaussian : fourier::Shape::Cos2;
+        if (!g.contains("widthX") || !g.contains("widthY")) bad(file, where, "expected \"widthX\" and \"widthY\" (pixels)");
+        k.widthX = triple(file, where + ".widthX", g["widthX"], true);
+        k.widthY = triple(file, where + ".widthY", g["widthY"], true);
+        if (g.contains("flux") == g.contains("peak")) bad(file, where, "give exactly one of \"flux\" and \"peak\"");
+        if (g.contains("flux")) k.flux = triple(file, where + ".flux", g["flux"], false);
+        else {
+            const auto peak = triple(file, where + ".peak", g["peak"], false);
+            for (int c = 0; c < 3; ++c)
+                k.flux[c] = peak[c] * fourier::profileIntegral(k.shape, k.widthX[c]) * fourier::profileIntegral(k.shape, k.widthY[c]);
+        }
+        out.push_back(k);
+    }
+    return out;
+}
+
+std::vector<fourier::Ghost> fourierGhosts(const std::vector<ghosts::GhostInstance>& instances) {
+    std::vector<fourier::Ghost> out;
+    out.reserve(instances.size());
+    for (const auto& gi : instances) {
+        fourier::Ghost g;
+        g.x = gi.xPx;
+        g.y = gi.yPx;
+        g.shape = gi.profile == ghosts::Profile::Gaussian ? fourier::Shape::Gaussian : fourier::Shape::Cos2;
+        const double c = std::cos(gi.radialAngle), s = std::sin(gi.radialAngle);
+        bool usable = true;
+        for (int ch = 0; ch < 3; ++ch) {
+            const double r = gi.widthR[ch], t = gi.widthT[ch];
+            g.widthX[ch] = std::sqrt(r * r * c * c + t * t * s * s);
+            g.widthY[ch] = std::sqrt(r * r * s * s + t * t * c * c);
+            g.flux[ch] = gi.flux[ch];
+            usable = usable && g.widthX[ch] > 0.0 && g.widthY[ch] > 0.0 && std::isfinite(g.widthX[ch]) && std::isfinite(g.widthY[ch]);
+        }
+        if (usable) out.push_back(g);
+    }
+    return out;
+}
+
+namespace {
+
+void addTraced(TracedScene& scene, const trace::TracedFlare& f, const std::array<double, 3>& flux) {
+    for (std::size_t p = 0; p < scene.image.pixels(); ++p)
+        for (int c = 0; c < 3; ++c) scene.image.channel[c][p] += static_cast<float>(flux[c] * f.rgb[p * 3 + c]);
+    scene.ghostCount = f.ghostCount;
+    scene.wavelengths = f.wavelengthsNm.size();
+    for (const auto& s : f.stats) scene.inFrame += s.deposited, scene.outside += s.offImage;
+}
+
+} // namespace
+
+TracedScene renderTracedField(const optics::Lens& lens, const trace::TracedFlareOptions& o) {
+    TracedScene scene;
+    scene.image = fourier::FlareImage(o.frame.width, o.frame.height);
+    addTraced(scene, trace::renderTracedFlare(lens, o), {1.0, 1.0, 1.0});
+    return scene;
+}
+
+TracedScene renderTracedScene(const optics::Lens& lens, const std::vector<ghosts::Light>& lights, trace::TracedFlareOptions o) {
+    TracedScene scene;
+    scene.image = fourier::FlareImage(o.frame.width, o.frame.height);
+    const double sensorZ = trace::sensorPlaneZ(lens, o.sensor);
+    for (const ghosts::Light& l : lights) {
+        const glm::dvec2 s = o.frame.pixelToSensor(l.xPx, l.yPx);
+        o.field = trace::fieldForSensorPoint(lens, sensorZ, s.x, s.y);
+        addTraced(scene, trace::renderTracedFlare(lens, o), l.flux);
+    }
+    return scene;
+}
+
+} // namespace ff::cli

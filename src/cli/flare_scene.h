@@ -1,0 +1,45 @@
+#pragma once
+// What `render` and `compare` share: the lights of a scene, its ghosts for the aggregator, and the
+// traced reference image of several lights.
+
+#include "fourier/ghost.h"
+#include "ghosts/instancing.h"
+#include "optics/lens.h"
+#include "trace/traced_flare.h"
+
+#include <string>
+#include <vector>
+
+namespace ff::cli {
+
+/// "X,Y" or "X,Y,R,G,B" (pixels; RGB flux of the light's direct image, default 1,1,1).
+ghosts::Light parseLight(const std::string& spec);
+
+/// A lights file: {"lights": [{"x": X, "y": Y, "flux": [R, G, B]}, ...]} ("flux" optional).
+std::vector<ghosts::Light> readLightsJson(const std::string& file);
+
+/// An explicit ghost list (docs/fourier.md, "Ghost lists"):
+/// {"ghosts": [{"x", "y", "profile": "gaussian"|"cos2", "widthX", "widthY", "flux" | "peak"}, ...]},
+/// widths and flux/peak either one number or [R, G, B].
+std::vector<fourier::Ghost> readGhostsJson(const std::string& file);
+
+/// The aggregator's ghosts from table instances. The separable representation has axis-aligned
+/// widths: an instance's radial and tangential widths are replaced by the ones with the same
+/// second moments along x and y (w_x^2 = w_r^2 cos^2 phi + w_t^2 sin^2 phi); the x-y covariance of a
+/// ghost that is neither radial-aligned nor round is dropped (a model error `compare` measures).
+std::vector<fourier::Ghost> fourierGhosts(const std::vector<ghosts::GhostInstance>& instances);
+
+struct TracedScene {
+    fourier::FlareImage image;
+    std::size_t ghostCount = 0, wavelengths = 0;
+    double inFrame = 0.0, outside = 0.0; ///< ghost flux summed over wavelengths and lights (unit lights)
+};
+
+/// The traced flare of all lights (each its own field, options.field ignored), summed with the
+/// lights' RGB flux.
+TracedScene renderTracedScene(const optics::Lens& lens, const std::vector<ghosts::Light>& lights, trace::TracedFlareOptions options);
+
+/// The traced flare of one source at options.field with unit flux.
+TracedScene renderTracedField(const optics::Lens& lens, const trace::TracedFlareOptions& options);
+
+} // namespace ff::cli

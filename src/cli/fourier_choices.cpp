@@ -1,0 +1,65 @@
+#include "cli/fourier_choices.h"
+
+#include "core/error.h"
+#include "core/text.h"
+#include "ghosts/table_cache.h"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <unistd.h>
+
+namespace ff::cli {
+
+void FourierOptions::addTo(CLI::App& cmd) {
+    cmd.add_option("--fourier-error", error, "Relative L2 error budget per ghost; decides the period, N and the hybrid split")
+        ->check(CLI::Range(1e-7, 0.5));
+    cmd.add_option("--fourier-n", n, "Use N terms along x (M follows the periods' ratio) instead of the budget's choice")->check(CLI::Range(1, 2048));
+    cmd.add_option("--fourier-period", period, "Use the periods TX,TY in pixels (each at least the frame) instead of the automatic padding");
+    cmd.add_option("--gaussian-form", gaussianForm, "Gaussian coefficients: periodised, exact (truncated, complex erf) or as7126")
+        ->check(CLI::IsMember({"periodised", "exact", "as7126"}));
+    cmd.add_option("--evaluation", evaluation, "Series evaluation: auto, matrix (two GEMMs) or fft")->check(CLI::IsMember({"auto", "matrix", "fft"}));
+    cmd.add_flag("--drop-dc", dropDc, "Drop the A00 (mean) term, as early notes did; removes energy (docs/fourier.md)");
+    cmd.add_flag("--no-hybrid", noHybrid, "Send every ghost through Fourier, however many terms it needs");
+}
+
+fourier::FourierSettings FourierOptions::settings() const {
+    fourier::FourierSettings s;
+    s.error = error;
+    s.fixedN = n;
+    if (!period.empty()) {
+        const auto parts = text::split(period, ',');
+        const auto tx = parts.size() == 2 ? text::parseNumber(parts[0]) : std::nullopt;
+        const auto ty = parts.size() == 2 ? text::parseNumber(parts[1]) : std::nullopt;
+        if (!tx || !ty || !(*tx >= 1.0) || !(*ty >= 1.0) || *tx > 1e6 || *ty > 1e6)
+            throw Error(ErrorKind::Usage, "expected --fourier-period TX,TY in pixels, got " + text::quoted(period));
+        s.fixedPeriodX = *tx;
+        s.fixedPeriodY = *ty;
+    }
+    s.gaussianForm = gaussianForm == "exact" ? fourier::GaussianForm::Exact
+                     : gaussianForm == "as7126" ? fourier::GaussianForm::ErfAS7126
+                                                : fourier::GaussianForm::Periodised;
+    s.evaluation = evaluation == "matrix" ? fourier::Evaluation::Matrix : evaluation == "fft" ? fourier::Evaluation::Fft : fourier::Evaluation::Auto;
+    s.dropDc = dropDc;
+    s.hybrid = !noHybrid;
+    return s;
+}
+
+ghosts::GhostTable loadTable(const optics::Lens& lens, const TableOptions& table, const GlobalOptions& g, Reporter& reporter) {
+    const bool bar = !g.quiet && isatty(STDERR_FILENO);
+    ghosts::Progress progress;
+    if (bar)
+        progress = [](std::size_t done, std::size_t total) {
+            const int width = 40, filled = static_cast<int>(width * std::min(1.0, double(done) / double(total)));
+            std::fprintf(stderr, "\rfourierflare: ghost table [%.*s%*s] %zu", filled, "########################################", width - filled, "", done);
+            std::fflush(stderr);
+        };
+    bool cached = false;
+    ghosts::GhostTable t = ghosts::tableFor(lens, table.settings(), true, progress, reporter, &cached);
+    if (bar) std::fprintf(stderr, "\n");
+    if (!g.quiet && !cached) std::fprintf(stderr, "fourierflare: built the ghost table in %.1f s (cached for next time)\n", t.buildSeconds);
+    return t;
+}
+
+} // namespace ff::cli

@@ -1,0 +1,34 @@
+#pragma once
+// The aggregator's options as `render` and `compare` accept them, and the ghosts of a scene.
+
+#include "cli/console.h"
+#include "cli/trace_choices.h"
+#include "fourier/plan.h"
+#include "ghosts/instancing.h"
+
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace ff::cli {
+
+struct FourierOptions {
+    double error = 1e-3;
+    int n = 0;
+    std::string period;                 ///< "TX,TY" pixels
+    std::string gaussianForm = "periodised";
+    std::string evaluation = "auto";
+    bool dropDc = false;
+    bool noHybrid = false;
+
+    void addTo(CLI::App& cmd);
+    fourier::FourierSettings settings() const;
+};
+
+/// The ghost table of the lens (from the cache when valid), with a progress bar on a terminal.
+ghosts::GhostTable loadTable(const optics::Lens& lens, const TableOptions& table, const GlobalOptions& g, Reporter& reporter);
+
+} // namespace ff::cli
