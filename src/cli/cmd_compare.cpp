@@ -175,7 +175,10 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
 
     std::vector<std::pair<std::string, std::vector<double>>> vsFitted, vsTraced;
     std::string timing = "| mode | seconds |\n|---|---|\n| traced | " + text::fixed(tracedSeconds, 3) + " |\n| ghost table (load or build) | " + text::fixed(tableSeconds, 3) + " |\n";
-    for (const auto profile : {ghosts::Profile::Gaussian, ghosts::Profile::Cos2}) {
+    // The Bessel basis takes Gaussian ghosts only.
+    std::vector<ghosts::Profile> profiles = {ghosts::Profile::Gaussian};
+    if (base.basis == fourier::Basis::Separable) profiles.push_back(ghosts::Profile::Cos2);
+    for (const auto profile : profiles) {
         const std::string name = ghosts::toString(profile);
         const auto ghosts = fourierGhosts(ghosts::instantiate(tab, lights, cam, profile));
         t0 = Clock::now();

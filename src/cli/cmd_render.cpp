@@ -51,6 +51,22 @@ std::pair<double, double> parsePair(const std::string& s, char sep, const char* 
     return {*text::parseNumber(parts[0]), *text::parseNumber(parts[1])};
 }
 
+// --verbose: the aggregator's choices and where the time went.
+void printPlan(const fourier::FourierRender& r) {
+    const fourier::Plan& p = r.plan;
+    std::fprintf(stderr, "fourierflare: fourier: %s\n", p.describe().c_str());
+    if (p.basis == fourier::Basis::Separable) {
+        std::size_t trimmed = 0;
+        for (std::size_t k = 0; k < p.route.size(); ++k)
+            trimmed += p.route[k] == fourier::Route::Fourier && (p.termsX[k] < p.n || p.termsY[k] < p.m);
+        std::fprintf(stderr, "fourierflare: fourier: %s evaluation; %zu of %zu Fourier ghosts accumulated over fewer terms than N x M "
+                     "(their own need at a quarter of the budget); estimated work %.2f GFLOP\n",
+                     fourier::toString(p.evaluation), trimmed, p.fourier, p.estimatedGflop);
+    }
+    std::fprintf(stderr, "fourierflare: fourier: seconds: plan %.4f, accumulate %.4f, evaluate %.4f, direct %.4f\n", r.seconds.plan,
+                 r.seconds.accumulate, r.seconds.evaluate, r.seconds.direct);
+}
+
 void runRender(const RenderOptions& o, const GlobalOptions& g) {
     const auto start = std::chrono::steady_clock::now();
     for (const std::string& out : {o.output, o.preview})
@@ -91,6 +107,7 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
             fourier::FourierRender r = fourier::renderFourier(ghosts, W, H, fs);
             image = std::move(r.image);
             meta.push_back({"fourierflare:fourier", r.plan.describe()});
+            if (g.verbose) printPlan(r);
             summary = "aggregated " + std::to_string(ghosts.size()) + " ghosts: " + r.plan.describe();
         }
         meta.push_back({"fourierflare:units", "flux per pixel, in the ghost list's units"});
@@ -148,6 +165,7 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
                 fourier::FourierRender r = fourier::renderFourier(ghosts, W, H, fs);
                 image = std::move(r.image);
                 meta.push_back({"fourierflare:fourier", r.plan.describe()});
+                if (g.verbose) printPlan(r);
                 summary = "aggregated " + std::to_string(ghosts.size()) + " ghosts of " + std::to_string(lights.size()) + " light(s): " + r.plan.describe();
             }
         }

@@ -11,6 +11,7 @@ namespace ff::cli {
 /// Options shared by every command.
 struct GlobalOptions {
     bool quiet = false;
+    bool verbose = false;     ///< print every choice (Fourier plan, stage times)
     std::string commandLine; ///< as typed, recorded in outputs
 };
 

@@ -21,6 +21,8 @@ void FourierOptions::addTo(CLI::App& cmd) {
         ->check(CLI::IsMember({"periodised", "exact", "as7126"}));
     cmd.add_option("--evaluation", evaluation, "Series evaluation: auto, matrix (two GEMMs) or fft")->check(CLI::IsMember({"auto", "matrix", "fft"}));
     cmd.add_flag("--drop-dc", dropDc, "Drop the A00 (mean) term, as early notes did; removes energy (docs/fourier.md)");
+    cmd.add_option("--fourier-basis", basis, "separable (cosine/sine on a rectangle) or bessel (radial Fourier-Bessel on a disc; Gaussian ghosts)")
+        ->check(CLI::IsMember({"separable", "bessel"}));
     cmd.add_flag("--no-hybrid", noHybrid, "Send every ghost through Fourier, however many terms it needs");
 }
 
@@ -43,6 +45,7 @@ fourier::FourierSettings FourierOptions::settings() const {
     s.evaluation = evaluation == "matrix" ? fourier::Evaluation::Matrix : evaluation == "fft" ? fourier::Evaluation::Fft : fourier::Evaluation::Auto;
     s.dropDc = dropDc;
     s.hybrid = !noHybrid;
+    s.basis = basis == "bessel" ? fourier::Basis::Bessel : fourier::Basis::Separable;
     return s;
 }
 

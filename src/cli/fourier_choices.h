@@ -23,6 +23,7 @@ struct FourierOptions {
     std::string evaluation = "auto";
     bool dropDc = false;
     bool noHybrid = false;
+    std::string basis = "separable";
 
     void addTo(CLI::App& cmd);
     fourier::FourierSettings settings() const;

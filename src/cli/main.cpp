@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
     GlobalOptions global;
     for (int i = 0; i < argc; ++i) global.commandLine += (i ? " " : "") + std::string(argv[i]);
     app.add_flag("-q,--quiet", global.quiet, "Do not print notes (warnings and errors are always printed)");
+    app.add_flag("-v,--verbose", global.verbose, "Print every choice made on the way (Fourier period, terms, routes; stage times)");
     addLensCommand(app, global);
     addGhostsCommand(app, global);
     addRenderCommand(app, global);

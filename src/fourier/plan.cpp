@@ -27,6 +27,9 @@ int fftFriendly(int n) {
 }
 
 std::string Plan::describe() const {
+    if (basis == Basis::Bessel)
+        return reason + "; ghosts: " + std::to_string(fourier) + " Fourier-Bessel, " + std::to_string(direct) + " direct, " +
+               std::to_string(culled) + " culled";
     std::string s = "period " + text::fixed(periodX, 0) + "x" + text::fixed(periodY, 0) + " px, N " + std::to_string(n) + " x M " +
                     std::to_string(m) + ", " + toString(evaluation) + " evaluation; ghosts: " + std::to_string(fourier) +
                     " Fourier, " + std::to_string(direct) + " direct, " + std::to_string(culled) + " culled";

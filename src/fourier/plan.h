@@ -20,6 +20,10 @@ namespace ff::fourier {
 enum class Evaluation { Auto, Matrix, Fft };
 const char* toString(Evaluation e);
 
+/// Separable cosine/sine series on a rectangle (the default) or the radial Fourier-Bessel series
+/// on a disc (bessel.h).
+enum class Basis { Separable, Bessel };
+
 struct FourierSettings {
     double error = 1e-3;        ///< relative L2 budget per ghost
     int fixedN = 0;             ///< > 0: use this N (x terms) instead of the budget's choice
@@ -31,13 +35,16 @@ struct FourierSettings {
     GaussianForm gaussianForm = GaussianForm::Periodised;
     bool dropDc = false;        ///< zero the A_00 term (removes the mean: off by default, see docs)
     Evaluation evaluation = Evaluation::Auto;
+    Basis basis = Basis::Separable;
 };
 
 enum class Route : unsigned char { Fourier, Direct, Culled };
 
 struct Plan {
-    double periodX = 0.0, periodY = 0.0; ///< pixels
-    int n = 0, m = 0;                    ///< terms per axis (0: nothing goes through Fourier)
+    Basis basis = Basis::Separable;
+    double periodX = 0.0, periodY = 0.0; ///< pixels (Bessel: both the disc radius R0)
+    int n = 0, m = 0;                    ///< terms per axis (Bessel: J radial, M angular); 0: nothing through Fourier
+    int polarRings = 0, polarAngles = 0; ///< Bessel: the polar grid evaluated
     Evaluation evaluation = Evaluation::Matrix;
     std::vector<Route> route;            ///< per ghost
     std::vector<int> termsX, termsY;     ///< per ghost: terms accumulated (trimmed, <= n, m)

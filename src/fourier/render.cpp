@@ -1,5 +1,6 @@
 #include "fourier/render.h"
 
+#include "fourier/bessel.h"
 #include "fourier/direct.h"
 
 #include <chrono>
@@ -18,6 +19,7 @@ double since(std::chrono::steady_clock::time_point& t) {
 } // namespace
 
 FourierRender renderFourier(const std::vector<Ghost>& ghosts, int width, int height, const FourierSettings& settings) {
+    if (settings.basis == Basis::Bessel) return renderBessel(ghosts, width, height, settings);
     FourierRender r;
     auto t = std::chrono::steady_clock::now();
     r.plan = choosePlan(ghosts, width, height, settings);

@@ -1,0 +1,120 @@
+// `fourierflare render --mode fitted|fourier`, explicit ghost lists and `fourierflare compare`.
+
+#include "cli_runner.h"
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+
+using ff::test::run;
+
+namespace {
+
+void write(const std::filesystem::path& p, const std::string& text) { std::ofstream(p) << text; }
+
+// Parses "probe X,Y: R G B" lines.
+std::vector<std::array<double, 3>> probes(const std::string& out) {
+    std::vector<std::array<double, 3>> v;
+    std::size_t pos = 0;
+    while ((pos = out.find("probe ", pos)) != std::string::npos) {
+        const std::size_t colon = out.find(':', pos);
+        std::array<double, 3> rgb{};
+        if (std::sscanf(out.c_str() + colon + 1, "%lf %lf %lf", &rgb[0], &rgb[1], &rgb[2]) == 3) v.push_back(rgb);
+        pos = colon;
+    }
+    return v;
+}
+
+} // namespace
+
+TEST(CliFourier, GhostListRendersTheAnalyticValueInBothModes) {
+    ff::test::TempDir dir;
+    // One Gaussian with its centre on a pixel corner: pixel (32, 20) holds flux x P(0<X<1) x P(0<Y<1).
+    write(dir / "g.json", R"({"ghosts": [{"x": 32, "y": 20, "profile": "gaussian", "widthX": 5, "widthY": [3, 4, 5], "flux": [1, 2, 3]}]})");
+    auto mass = [](double s) { return 0.5 * std::erf(1.0 / (s * std::numbers::sqrt2)); };
+    for (const char* mode : {"fitted", "fourier"}) {
+        const auto r = run(std::string("render --ghosts '") + (dir / "g.json").string() + "' --size 64x40 --mode " + mode +
+                           " --probe 32,20 --probe 2,2 -o '" + (dir / "g.exr").string() + "'");
+        ASSERT_EQ(r.code, 0) << r.err;
+        const auto p = probes(r.out);
+        ASSERT_EQ(p.size(), 2u) << r.out;
+        const double widthsY[3] = {3, 4, 5};
+        for (int c = 0; c < 3; ++c) {
+            const double expected = (c + 1) * mass(5.0) * mass(widthsY[c]);
+            EXPECT_NEAR(p[0][c], expected, 1e-3 * expected) << mode;
+            EXPECT_LT(p[1][c], 1e-3 * expected) << mode;
+        }
+    }
+}
+
+TEST(CliFourier, GhostListErrorsNameTheEntry) {
+    ff::test::TempDir dir;
+    write(dir / "bad.json", R"({"ghosts": [{"x": 1, "y": 2, "widthX": 3, "widthY": -1, "flux": 1}]})");
+    const auto r = run("render --ghosts '" + (dir / "bad.json").string() + "' --size 16x16 --mode fourier -o '" + (dir / "o.exr").string() + "'");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("ghosts[0].widthY: values must be finite and positive"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "o.exr"));
+    write(dir / "syntax.json", "{\"ghosts\": [\n  {\"x\": 1,, }]}");
+    const auto s = run("render --ghosts '" + (dir / "syntax.json").string() + "' --size 16x16 --mode fitted -o '" + (dir / "o.exr").string() + "'");
+    EXPECT_EQ(s.code, 2);
+    EXPECT_NE(s.err.find("syntax.json:2:"), std::string::npos) << s.err;
+    const auto traced = run("render --ghosts '" + (dir / "bad.json").string() + "' --size 16x16 -o '" + (dir / "o.exr").string() + "'");
+    EXPECT_EQ(traced.code, 2);
+}
+
+TEST(CliFourier, FittedAndFourierOfALensAgreeAndKeepFlux) {
+    ff::test::TempDir dir;
+    const std::string env = "FF_CACHE_DIR='" + (dir / "cache").string() + "' ";
+    const std::string common = "render lenses/cooke-triplet-50mm-f5.lens --light 150,40 --light 60,80,2,1,0.5 --size 192x108 --table-grid 8 ";
+    const auto fitted = run(common + "--mode fitted --probe 96,54 -o '" + (dir / "a.exr").string() + "'", env);
+    ASSERT_EQ(fitted.code, 0) << fitted.err;
+    const auto four = run("-v " + common + "--mode fourier --probe 96,54 -o '" + (dir / "b.exr").string() + "'", env);
+    ASSERT_EQ(four.code, 0) << four.err;
+    EXPECT_NE(four.err.find("fourier: seconds: plan"), std::string::npos) << four.err; // --verbose
+    const auto a = probes(fitted.out), b = probes(four.out);
+    ASSERT_EQ(a.size(), 1u);
+    ASSERT_EQ(b.size(), 1u);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(b[0][c], a[0][c], 1e-2 * a[0][c] + 1e-12);
+    // Both print the frame's flux; the Fourier one keeps the fitted one's to the budget.
+    auto flux = [](const std::string& err) {
+        std::array<double, 3> f{};
+        const std::size_t p = err.find("flux in the frame (R, G, B): ");
+        if (p != std::string::npos) std::sscanf(err.c_str() + p + 29, "%lf %lf %lf", &f[0], &f[1], &f[2]);
+        return f;
+    };
+    const auto fa = flux(fitted.err), fb = flux(four.err);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_GT(fa[c], 0.0);
+        EXPECT_NEAR(fb[c], fa[c], 1e-3 * fa[c]);
+    }
+    EXPECT_EQ(run(common + "--mode fourier --angle 5 -o '" + (dir / "c.exr").string() + "'", env).code, 2); // --angle is traced-only
+}
+
+TEST(CliCompare, WritesTheReport) {
+    ff::test::TempDir dir;
+    const std::string env = "FF_CACHE_DIR='" + (dir / "cache").string() + "' ";
+    const auto out = dir / "cmp";
+    const auto r = run("compare lenses/cooke-triplet-50mm-f5.lens --light 150,40 --size 192x108 --grid 8 --table-grid 8 --n 8,16,32 -o '" +
+                           out.string() + "'", env);
+    ASSERT_EQ(r.code, 0) << r.err;
+    for (const char* f : {"report.md", "report.json", "error-vs-n.svg", "traced.exr", "traced.png", "fitted-gaussian.exr", "fourier-cos2.png",
+                          "diff-fourier-gaussian-vs-traced.png"})
+        EXPECT_TRUE(std::filesystem::exists(out / f)) << f;
+    const auto j = nlohmann::json::parse(ff::test::readFile(out / "report.json"));
+    for (const char* p : {"gaussian", "cos2"}) {
+        const auto& prof = j["profiles"][p];
+        ASSERT_EQ(prof["errorVsN"].size(), 3u);
+        // More terms never make the truncation error larger.
+        EXPECT_LE(prof["errorVsN"][2]["vsFitted"]["relativeL2"].get<double>(), prof["errorVsN"][0]["vsFitted"]["relativeL2"].get<double>() + 1e-9);
+        EXPECT_LE(prof["fourierVsFitted"]["relativeL2"].get<double>(), 1e-3); // the hybrid keeps the budget
+        EXPECT_NEAR(prof["fourierVsFitted"]["fluxRatio"].get<double>(), 1.0, 1e-3);
+    }
+    EXPECT_NE(ff::test::readFile(out / "report.md").find("| comparison | relative L2 |"), std::string::npos);
+    EXPECT_EQ(run("compare lenses/cooke-triplet-50mm-f5.lens --size 64x64 -o '" + out.string() + "'", env).code, 2); // no lights
+}
