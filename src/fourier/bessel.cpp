@@ -106,7 +106,12 @@ FourierRender renderBessel(const std::vector<Ghost>& ghosts, int W, int H, const
     auto termsFor = [&](double sigma, double R0) { return static_cast<int>(std::ceil(kSigma / sigma * R0 / std::numbers::pi)) + 2; };
     for (std::size_t k = 0; k < K; ++k)
         if (p.route[k] == Route::Fourier) dMax = std::max(dMax, std::hypot(ghosts[k].x - ox, ghosts[k].y - oy));
-    const double R0 = dMax + rMax + 1.0;
+    // The disc covers every ghost-to-pixel distance, and every ghost decays within it (the closed-form
+    // c_j integrate the profile to infinity): f(R0) below a tenth of the budget.
+    double widest = 0.0;
+    for (std::size_t k = 0; k < K; ++k)
+        if (p.route[k] == Route::Fourier) widest = std::max({widest, iso[k].widthX[0], iso[k].widthX[1], iso[k].widthX[2]});
+    const double R0 = std::max(dMax + rMax, widest * std::sqrt(2.0 * std::log(10.0 / s.error))) + 1.0;
     const int cap = s.fixedN > 0 ? s.fixedN : 256;
     for (std::size_t k = 0; k < K; ++k) {
         if (p.route[k] != Route::Fourier) continue;

@@ -83,7 +83,8 @@ Plan choosePlan(const std::vector<Ghost>& ghosts, int W, int H, const FourierSet
         needY[k] = std::max(std::max(g.y, H - g.y) + py, 2.0 * py);
         boxArea[k] = (std::min(double(W), g.x + ex) - std::max(0.0, g.x - ex) + 1.0) * (std::min(double(H), g.y + ey) - std::max(0.0, g.y - ey) + 1.0);
         const double limitX = s.fixedPeriodX > 0.0 ? s.fixedPeriodX : cap, limitY = s.fixedPeriodY > 0.0 ? s.fixedPeriodY : cap;
-        if (s.hybrid && (needX[k] > limitX || needY[k] > limitY)) p.route[k] = Route::Direct;
+        // A ghost whose copies would reach the frame is drawn directly, hybrid or not.
+        if (needX[k] > limitX || needY[k] > limitY) p.route[k] = Route::Direct;
     }
     // The period: the largest need of the ghosts still on the Fourier route.
     double tx = W, ty = H;

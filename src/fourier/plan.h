@@ -3,7 +3,7 @@
 //
 // Period: wide enough that no ghost's periodic copy reaches the frame (T >= max(x_k, W - x_k) + e_k
 // and T >= 2 e_k, e_k its extent), rounded up to whole pixels of an FFT-friendly size. A ghost that
-// would need a period beyond twice the frame (centre far outside it) is drawn directly; one whose
+// would need a period beyond twice the frame (or the fixed period) is drawn directly; one whose
 // footprint misses the frame is culled.
 // Terms: each ghost needs n_k = termsForError(width, T, budget) on x and m_k on y (the widest channel's
 // need is the narrowest's). Among candidate N (with M = N Ty / Tx), the plan takes the one with the
@@ -30,6 +30,7 @@ struct FourierSettings {
     int fixedM = 0;             ///< > 0: use this M (y terms); else N scaled by Ty / Tx
     double fixedPeriodX = 0.0, fixedPeriodY = 0.0; ///< > 0: use these periods (pixels)
     bool hybrid = true;         ///< draw ghosts that need more terms directly; false: all go through Fourier
+                                ///< except those that would wrap into the frame (always direct)
     /// Accumulate each ghost only over the terms it needs for this fraction of the budget (0: all N x M).
     double trimFraction = 0.25;
     GaussianForm gaussianForm = GaussianForm::Periodised;
