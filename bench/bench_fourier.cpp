@@ -21,7 +21,8 @@ namespace {
 using namespace ff::fourier;
 
 constexpr int kW = 1920, kH = 1080;
-constexpr double kTx = 2560.0, kTy = 1440.0;
+// A period every benchmark ghost fits in without wrapping (centres in the frame, sigma <= 120 px x 1.1).
+constexpr double kTx = 3200.0, kTy = 1800.0;
 
 // K Gaussian ghosts with sigma 30-120 px (all within N = 64 terms at the 1e-3 budget on this period).
 std::vector<Ghost> ghosts(int K, double minSigma = 30.0, double maxSigma = 120.0) {

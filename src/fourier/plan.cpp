@@ -95,9 +95,16 @@ Plan choosePlan(const std::vector<Ghost>& ghosts, int W, int H, const FourierSet
 
     // Terms each ghost needs (its narrowest channel decides), and what it keeps when trimmed.
     std::vector<int> needN(K, 0), needM(K, 0), trimN(K, 0), trimM(K, 0);
-    const double cut[2] = {spectralCutoff(Shape::Gaussian, s.error), spectralCutoff(Shape::Cos2, s.error)};
-    const double trimCut[2] = {s.trimFraction > 0.0 ? spectralCutoff(Shape::Gaussian, s.error * s.trimFraction) : 0.0,
-                               s.trimFraction > 0.0 ? spectralCutoff(Shape::Cos2, s.error * s.trimFraction) : 0.0};
+    // Cut-offs per shape, computed for the shapes present (the cos^2 one tabulates its spectrum once).
+    bool present[2] = {false, false};
+    for (const Ghost& g : ghosts) present[g.shape == Shape::Gaussian ? 0 : 1] = true;
+    double cut[2] = {0.0, 0.0}, trimCut[2] = {0.0, 0.0};
+    for (int sh = 0; sh < 2; ++sh) {
+        if (!present[sh]) continue;
+        const Shape shape = sh == 0 ? Shape::Gaussian : Shape::Cos2;
+        cut[sh] = spectralCutoff(shape, s.error);
+        if (s.trimFraction > 0.0) trimCut[sh] = spectralCutoff(shape, s.error * s.trimFraction);
+    }
     int maxN = 0, maxM = 0;
     for (std::size_t k = 0; k < K; ++k) {
         if (p.route[k] != Route::Fourier) continue;
