@@ -217,7 +217,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
         md += row("fitted " + name + " vs traced (profile model)", eFit) + row("fourier " + name + truncation, eTrunc) +
               row("fourier " + name + " vs traced (total)", eTotal);
         timing += "| fitted " + name + " (direct, " + std::to_string(ghosts.size()) + " ghosts) | " + text::fixed(fittedSeconds, 3) + " |\n";
-        timing += "| fourier " + name + " (" + four.plan.describe() + ") | " + text::fixed(four.seconds.total(), 3) + " (accumulate " +
+        timing += "| fourier " + name + " (" + four.describe() + ") | " + text::fixed(four.seconds.total(), 3) + " (accumulate " +
                   text::fixed(four.seconds.accumulate, 3) + ", evaluate " + text::fixed(four.seconds.evaluate, 3) + ", direct " +
                   text::fixed(four.seconds.direct, 3) + ") |\n";
         nlohmann::json& p = report["profiles"][name];
@@ -225,9 +225,9 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
         p["fittedVsTraced"] = toJson(eFit);
         p["fourierVsFitted"] = toJson(eTrunc);
         p["fourierVsTraced"] = toJson(eTotal);
-        p["fourier"] = {{"plan", four.plan.describe()}, {"n", four.plan.n}, {"m", four.plan.m}, {"periodX", four.plan.periodX},
-                        {"periodY", four.plan.periodY}, {"throughFourier", four.plan.fourier}, {"direct", four.plan.direct},
-                        {"culled", four.plan.culled}, {"evaluation", fourier::toString(four.plan.evaluation)}};
+        p["fourier"] = {{"plan", four.describe()}, {"n", four.plan.n}, {"m", four.plan.m}, {"periodX", four.plan.periodX},
+                        {"periodY", four.plan.periodY}, {"throughFourier", four.fourierCount()}, {"direct", four.directCount()},
+                        {"culled", four.culledCount()}, {"coarseLevel", four.coarse ? four.coarse->describe() : std::string()}, {"evaluation", fourier::toString(four.plan.evaluation)}};
         p["seconds"] = {{"fitted", fittedSeconds}, {"fourier", four.seconds.total()}, {"accumulate", four.seconds.accumulate},
                         {"evaluate", four.seconds.evaluate}, {"direct", four.seconds.direct}};
         p["differenceScales"] = scales;
@@ -249,7 +249,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
         vsFitted.push_back({name + " vs fitted", errFit});
         vsTraced.push_back({name + " vs traced", errTraced});
         say(name + ": fitted vs traced " + text::fixed(eFit.relativeL2, 4) + ", fourier vs fitted " + text::fixed(eTrunc.relativeL2, 6) + " (" +
-            four.plan.describe() + ")");
+            four.describe() + ")");
     }
     md += "\nPSNR uses the reference's peak. Flux ratio = total flux of the image / total flux of the reference.\n\n";
     md += "## Error against the number of terms\n\nEvery ghost through Fourier with N terms along x (M in proportion to the periods), no hybrid "

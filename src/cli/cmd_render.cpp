@@ -54,7 +54,7 @@ std::pair<double, double> parsePair(const std::string& s, char sep, const char* 
 // --verbose: the aggregator's choices and where the time went.
 void printPlan(const fourier::FourierRender& r) {
     const fourier::Plan& p = r.plan;
-    std::fprintf(stderr, "fourierflare: fourier: %s\n", p.describe().c_str());
+    std::fprintf(stderr, "fourierflare: fourier: %s\n", r.describe().c_str());
     if (p.basis == fourier::Basis::Separable) {
         std::size_t trimmed = 0;
         for (std::size_t k = 0; k < p.route.size(); ++k)
@@ -106,9 +106,9 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
         } else {
             fourier::FourierRender r = fourier::renderFourier(ghosts, W, H, fs);
             image = std::move(r.image);
-            meta.push_back({"fourierflare:fourier", r.plan.describe()});
+            meta.push_back({"fourierflare:fourier", r.describe()});
             if (g.verbose) printPlan(r);
-            summary = "aggregated " + std::to_string(ghosts.size()) + " ghosts: " + r.plan.describe();
+            summary = "aggregated " + std::to_string(ghosts.size()) + " ghosts: " + r.describe();
         }
         meta.push_back({"fourierflare:units", "flux per pixel, in the ghost list's units"});
     } else {
@@ -164,9 +164,9 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
             } else {
                 fourier::FourierRender r = fourier::renderFourier(ghosts, W, H, fs);
                 image = std::move(r.image);
-                meta.push_back({"fourierflare:fourier", r.plan.describe()});
+                meta.push_back({"fourierflare:fourier", r.describe()});
                 if (g.verbose) printPlan(r);
-                summary = "aggregated " + std::to_string(ghosts.size()) + " ghosts of " + std::to_string(lights.size()) + " light(s): " + r.plan.describe();
+                summary = "aggregated " + std::to_string(ghosts.size()) + " ghosts of " + std::to_string(lights.size()) + " light(s): " + r.describe();
             }
         }
     }

@@ -16,5 +16,6 @@ void addRenderCommand(CLI::App& app, GlobalOptions& global);
 void addTableCommand(CLI::App& app, GlobalOptions& global);
 void addExportCommand(CLI::App& app, GlobalOptions& global);
 void addCompareCommand(CLI::App& app, GlobalOptions& global);
+void addSimulateCommand(CLI::App& app, GlobalOptions& global);
 
 } // namespace ff::cli

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
     addTableCommand(app, global);
     addExportCommand(app, global);
     addCompareCommand(app, global);
+    addSimulateCommand(app, global);
 
     try {
         app.parse(argc, argv);

@@ -32,7 +32,8 @@ std::string Plan::describe() const {
                std::to_string(culled) + " culled";
     std::string s = "period " + text::fixed(periodX, 0) + "x" + text::fixed(periodY, 0) + " px, N " + std::to_string(n) + " x M " +
                     std::to_string(m) + ", " + toString(evaluation) + " evaluation; ghosts: " + std::to_string(fourier) +
-                    " Fourier, " + std::to_string(direct) + " direct, " + std::to_string(culled) + " culled";
+                    " Fourier, " + std::to_string(direct) + " direct, " + std::to_string(culled) + " culled" +
+                    (wide ? ", " + std::to_string(wide) + " on a coarse level" : std::string());
     if (!reason.empty()) s += " (" + reason + ")";
     return s;
 }
@@ -69,7 +70,7 @@ Plan choosePlan(const std::vector<Ghost>& ghosts, int W, int H, const FourierSet
     p.termsX.assign(K, 0);
     p.termsY.assign(K, 0);
     std::vector<double> needX(K, 0.0), needY(K, 0.0), boxArea(K, 0.0);
-    const double cap = 2.0 * std::max(W, H);
+    const double cap = s.periodCap * std::max(W, H);
     for (std::size_t k = 0; k < K; ++k) {
         const Ghost& g = ghosts[k];
         const double ex = g.extentX(), ey = g.extentY();
@@ -83,8 +84,8 @@ Plan choosePlan(const std::vector<Ghost>& ghosts, int W, int H, const FourierSet
         needY[k] = std::max(std::max(g.y, H - g.y) + py, 2.0 * py);
         boxArea[k] = (std::min(double(W), g.x + ex) - std::max(0.0, g.x - ex) + 1.0) * (std::min(double(H), g.y + ey) - std::max(0.0, g.y - ey) + 1.0);
         const double limitX = s.fixedPeriodX > 0.0 ? s.fixedPeriodX : cap, limitY = s.fixedPeriodY > 0.0 ? s.fixedPeriodY : cap;
-        // A ghost whose copies would reach the frame is drawn directly, hybrid or not.
-        if (needX[k] > limitX || needY[k] > limitY) p.route[k] = Route::Direct;
+        // A ghost whose copies would reach the frame goes to a coarser level, hybrid or not.
+        if (needX[k] > limitX || needY[k] > limitY) p.route[k] = Route::Wide;
     }
     // The period: the largest need of the ghosts still on the Fourier route.
     double tx = W, ty = H;
@@ -122,7 +123,7 @@ Plan choosePlan(const std::vector<Ghost>& ghosts, int W, int H, const FourierSet
         const int m = mFor(n);
         double c = evaluationFlops(n, m, W, H, p.periodX, p.periodY, s.evaluation);
         for (std::size_t k = 0; k < K; ++k) {
-            if (p.route[k] == Route::Culled) continue;
+            if (p.route[k] == Route::Culled || p.route[k] == Route::Wide) continue;
             if (p.route[k] == Route::Fourier && needN[k] <= n && needM[k] <= m)
                 c += 3.0 * (8.0 * std::min(n, trimN[k]) * std::min(m, trimM[k]) + 60.0 * (n + m));
             else
@@ -162,6 +163,7 @@ Plan choosePlan(const std::vector<Ghost>& ghosts, int W, int H, const FourierSet
         p.fourier += p.route[k] == Route::Fourier;
         p.direct += p.route[k] == Route::Direct;
         p.culled += p.route[k] == Route::Culled;
+        p.wide += p.route[k] == Route::Wide;
     }
     return p;
 }

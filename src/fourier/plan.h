@@ -3,8 +3,9 @@
 //
 // Period: wide enough that no ghost's periodic copy reaches the frame (T >= max(x_k, W - x_k) + e_k
 // and T >= 2 e_k, e_k its extent), rounded up to whole pixels of an FFT-friendly size. A ghost that
-// would need a period beyond twice the frame (or the fixed period) is drawn directly; one whose
-// footprint misses the frame is culled.
+// would need a period beyond twice the frame (or the fixed period) is Wide: renderFourier puts the
+// wide ghosts on a coarse level with a period of their own; one whose footprint misses the frame is
+// culled.
 // Terms: each ghost needs n_k = termsForError(width, T, budget) on x and m_k on y (the widest channel's
 // need is the narrowest's). Among candidate N (with M = N Ty / Tx), the plan takes the one with the
 // least estimated work: Fourier evaluation (two GEMMs per channel) + accumulation of the ghosts that
@@ -33,13 +34,17 @@ struct FourierSettings {
                                 ///< except those that would wrap into the frame (always direct)
     /// Accumulate each ghost only over the terms it needs for this fraction of the budget (0: all N x M).
     double trimFraction = 0.25;
+    /// Largest period, as a multiple of the frame's larger side; ghosts needing more are Wide.
+    double periodCap = 2.0;
     GaussianForm gaussianForm = GaussianForm::Periodised;
     bool dropDc = false;        ///< zero the A_00 term (removes the mean: off by default, see docs)
     Evaluation evaluation = Evaluation::Auto;
     Basis basis = Basis::Separable;
 };
 
-enum class Route : unsigned char { Fourier, Direct, Culled };
+/// Wide: would wrap into the frame on this level's period; renderFourier gives these ghosts a coarse
+/// level of their own (a larger period, few terms).
+enum class Route : unsigned char { Fourier, Direct, Culled, Wide };
 
 struct Plan {
     Basis basis = Basis::Separable;
@@ -49,7 +54,7 @@ struct Plan {
     Evaluation evaluation = Evaluation::Matrix;
     std::vector<Route> route;            ///< per ghost
     std::vector<int> termsX, termsY;     ///< per ghost: terms accumulated (trimmed, <= n, m)
-    std::size_t fourier = 0, direct = 0, culled = 0;
+    std::size_t fourier = 0, direct = 0, culled = 0, wide = 0;
     double estimatedGflop = 0.0;
     std::string reason;                  ///< how n and the period were chosen, in words
 

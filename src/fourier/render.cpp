@@ -18,22 +18,57 @@ double since(std::chrono::steady_clock::time_point& t) {
 
 } // namespace
 
+std::string FourierRender::describe() const {
+    return coarse ? plan.describe() + "; coarse level: " + coarse->describe() : plan.describe();
+}
+
+namespace {
+
+// Accumulates and evaluates one level into `image` (adding), then draws its direct ghosts.
+void renderLevel(const std::vector<Ghost>& ghosts, const Plan& plan, const FourierSettings& settings, FlareImage& image, StageSeconds& seconds,
+                 std::chrono::steady_clock::time_point& t) {
+    const Coefficients z = accumulate(ghosts, plan, settings);
+    seconds.accumulate += since(t);
+    FlareImage level(image.width, image.height);
+    evaluate(z, plan.evaluation, level);
+    for (int c = 0; c < 3; ++c)
+        for (std::size_t p = 0; p < image.pixels(); ++p) image.channel[c][p] += level.channel[c][p];
+    seconds.evaluate += since(t);
+    std::vector<std::size_t> direct;
+    for (std::size_t k = 0; k < ghosts.size(); ++k)
+        if (plan.route[k] == Route::Direct) direct.push_back(k);
+    drawDirect(ghosts, direct, image);
+    seconds.direct += since(t);
+}
+
+} // namespace
+
 FourierRender renderFourier(const std::vector<Ghost>& ghosts, int width, int height, const FourierSettings& settings) {
     if (settings.basis == Basis::Bessel) return renderBessel(ghosts, width, height, settings);
     FourierRender r;
     auto t = std::chrono::steady_clock::now();
     r.plan = choosePlan(ghosts, width, height, settings);
     r.seconds.plan = since(t);
-    const Coefficients z = accumulate(ghosts, r.plan, settings);
-    r.seconds.accumulate = since(t);
     r.image = FlareImage(width, height);
-    evaluate(z, r.plan.evaluation, r.image);
-    r.seconds.evaluate = since(t);
-    std::vector<std::size_t> direct;
-    for (std::size_t k = 0; k < ghosts.size(); ++k)
-        if (r.plan.route[k] == Route::Direct) direct.push_back(k);
-    drawDirect(ghosts, direct, r.image);
-    r.seconds.direct = since(t);
+    renderLevel(ghosts, r.plan, settings, r.image, r.seconds, t);
+    if (r.plan.wide > 0) {
+        std::vector<Ghost> wide;
+        for (std::size_t k = 0; k < ghosts.size(); ++k)
+            if (r.plan.route[k] == Route::Wide) wide.push_back(ghosts[k]);
+        FourierSettings coarse = settings;
+        coarse.periodCap = 32.0;
+        coarse.fixedN = coarse.fixedM = 0;
+        coarse.fixedPeriodX = coarse.fixedPeriodY = 0.0;
+        coarse.hybrid = true;
+        r.coarse = choosePlan(wide, width, height, coarse);
+        // Wider still: drawn directly.
+        for (Route& route : r.coarse->route)
+            if (route == Route::Wide) route = Route::Direct;
+        r.coarse->direct += r.coarse->wide;
+        r.coarse->wide = 0;
+        r.seconds.plan += since(t);
+        renderLevel(wide, *r.coarse, coarse, r.image, r.seconds, t);
+    }
     return r;
 }
 

@@ -1,0 +1,274 @@
+// `fourierflare simulate`: a lens against an HDR plate, end to end. Lights are found in the plate (or
+// given), each gets the lens's ghosts from the ghost table, the flare is aggregated through the
+// Fourier path and added to the plate; the EXR keeps every input channel and adds flare.* and
+// composite.* (docs/simulate.md).
+
+#include "cli/commands.h"
+#include "cli/flare_scene.h"
+#include "cli/fourier_choices.h"
+#include "core/error.h"
+#include "core/file_io.h"
+#include "core/text.h"
+#include "core/units.h"
+#include "ff/version.h"
+#include "fourier/render.h"
+#include "ghosts/instancing.h"
+#include "image/light_detection.h"
+#include "image/plate.h"
+#include "optics/paraxial.h"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <numbers>
+
+namespace ff::cli {
+
+namespace {
+
+struct SimulateOptions {
+    std::string lens, plate, output, preview, previewFlare, lightsOut, lightsFile;
+    std::string backend = "auto";
+    std::string sensor;
+    double fov = 0.0;
+    std::string threshold = "2";
+    int block = 32;
+    std::vector<std::string> lights;
+    double exposure = 0.0;
+    double gain = 1.0;
+    std::string profile = "gaussian";
+    int tableGrid = 32;
+    std::string zoom;
+    std::uint64_t maxPixels = 8192ull * 8192ull;
+    std::string frames;
+    FourierOptions fourier;
+};
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point& t) {
+    const auto now = Clock::now();
+    const double s = std::chrono::duration<double>(now - t).count();
+    t = now;
+    return s;
+}
+
+// "name.%04d.exr" with frame 7 -> "name.0007.exr"; the pattern must hold exactly one %d or %0Nd.
+std::string frameName(const std::string& pattern, int frame, const char* what) {
+    const auto p = pattern.find('%');
+    if (p == std::string::npos || pattern.find('%', p + 1) != std::string::npos)
+        throw Error(ErrorKind::Usage, std::string(what) + " needs one %d or %0Nd frame number pattern with --frames, got " + text::quoted(pattern));
+    std::size_t q = p + 1;
+    int width = 0;
+    if (q < pattern.size() && pattern[q] == '0') {
+        ++q;
+        while (q < pattern.size() && std::isdigit(static_cast<unsigned char>(pattern[q]))) width = width * 10 + (pattern[q++] - '0');
+    }
+    if (q >= pattern.size() || pattern[q] != 'd' || width > 12)
+        throw Error(ErrorKind::Usage, std::string(what) + ": expected %d or %0Nd in " + text::quoted(pattern));
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%0*d", width, frame);
+    return pattern.substr(0, p) + buf + pattern.substr(q + 1);
+}
+
+struct FrameJob {
+    std::string plate, output, preview, previewFlare, lightsOut;
+    int frame = 0;
+};
+
+class Simulation {
+public:
+    Simulation(const SimulateOptions& o, const GlobalOptions& g) : o_(o), g_(g), reporter_(g) {
+        if (o.backend == "gl") throw Error(ErrorKind::Runtime, "the GL backend is not available in this build (use --backend cpu or auto)");
+        if (o.gain < 0.0 || !std::isfinite(o.gain)) throw Error(ErrorKind::Usage, "--flare-gain must be a finite number >= 0");
+        if (!o.sensor.empty() && o.fov > 0.0) throw Error(ErrorKind::Usage, "give either --sensor WxH or --fov DEG, not both");
+        detection_ = image::parseThreshold(o.threshold);
+        detection_.blockSize = o.block;
+        fourier_ = o.fourier.settings();
+        lens_ = loadTraceableLens(o.lens, o.zoom, reporter_);
+        for (const std::string& l : o.lights) manualLights_.push_back(parseLight(l));
+        if (!o.lightsFile.empty()) {
+            const auto more = readLightsJson(o.lightsFile);
+            manualLights_.insert(manualLights_.end(), more.begin(), more.end());
+        }
+        // Sensor width: --sensor, else from --fov through the EFL, else the lens file's, else 36 mm.
+        sensorWidthMm_ = lens_.sensorMm ? lens_.sensorMm->first : 36.0;
+        if (!o.sensor.empty()) {
+            const auto parts = text::split(o.sensor, 'x');
+            const auto w = parts.size() == 2 ? text::parseNumber(parts[0]) : std::nullopt, h = parts.size() == 2 ? text::parseNumber(parts[1]) : std::nullopt;
+            if (!w || !h || !(*w > 0.0) || !(*h > 0.0) || *w > 1000.0) throw Error(ErrorKind::Usage, "expected --sensor WIDTHxHEIGHT in mm (e.g. 36x24), got " + text::quoted(o.sensor));
+            sensorWidthMm_ = *w;
+        } else if (o.fov > 0.0) {
+            sensorWidthMm_ = 2.0 * std::abs(optics::paraxialEfl(lens_, lines::d)) * std::tan(0.5 * o.fov * std::numbers::pi / 180.0);
+        }
+    }
+
+    void run(const FrameJob& job) {
+        auto t = Clock::now();
+        const auto start = t;
+        for (const std::string& out : {job.output, job.preview, job.previewFlare, job.lightsOut})
+            for (const std::string& in : {job.plate, o_.lens, o_.lightsFile})
+                if (!out.empty() && !in.empty() && samePath(out, in)) throw Error(ErrorKind::Usage, "the output '" + out + "' is an input file");
+        image::PlateLimits limits;
+        limits.maxPixels = o_.maxPixels;
+        const image::Plate plate = image::readPlate(job.plate, limits);
+        for (const auto& n : plate.notes) note(job.plate + ": " + n);
+        const double tRead = since(t);
+
+        // Lights: given, or found in the plate.
+        std::vector<ghosts::Light> lights = manualLights_;
+        image::DetectionReport found;
+        if (lights.empty()) {
+            found = image::detectLights(plate, detection_);
+            for (const auto& l : found.lights) lights.push_back({l.x, l.y, l.flux});
+            if (found.nonFinite) note(job.plate + ": " + std::to_string(found.nonFinite) + " pixels are NaN or infinite: ignored by light detection (left as they are in the output)");
+            if (found.emissiveZeroAlpha)
+                note(job.plate + ": " + std::to_string(found.emissiveZeroAlpha) + " bright pixels have alpha 0 (premultiplied emission): counted as light");
+        }
+        const double tDetect = since(t);
+
+        if (!table_) {
+            TableOptions table;
+            table.grid = o_.tableGrid;
+            table.zoom = o_.zoom;
+            table_ = std::make_unique<ghosts::GhostTable>(loadTable(lens_, table, g_, reporter_));
+        }
+        const double tTable = since(t);
+
+        const ghosts::Camera cam{plate.displayWidth, plate.displayHeight, sensorWidthMm_};
+        const auto profile = o_.profile == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
+        auto ghosts = fourierGhosts(ghosts::instantiate(*table_, lights, cam, profile));
+        // Display-window pixels to the data window's, and the artistic gain (1 = physical).
+        for (auto& k : ghosts) {
+            k.x -= plate.originX - plate.displayX;
+            k.y -= plate.originY - plate.displayY;
+            for (double& f : k.flux) f *= o_.gain;
+        }
+        const fourier::FourierRender flare = fourier::renderFourier(ghosts, plate.width, plate.height, fourier_);
+        if (g_.verbose) note("fourier: " + flare.describe() + "; seconds: accumulate " + text::fixed(flare.seconds.accumulate, 4) +
+                             ", evaluate " + text::fixed(flare.seconds.evaluate, 4) + ", direct " + text::fixed(flare.seconds.direct, 4));
+        const std::vector<float> flareRgb = flare.image.interleaved();
+        const double tFlare = since(t);
+
+        image::Metadata meta = {{"Software", std::string("fourierflare ") + kVersion},
+                                {"fourierflare:commandLine", g_.commandLine},
+                                {"fourierflare:lens", lens_.file},
+                                {"fourierflare:lensHash", lens_.contentHash},
+                                {"fourierflare:plate", job.plate},
+                                {"fourierflare:lights", std::to_string(lights.size())},
+                                {"fourierflare:threshold", manualLights_.empty() ? text::roundTrip(found.threshold) : std::string("lights given")},
+                                {"fourierflare:sensorWidthMm", text::roundTrip(sensorWidthMm_)},
+                                {"fourierflare:flareGain", text::roundTrip(o_.gain)},
+                                {"fourierflare:profile", o_.profile},
+                                {"fourierflare:fourier", flare.describe()},
+                                {"fourierflare:table", table_->settingsKey},
+                                {"fourierflare:channels", "input channels unchanged; flare.R/G/B = the flare alone; composite.R/G/B = plate + flare"}};
+        image::writeSimulatedExr(job.output, plate, flareRgb, meta);
+        if (!job.preview.empty()) {
+            std::vector<float> comp = plate.rgb();
+            for (std::size_t i = 0; i < comp.size(); ++i) comp[i] = std::isfinite(comp[i]) ? comp[i] + flareRgb[i] : flareRgb[i];
+            image::writePng(job.preview, plate.width, plate.height, image::tonemapPreview(comp, o_.exposure), meta);
+        }
+        if (!job.previewFlare.empty())
+            image::writePng(job.previewFlare, plate.width, plate.height, image::tonemapPreview(flareRgb, image::autoExposure(flareRgb)), meta);
+        if (!job.lightsOut.empty()) {
+            nlohmann::json j;
+            j["lights"] = nlohmann::json::array();
+            for (std::size_t i = 0; i < lights.size(); ++i) {
+                nlohmann::json l = {{"x", lights[i].xPx}, {"y", lights[i].yPx}, {"flux", lights[i].flux}};
+                if (manualLights_.empty()) l["pixels"] = found.lights[i].pixels, l["peak"] = found.lights[i].peak;
+                j["lights"].push_back(l);
+            }
+            writeFileAtomic(job.lightsOut, j.dump(2) + "\n");
+        }
+        const double tWrite = since(t);
+        if (g_.quiet) return;
+        std::string lightsText = manualLights_.empty()
+                                     ? std::to_string(lights.size()) + " lights above luminance " + text::fixed(found.threshold, 3) + " (plate max " +
+                                           text::fixed(found.maxLuminance, 1) + ")"
+                                     : std::to_string(lights.size()) + " lights given";
+        if (lights.empty()) lightsText += ": no flare, the output is the plate plus a zero flare layer";
+        std::fprintf(stderr,
+                     "fourierflare: %s: %s, %zu ghosts instanced; N %d x M %d, %zu through Fourier, %zu direct, %zu culled; "
+                     "read %.2f s, detect %.2f s, table %.2f s, flare %.2f s, write %.2f s, total %.2f s -> %s\n",
+                     job.plate.c_str(), lightsText.c_str(), ghosts.size(), flare.plan.n, flare.plan.m, flare.fourierCount(), flare.directCount(),
+                     flare.culledCount(), tRead, tDetect, tTable, tFlare, tWrite, std::chrono::duration<double>(Clock::now() - start).count(),
+                     job.output.c_str());
+    }
+
+private:
+    void note(const std::string& s) const {
+        if (!g_.quiet) std::fprintf(stderr, "fourierflare: note: %s\n", s.c_str());
+    }
+
+    const SimulateOptions& o_;
+    const GlobalOptions& g_;
+    ConsoleReporter reporter_;
+    image::DetectionSettings detection_;
+    fourier::FourierSettings fourier_;
+    optics::Lens lens_;
+    std::vector<ghosts::Light> manualLights_;
+    double sensorWidthMm_ = 36.0;
+    std::unique_ptr<ghosts::GhostTable> table_;
+};
+
+void runSimulate(const SimulateOptions& o, const GlobalOptions& g) {
+    const std::string ext = std::filesystem::path(o.output).extension().string();
+    if (ext != ".exr" && ext != ".EXR") throw Error(ErrorKind::Usage, "the output must be an .exr file (it holds the plate's channels and the flare layers), got " + text::quoted(o.output));
+    std::vector<FrameJob> jobs;
+    if (o.frames.empty()) {
+        jobs.push_back({o.plate, o.output, o.preview, o.previewFlare, o.lightsOut, 0});
+    } else {
+        const auto parts = text::split(o.frames, '-');
+        const auto a = parts.size() == 2 ? text::parseNumber(parts[0]) : std::nullopt, b = parts.size() == 2 ? text::parseNumber(parts[1]) : std::nullopt;
+        if (!a || !b || *a != std::floor(*a) || *b != std::floor(*b) || *a < 0 || *b < *a || *b - *a > 1e6)
+            throw Error(ErrorKind::Usage, "expected --frames FIRST-LAST (whole numbers, FIRST <= LAST), got " + text::quoted(o.frames));
+        for (int f = static_cast<int>(*a); f <= static_cast<int>(*b); ++f)
+            jobs.push_back({frameName(o.plate, f, "--plate"), frameName(o.output, f, "-o"), o.preview.empty() ? "" : frameName(o.preview, f, "--preview"),
+                            o.previewFlare.empty() ? "" : frameName(o.previewFlare, f, "--preview-flare"),
+                            o.lightsOut.empty() ? "" : frameName(o.lightsOut, f, "--lights-out"), f});
+    }
+    Simulation sim(o, g);
+    for (const FrameJob& job : jobs) {
+        if (!std::filesystem::exists(job.plate)) throw Error(ErrorKind::Input, SourceLocation{job.plate}, "no such plate");
+        sim.run(job);
+    }
+}
+
+} // namespace
+
+void addSimulateCommand(CLI::App& app, GlobalOptions& global) {
+    auto o = std::make_shared<SimulateOptions>();
+    CLI::App* cmd = app.add_subcommand("simulate", "Add a lens's physically based flare to an HDR plate (EXR with flare layers + PNG preview)");
+    cmd->add_option("--lens", o->lens, "Lens file (.lens, .zmx or .dat)")->required()->check(CLI::ExistingFile);
+    cmd->add_option("--plate", o->plate, "Plate: any image OpenImageIO reads (EXR, HDR, TIFF, PNG, ...); with --frames a %04d pattern")->required();
+    cmd->add_option("-o,--output", o->output, "EXR to write: the plate's channels unchanged + flare.R/G/B + composite.R/G/B")->required();
+    cmd->add_option("--preview", o->preview, "Also write the composite as a tonemapped PNG");
+    cmd->add_option("--preview-flare", o->previewFlare, "Also write the flare alone as a PNG (automatic exposure)");
+    cmd->add_option("--backend", o->backend, "Aggregation backend: cpu, gl or auto (gl when available, else cpu)")->check(CLI::IsMember({"cpu", "gl", "auto"}));
+    cmd->add_option("--sensor", o->sensor, "Sensor size in mm, WIDTHxHEIGHT; the plate spans its width (default: the lens file's, else 36x24)");
+    cmd->add_option("--fov", o->fov, "Horizontal field of view in degrees instead of --sensor (sensor width = 2 EFL tan(fov/2))")->check(CLI::Range(0.1, 170.0));
+    cmd->add_option("--threshold", o->threshold, "Light threshold on luminance: VALUE (absolute), max:FRACTION (of the plate's maximum) or p:PERCENTILE");
+    cmd->add_option("--block", o->block, "Extended sources are split into blocks of this many pixels per side")->check(CLI::Range(2, 4096));
+    cmd->add_option("--light", o->lights, "A light by hand at X,Y pixels with its RGB flux X,Y,R,G,B (repeatable; disables detection)");
+    cmd->add_option("--lights", o->lightsFile, "Lights by hand from a JSON file (as written by --lights-out)")->check(CLI::ExistingFile);
+    cmd->add_option("--lights-out", o->lightsOut, "Write the lights used (found or given) as JSON");
+    cmd->add_option("--exposure", o->exposure, "Preview exposure in EV (the composite x 2^EV before the tonemap)");
+    cmd->add_option("--flare-gain", o->gain, "Multiply the flare (1 = physical: each ghost carries its traced share of its light's flux)");
+    cmd->add_option("--profile", o->profile, "Ghost profile: gaussian or cos2")->check(CLI::IsMember({"gaussian", "cos2"}));
+    cmd->add_option("--table-grid", o->tableGrid, "Rays per side of each ghost's pupil grid for the ghost table")->check(CLI::Range(4, 512));
+    cmd->add_option("--zoom", o->zoom, "Zoom position (label or 1-based index)");
+    cmd->add_option("--max-pixels", o->maxPixels, "Refuse plates with more pixels than this (checked before reading them)")->check(CLI::Range(1.0, 1e10));
+    cmd->add_option("--frames", o->frames, "Render frames FIRST-LAST of a sequence: --plate, -o and the previews hold a %04d pattern");
+    o->fourier.addTo(*cmd);
+    cmd->footer("Examples:\n"
+                "  fourierflare simulate --lens lenses/double-gauss-50mm-f2.lens --plate data/night-street.exr -o out/night-street.exr --preview out/night-street.png\n"
+                "  fourierflare simulate --lens L.lens --plate shot.%04d.exr --frames 1001-1100 -o out/shot.%04d.exr");
+    cmd->callback([o, &global] { runSimulate(*o, global); });
+}
+
+} // namespace ff::cli

@@ -1,0 +1,265 @@
+#include "image/plate.h"
+
+#include "core/error.h"
+#include "image/atomic_write.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <poll.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+namespace ff::image {
+
+struct PlateFile {
+    OIIO::ImageSpec spec;            ///< the first part's header as read
+    std::vector<unsigned char> native; ///< its pixels in their native per-channel formats
+};
+
+std::vector<float> Plate::rgb() const {
+    std::vector<float> out(pixelCount() * 3);
+    for (std::size_t p = 0; p < pixelCount(); ++p) {
+        out[p * 3] = value(p, r);
+        out[p * 3 + 1] = value(p, g);
+        out[p * 3 + 2] = value(p, b);
+    }
+    return out;
+}
+
+namespace {
+
+[[noreturn]] void bad(const std::string& path, const std::string& what) { throw Error(ErrorKind::Input, SourceLocation{path}, what); }
+
+std::string firstLine(std::string s) {
+    if (const auto n = s.find('\n'); n != std::string::npos) s.resize(n);
+    return s.empty() ? "unknown error" : s;
+}
+
+// Header checks, before any pixel is allocated.
+void checkSpec(const std::string& path, const OIIO::ImageSpec& s, const PlateLimits& limits) {
+    if (s.deep) bad(path, "deep images are not supported as plates");
+    if (s.width <= 0 || s.height <= 0 || s.depth != 1) bad(path, "the image has no usable 2D data window (" + std::to_string(s.width) + "x" + std::to_string(s.height) + ")");
+    const std::uint64_t pixels = static_cast<std::uint64_t>(s.width) * static_cast<std::uint64_t>(s.height);
+    if (pixels > limits.maxPixels)
+        bad(path, "the image is " + std::to_string(s.width) + "x" + std::to_string(s.height) + " = " + std::to_string(pixels) +
+                      " pixels, above the limit of " + std::to_string(limits.maxPixels) + " (--max-pixels raises it)");
+    if (s.nchannels < 1 || s.nchannels > limits.maxChannels)
+        bad(path, "the image has " + std::to_string(s.nchannels) + " channels (1 to " + std::to_string(limits.maxChannels) + " are supported)");
+}
+
+// Finds R, G, B (or a luminance Y) and A among the channel names.
+void findChannels(const std::string& path, Plate& p) {
+    auto find = [&](std::initializer_list<const char*> names) {
+        for (const char* n : names)
+            for (std::size_t i = 0; i < p.channels.size(); ++i)
+                if (p.channels[i] == n) return static_cast<int>(i);
+        return -1;
+    };
+    p.r = find({"R", "r", "red", "Red"});
+    p.g = find({"G", "g", "green", "Green"});
+    p.b = find({"B", "b", "blue", "Blue"});
+    p.a = find({"A", "a", "alpha", "Alpha"});
+    if (p.r >= 0 && p.g >= 0 && p.b >= 0) return;
+    const int y = find({"Y", "y"});
+    if (y >= 0) {
+        p.r = p.g = p.b = y;
+        p.notes.push_back("a luminance (Y) plate: lights and the flare are grey");
+        return;
+    }
+    std::string list;
+    for (const auto& c : p.channels) list += (list.empty() ? "" : ", ") + c;
+    bad(path, "no R, G, B (or Y) channels to find lights in; the channels are: " + list);
+}
+
+// Opens, checks and reads the first part. `keepNative` also reads the native channel data.
+Plate readDirect(const std::string& path, const PlateLimits& limits, bool keepNative) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) bad(path, "cannot read the image: " + firstLine(OIIO::geterror()));
+    Plate p;
+    p.path = path;
+    const OIIO::ImageSpec spec = in->spec();
+    checkSpec(path, spec, limits);
+    p.width = spec.width;
+    p.height = spec.height;
+    p.originX = spec.x;
+    p.originY = spec.y;
+    p.displayX = spec.full_x;
+    p.displayY = spec.full_y;
+    p.displayWidth = spec.full_width > 0 ? spec.full_width : spec.width;
+    p.displayHeight = spec.full_height > 0 ? spec.full_height : spec.height;
+    p.channels = spec.channelnames;
+    p.subimages = spec.get_int_attribute("oiio:subimages", 1);
+    if (p.subimages > 1) p.notes.push_back("the file has " + std::to_string(p.subimages) + " parts; only the first is used");
+    findChannels(path, p);
+    const int n = spec.nchannels;
+    p.pixels.resize(p.pixelCount() * static_cast<std::size_t>(n));
+    if (!in->read_image(0, 0, 0, n, OIIO::TypeDesc::FLOAT, p.pixels.data())) bad(path, "cannot read the pixels: " + firstLine(in->geterror()));
+    if (keepNative) {
+        auto file = std::make_shared<PlateFile>();
+        file->spec = spec;
+        file->native.resize(p.pixelCount() * spec.pixel_bytes(true));
+        if (!in->read_image(0, 0, 0, n, OIIO::TypeDesc::UNKNOWN, file->native.data()))
+            bad(path, "cannot read the pixels: " + firstLine(in->geterror()));
+        p.file = std::move(file);
+    }
+    return p;
+}
+
+// Reads the file in full in a child process with a time (and, outside sanitizer builds, memory)
+// limit; throws what went wrong there.
+void guardedRead(const std::string& path, const PlateLimits& limits) {
+    int fds[2];
+    if (pipe(fds) != 0) throwRuntimeError("cannot create a pipe to read '" + path + "'");
+    const pid_t pid = fork();
+    if (pid < 0) {
+        close(fds[0]);
+        close(fds[1]);
+        throwRuntimeError("cannot start a process to read '" + path + "'");
+    }
+    if (pid == 0) {
+        close(fds[0]);
+#if !defined(__SANITIZE_ADDRESS__)
+        // Pixels as float plus native data, plus room for the library: a header that lies about
+        // its sizes fails here instead of exhausting the machine.
+        const rlim_t budget = static_cast<rlim_t>(limits.maxPixels) * static_cast<rlim_t>(limits.maxChannels) * 8u + (rlim_t(4) << 30);
+        const rlimit rl{budget, budget};
+        setrlimit(RLIMIT_AS, &rl);
+#endif
+        std::string message;
+        int code = 0;
+        try {
+            readDirect(path, limits, false);
+        } catch (const Error& e) {
+            message = e.message();
+            code = 3;
+        } catch (const std::exception& e) {
+            message = e.what();
+            code = 4;
+        } catch (...) {
+            message = "unknown error";
+            code = 4;
+        }
+        if (!message.empty()) {
+            const ssize_t ignored = write(fds[1], message.data(), message.size());
+            (void)ignored;
+        }
+        _exit(code);
+    }
+    close(fds[1]);
+    std::string message;
+    const auto start = std::chrono::steady_clock::now();
+    bool timedOut = false;
+    for (;;) {
+        const double left = limits.timeoutSeconds - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (left <= 0.0) {
+            timedOut = true;
+            break;
+        }
+        pollfd pfd{fds[0], POLLIN, 0};
+        const int ready = poll(&pfd, 1, static_cast<int>(std::ceil(left * 1000.0)));
+        if (ready == 0) continue;
+        if (ready < 0) {
+            if (errno == EINTR) continue;
+            break;
+        }
+        char buf[512];
+        const ssize_t got = read(fds[0], buf, sizeof buf);
+        if (got <= 0) break; // EOF: the child has finished (or died)
+        message.append(buf, static_cast<std::size_t>(got));
+    }
+    close(fds[0]);
+    int status = 0;
+    if (timedOut) {
+        kill(pid, SIGKILL);
+        waitpid(pid, &status, 0);
+        bad(path, "reading the image did not finish within " + std::to_string(static_cast<int>(limits.timeoutSeconds)) + " s (a corrupt file?)");
+    }
+    // EOF came; the child exits right after. Wait for it, bounded as well.
+    while (waitpid(pid, &status, WNOHANG) == 0) {
+        if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > limits.timeoutSeconds) {
+            kill(pid, SIGKILL);
+            waitpid(pid, &status, 0);
+            bad(path, "reading the image did not finish within " + std::to_string(static_cast<int>(limits.timeoutSeconds)) + " s (a corrupt file?)");
+        }
+        usleep(1000);
+    }
+    if (WIFSIGNALED(status))
+        bad(path, "the image library crashed reading this file (signal " + std::to_string(WTERMSIG(status)) + "): it is corrupt or hostile");
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+        // The child's Error message already names the file: strip the "path: " prefix it carries.
+        const std::string prefix = path + ": ";
+        if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
+        bad(path, message.empty() ? "the image could not be read" : message);
+    }
+}
+
+} // namespace
+
+Plate readPlate(const std::string& path, const PlateLimits& limits) {
+    if (limits.guarded) guardedRead(path, limits);
+    return readDirect(path, limits, true);
+}
+
+void writeSimulatedExr(const std::string& path, const Plate& plate, const std::vector<float>& flare, const Metadata& metadata) {
+    if (!plate.file || flare.size() != plate.pixelCount() * 3) throwRuntimeError("writeSimulatedExr: the flare does not match the plate");
+    const OIIO::ImageSpec& in = plate.file->spec;
+    const int n = in.nchannels;
+    // Input channel formats; those EXR cannot store are written as float.
+    std::vector<OIIO::TypeDesc> inFormat(static_cast<std::size_t>(n)), outFormat(static_cast<std::size_t>(n));
+    std::vector<std::size_t> inOffset(static_cast<std::size_t>(n));
+    std::size_t offset = 0;
+    for (int c = 0; c < n; ++c) {
+        const OIIO::TypeDesc f = in.channelformats.empty() ? in.format : in.channelformats[static_cast<std::size_t>(c)];
+        inFormat[static_cast<std::size_t>(c)] = f;
+        inOffset[static_cast<std::size_t>(c)] = offset;
+        offset += f.size();
+        const bool exact = f == OIIO::TypeDesc::HALF || f == OIIO::TypeDesc::FLOAT || f == OIIO::TypeDesc::UINT32;
+        outFormat[static_cast<std::size_t>(c)] = exact ? f : OIIO::TypeDesc(OIIO::TypeDesc::FLOAT);
+    }
+    const std::size_t inPixelBytes = offset;
+
+    OIIO::ImageSpec out = in;
+    out.tile_width = out.tile_height = out.tile_depth = 0;
+    out.erase_attribute("oiio:subimages");
+    out.erase_attribute("compression");
+    out.attribute("compression", "zip");
+    for (const char* name : {"flare.R", "flare.G", "flare.B", "composite.R", "composite.G", "composite.B"}) {
+        out.channelnames.emplace_back(name);
+        outFormat.emplace_back(OIIO::TypeDesc::FLOAT);
+    }
+    out.nchannels = n + 6;
+    out.channelformats = outFormat;
+    out.format = OIIO::TypeDesc::FLOAT;
+    for (const auto& [k, v] : metadata) out.attribute(k, v);
+
+    std::size_t outPixelBytes = 0;
+    for (const auto& f : outFormat) outPixelBytes += f.size();
+    std::vector<unsigned char> buffer(plate.pixelCount() * outPixelBytes);
+    for (std::size_t p = 0; p < plate.pixelCount(); ++p) {
+        unsigned char* dst = &buffer[p * outPixelBytes];
+        const unsigned char* src = &plate.file->native[p * inPixelBytes];
+        for (int c = 0; c < n; ++c) {
+            const std::size_t ci = static_cast<std::size_t>(c);
+            if (outFormat[ci] == inFormat[ci]) std::memcpy(dst, src + inOffset[ci], inFormat[ci].size());
+            else {
+                const float v = plate.value(p, c);
+                std::memcpy(dst, &v, sizeof v);
+            }
+            dst += outFormat[ci].size();
+        }
+        const float f[3] = {flare[p * 3], flare[p * 3 + 1], flare[p * 3 + 2]};
+        const float comp[3] = {plate.value(p, plate.r) + f[0], plate.value(p, plate.g) + f[1], plate.value(p, plate.b) + f[2]};
+        std::memcpy(dst, f, sizeof f);
+        std::memcpy(dst + sizeof f, comp, sizeof comp);
+    }
+    writeAtomic(path, out, OIIO::TypeDesc::UNKNOWN, buffer.data());
+}
+
+} // namespace ff::image

@@ -1,0 +1,59 @@
+#pragma once
+// HDR plates: reading any image OpenImageIO reads, defensively, and writing the simulated result with
+// every input channel unchanged.
+//
+// Reading is guarded twice. A plate's header is checked against limits (pixels, channels, deep data)
+// before anything is allocated. And because a corrupt file can crash or hang the image library itself
+// (Debian's OpenImageIO 2.4 aborts or hangs on some fuzzed EXR files), the file is first read in full
+// by a child process with a memory and time limit; only if that succeeds is it read here. A crash,
+// a hang or an error in the child becomes an ff::Error (Input) naming the file.
+
+#include "image/image_output.h"
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ff::image {
+
+struct PlateLimits {
+    std::uint64_t maxPixels = 8192ull * 8192ull; ///< data-window pixels
+    int maxChannels = 64;
+    double timeoutSeconds = 8.0;                  ///< for the guarded read
+    bool guarded = true;                          ///< read in a child process first
+};
+
+struct PlateFile; // the header and native channel data, for rewriting channels bit for bit
+
+struct Plate {
+    std::string path;
+    int width = 0, height = 0;         ///< data window size
+    int originX = 0, originY = 0;      ///< data window origin
+    int displayX = 0, displayY = 0, displayWidth = 0, displayHeight = 0; ///< display window
+    std::vector<std::string> channels;
+    int r = -1, g = -1, b = -1, a = -1; ///< channel indices (g, b = r for a one-channel luminance plate)
+    std::vector<float> pixels;          ///< every channel as float, interleaved, data window rows
+    int subimages = 1;                  ///< parts in the file (only the first is used)
+    std::vector<std::string> notes;     ///< what the reader decided (converted formats, ignored parts)
+    std::shared_ptr<const PlateFile> file;
+
+    std::size_t pixelCount() const { return static_cast<std::size_t>(width) * height; }
+    float value(std::size_t pixel, int channel) const { return pixels[pixel * channels.size() + static_cast<std::size_t>(channel)]; }
+    /// R, G, B of the data window, interleaved.
+    std::vector<float> rgb() const;
+};
+
+/// Reads the first part of an image. Throws ff::Error (Input) with the file name for anything that
+/// is not a usable plate: unreadable, corrupt, too large (say which limit and how to raise it), deep,
+/// no colour channels.
+Plate readPlate(const std::string& path, const PlateLimits& limits = {});
+
+/// Writes an EXR (zip, scanlines) holding every channel of the plate unchanged — names, order, data
+/// and display windows, metadata; channels stored as half, float or uint32 keep their bits, other
+/// formats (8/16-bit integers) are written as float of the values read — followed by flare.R, flare.G,
+/// flare.B and composite.R, composite.G, composite.B (float). `flare` is R, G, B interleaved over the
+/// data window; composite = plate R, G, B + flare. Atomic.
+void writeSimulatedExr(const std::string& path, const Plate& plate, const std::vector<float>& flare, const Metadata& metadata);
+
+} // namespace ff::image
