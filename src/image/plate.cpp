@@ -101,6 +101,16 @@ Plate readDirect(const std::string& path, const PlateLimits& limits, bool keepNa
     const int n = spec.nchannels;
     p.pixels.resize(p.pixelCount() * static_cast<std::size_t>(n));
     if (!in->read_image(0, 0, 0, n, OIIO::TypeDesc::FLOAT, p.pixels.data())) bad(path, "cannot read the pixels: " + firstLine(in->geterror()));
+    // A plate is light: mostly finite, non-negative values. A few NaN, infinite or negative pixels are
+    // tolerated (and reported by light detection); a majority means the data is not an image.
+    std::size_t invalid = 0;
+    for (std::size_t i = 0; i < p.pixelCount(); ++i) {
+        const float r = p.value(i, p.r), g = p.value(i, p.g), b = p.value(i, p.b);
+        invalid += !(std::isfinite(r) && std::isfinite(g) && std::isfinite(b) && r >= 0.0f && g >= 0.0f && b >= 0.0f);
+    }
+    if (2 * invalid > p.pixelCount())
+        bad(path, std::to_string(invalid) + " of " + std::to_string(p.pixelCount()) +
+                      " pixels have negative, NaN or infinite colour values: this is not usable image data");
     if (keepNative) {
         auto file = std::make_shared<PlateFile>();
         file->spec = spec;
@@ -138,6 +148,9 @@ void guardedRead(const std::string& path, const PlateLimits& limits) {
             readDirect(path, limits, false);
         } catch (const Error& e) {
             message = e.message();
+            code = 3;
+        } catch (const std::bad_alloc&) {
+            message = "the image library ran out of memory reading it (a corrupt size in the file?)";
             code = 3;
         } catch (const std::exception& e) {
             message = e.what();

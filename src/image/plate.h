@@ -46,7 +46,7 @@ struct Plate {
 
 /// Reads the first part of an image. Throws ff::Error (Input) with the file name for anything that
 /// is not a usable plate: unreadable, corrupt, too large (say which limit and how to raise it), deep,
-/// no colour channels.
+/// no colour channels, or more than half of its pixels negative, NaN or infinite.
 Plate readPlate(const std::string& path, const PlateLimits& limits = {});
 
 /// Writes an EXR (zip, scanlines) holding every channel of the plate unchanged — names, order, data
