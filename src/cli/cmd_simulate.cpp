@@ -44,7 +44,7 @@ struct SimulateOptions {
     std::string profile = "gaussian";
     int tableGrid = 32;
     std::string zoom;
-    std::uint64_t maxPixels = 8192ull * 8192ull;
+    double maxPixels = 8192.0 * 8192.0;
     std::string frames;
     FourierOptions fourier;
 };
@@ -114,7 +114,8 @@ public:
             for (const std::string& in : {job.plate, o_.lens, o_.lightsFile})
                 if (!out.empty() && !in.empty() && samePath(out, in)) throw Error(ErrorKind::Usage, "the output '" + out + "' is an input file");
         image::PlateLimits limits;
-        limits.maxPixels = o_.maxPixels;
+        limits.maxPixels = static_cast<std::uint64_t>(o_.maxPixels);
+        limits.checker = checker_;
         const image::Plate plate = image::readPlate(job.plate, limits);
         for (const auto& n : plate.notes) note(job.plate + ": " + n);
         const double tRead = since(t);
@@ -214,6 +215,7 @@ private:
     std::vector<ghosts::Light> manualLights_;
     double sensorWidthMm_ = 36.0;
     std::unique_ptr<ghosts::GhostTable> table_;
+    std::string checker_ = std::filesystem::read_symlink("/proc/self/exe").string(); // this program, for `plate-check`
 };
 
 void runSimulate(const SimulateOptions& o, const GlobalOptions& g) {
@@ -240,6 +242,28 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& g) {
 }
 
 } // namespace
+
+void addPlateCheckCommand(CLI::App& app) {
+    struct Options {
+        std::string file;
+        double maxPixels = 0.0;
+        int maxChannels = 64;
+    };
+    auto o = std::make_shared<Options>();
+    // Internal: simulate runs it as a separate process to read a plate that might crash or hang the
+    // image library (image/plate.h). Not listed in the help.
+    CLI::App* cmd = app.add_subcommand("plate-check", "Read a plate in full and report whether it is usable (internal)")->group("");
+    cmd->add_option("--max-pixels", o->maxPixels)->required();
+    cmd->add_option("--max-channels", o->maxChannels)->required();
+    cmd->add_option("file", o->file)->required();
+    cmd->callback([o] {
+        image::PlateLimits limits;
+        limits.maxPixels = static_cast<std::uint64_t>(o->maxPixels);
+        limits.maxChannels = o->maxChannels;
+        std::fflush(stdout);
+        std::_Exit(image::checkPlate(o->file, limits));
+    });
+}
 
 void addSimulateCommand(CLI::App& app, GlobalOptions& global) {
     auto o = std::make_shared<SimulateOptions>();

@@ -17,5 +17,6 @@ void addTableCommand(CLI::App& app, GlobalOptions& global);
 void addExportCommand(CLI::App& app, GlobalOptions& global);
 void addCompareCommand(CLI::App& app, GlobalOptions& global);
 void addSimulateCommand(CLI::App& app, GlobalOptions& global);
+void addPlateCheckCommand(CLI::App& app);
 
 } // namespace ff::cli

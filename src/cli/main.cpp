@@ -7,9 +7,11 @@
 #include "ff/version.h"
 
 #include <CLI/CLI.hpp>
+#include <tbb/global_control.h>
 
 #include <cstdio>
 #include <exception>
+#include <memory>
 
 int main(int argc, char** argv) {
     using namespace ff::cli;
@@ -22,6 +24,8 @@ int main(int argc, char** argv) {
     GlobalOptions global;
     for (int i = 0; i < argc; ++i) global.commandLine += (i ? " " : "") + std::string(argv[i]);
     app.add_flag("-q,--quiet", global.quiet, "Do not print notes (warnings and errors are always printed)");
+    int threads = 0;
+    app.add_option("--threads", threads, "Worker threads (default: all cores); results do not depend on it")->check(CLI::Range(1, 1024));
     app.add_flag("-v,--verbose", global.verbose, "Print every choice made on the way (Fourier period, terms, routes; stage times)");
     addLensCommand(app, global);
     addGhostsCommand(app, global);
@@ -30,7 +34,13 @@ int main(int argc, char** argv) {
     addExportCommand(app, global);
     addCompareCommand(app, global);
     addSimulateCommand(app, global);
+    addPlateCheckCommand(app);
 
+    std::unique_ptr<tbb::global_control> threadLimit;
+    app.parse_complete_callback([&] {
+        if (threads > 0)
+            threadLimit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    });
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

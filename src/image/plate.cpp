@@ -5,7 +5,9 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <fcntl.h>
 #include <poll.h>
+#include <spawn.h>
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -14,7 +16,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+
+extern char** environ;
 
 namespace ff::image {
 
@@ -122,55 +127,34 @@ Plate readDirect(const std::string& path, const PlateLimits& limits, bool keepNa
     return p;
 }
 
-// Reads the file in full in a child process with a time (and, outside sanitizer builds, memory)
-// limit; throws what went wrong there.
+// Runs the checker on the file with a time limit; throws what went wrong there.
 void guardedRead(const std::string& path, const PlateLimits& limits) {
     int fds[2];
-    if (pipe(fds) != 0) throwRuntimeError("cannot create a pipe to read '" + path + "'");
-    const pid_t pid = fork();
-    if (pid < 0) {
-        close(fds[0]);
-        close(fds[1]);
-        throwRuntimeError("cannot start a process to read '" + path + "'");
-    }
-    if (pid == 0) {
-        close(fds[0]);
-#if !defined(__SANITIZE_ADDRESS__)
-        // Pixels as float plus native data, plus room for the library: a header that lies about
-        // its sizes fails here instead of exhausting the machine.
-        const rlim_t budget = static_cast<rlim_t>(limits.maxPixels) * static_cast<rlim_t>(limits.maxChannels) * 8u + (rlim_t(4) << 30);
-        const rlimit rl{budget, budget};
-        setrlimit(RLIMIT_AS, &rl);
-#endif
-        std::string message;
-        int code = 0;
-        try {
-            readDirect(path, limits, false);
-        } catch (const Error& e) {
-            message = e.message();
-            code = 3;
-        } catch (const std::bad_alloc&) {
-            message = "the image library ran out of memory reading it (a corrupt size in the file?)";
-            code = 3;
-        } catch (const std::exception& e) {
-            message = e.what();
-            code = 4;
-        } catch (...) {
-            message = "unknown error";
-            code = 4;
-        }
-        if (!message.empty()) {
-            const ssize_t ignored = write(fds[1], message.data(), message.size());
-            (void)ignored;
-        }
-        _exit(code);
-    }
+    if (pipe(fds) != 0) throwRuntimeError("cannot create a pipe to check '" + path + "'");
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_adddup2(&actions, fds[1], STDERR_FILENO);
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addclose(&actions, fds[0]);
+    const std::string pixels = std::to_string(limits.maxPixels), channels = std::to_string(limits.maxChannels);
+    std::vector<std::string> args = {limits.checker, "plate-check", "--max-pixels", pixels, "--max-channels", channels, "--", path};
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    pid_t pid = 0;
+    const int spawned = posix_spawn(&pid, limits.checker.c_str(), &actions, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
     close(fds[1]);
+    if (spawned != 0) {
+        close(fds[0]);
+        throwRuntimeError("cannot run the plate checker '" + limits.checker + "': " + std::strerror(spawned));
+    }
     std::string message;
     const auto start = std::chrono::steady_clock::now();
+    auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
     bool timedOut = false;
     for (;;) {
-        const double left = limits.timeoutSeconds - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const double left = limits.timeoutSeconds - elapsed();
         if (left <= 0.0) {
             timedOut = true;
             break;
@@ -184,39 +168,55 @@ void guardedRead(const std::string& path, const PlateLimits& limits) {
         }
         char buf[512];
         const ssize_t got = read(fds[0], buf, sizeof buf);
-        if (got <= 0) break; // EOF: the child has finished (or died)
-        message.append(buf, static_cast<std::size_t>(got));
+        if (got <= 0) break; // EOF: the checker has finished (or died)
+        if (message.size() < 4096) message.append(buf, static_cast<std::size_t>(got));
     }
     close(fds[0]);
     int status = 0;
+    while (!timedOut && waitpid(pid, &status, WNOHANG) == 0) {
+        if (elapsed() > limits.timeoutSeconds) timedOut = true;
+        else usleep(1000);
+    }
     if (timedOut) {
         kill(pid, SIGKILL);
         waitpid(pid, &status, 0);
         bad(path, "reading the image did not finish within " + std::to_string(static_cast<int>(limits.timeoutSeconds)) + " s (a corrupt file?)");
     }
-    // EOF came; the child exits right after. Wait for it, bounded as well.
-    while (waitpid(pid, &status, WNOHANG) == 0) {
-        if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > limits.timeoutSeconds) {
-            kill(pid, SIGKILL);
-            waitpid(pid, &status, 0);
-            bad(path, "reading the image did not finish within " + std::to_string(static_cast<int>(limits.timeoutSeconds)) + " s (a corrupt file?)");
-        }
-        usleep(1000);
-    }
     if (WIFSIGNALED(status))
         bad(path, "the image library crashed reading this file (signal " + std::to_string(WTERMSIG(status)) + "): it is corrupt or hostile");
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-        // The child's Error message already names the file: strip the "path: " prefix it carries.
-        const std::string prefix = path + ": ";
-        if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
-        bad(path, message.empty() ? "the image could not be read" : message);
-    }
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 3) bad(path, firstLine(message));
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        bad(path, "the image library failed reading this file (exit status " + std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
+                      "): it is corrupt or hostile");
 }
 
 } // namespace
 
+int checkPlate(const std::string& path, const PlateLimits& limits) {
+#if !defined(__SANITIZE_ADDRESS__)
+    // Pixels as float plus the library's own buffers: a header that lies about its sizes fails here
+    // instead of exhausting the machine. (AddressSanitizer reserves far more address space: no limit.)
+    const rlim_t budget = static_cast<rlim_t>(limits.maxPixels) * static_cast<rlim_t>(limits.maxChannels) * 8u + (rlim_t(4) << 30);
+    const rlimit rl{budget, budget};
+    setrlimit(RLIMIT_AS, &rl);
+#endif
+    std::string message;
+    try {
+        readDirect(path, limits, false);
+        return 0;
+    } catch (const Error& e) {
+        message = e.message();
+    } catch (const std::bad_alloc&) {
+        message = "the image library ran out of memory reading it (a corrupt size in the file?)";
+    } catch (const std::exception& e) {
+        message = e.what();
+    }
+    std::fprintf(stderr, "%s\n", message.c_str());
+    return 3;
+}
+
 Plate readPlate(const std::string& path, const PlateLimits& limits) {
-    if (limits.guarded) guardedRead(path, limits);
+    if (!limits.checker.empty()) guardedRead(path, limits);
     return readDirect(path, limits, true);
 }
 

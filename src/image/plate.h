@@ -5,8 +5,10 @@
 // Reading is guarded twice. A plate's header is checked against limits (pixels, channels, deep data)
 // before anything is allocated. And because a corrupt file can crash or hang the image library itself
 // (Debian's OpenImageIO 2.4 aborts or hangs on some fuzzed EXR files), the file is first read in full
-// by a child process with a memory and time limit; only if that succeeds is it read here. A crash,
-// a hang or an error in the child becomes an ff::Error (Input) naming the file.
+// by a fresh process (the `checker` program, given the file and the limits, which calls checkPlate()
+// under a memory limit) with a time limit; only if that succeeds is it read here. A crash, a hang or
+// an error in the checker becomes an ff::Error (Input) naming the file. (A fresh process, not a fork:
+// a forked child inherits the image library's thread pools without their threads and can hang.)
 
 #include "image/image_output.h"
 
@@ -21,7 +23,8 @@ struct PlateLimits {
     std::uint64_t maxPixels = 8192ull * 8192ull; ///< data-window pixels
     int maxChannels = 64;
     double timeoutSeconds = 8.0;                  ///< for the guarded read
-    bool guarded = true;                          ///< read in a child process first
+    /// The checker: run as `checker plate-check --max-pixels N --max-channels C FILE`; empty = no guard.
+    std::string checker;
 };
 
 struct PlateFile; // the header and native channel data, for rewriting channels bit for bit
@@ -48,6 +51,10 @@ struct Plate {
 /// is not a usable plate: unreadable, corrupt, too large (say which limit and how to raise it), deep,
 /// no colour channels, or more than half of its pixels negative, NaN or infinite.
 Plate readPlate(const std::string& path, const PlateLimits& limits = {});
+
+/// What the checker process runs: reads the file in full under a memory limit; exit status 0 when it
+/// is a usable plate, else 3 with the reason on stderr (a crash or a hang is the caller's to see).
+int checkPlate(const std::string& path, const PlateLimits& limits);
 
 /// Writes an EXR (zip, scanlines) holding every channel of the plate unchanged — names, order, data
 /// and display windows, metadata; channels stored as half, float or uint32 keep their bits, other

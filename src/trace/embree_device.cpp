@@ -2,16 +2,21 @@
 
 #include "core/error.h"
 
+#include <tbb/global_control.h>
+
 #include <pmmintrin.h>
 #include <xmmintrin.h>
 
 namespace ff::trace {
 
 EmbreeDevice::EmbreeDevice() {
-    // Threads are started at once. Thread pinning (set_affinity=1) is not used: with TBB it installs
-    // a task-scheduler observer that Embree never releases (LeakSanitizer reports it), and pinning
+    // Embree builds on TBB within the process's parallelism limit (fourierflare --threads). Its
+    // start_threads option is not used: it waits for every worker to join, which never happens under
+    // a lower limit. Thread pinning (set_affinity=1) is not used either: with TBB it installs a
+    // task-scheduler observer that Embree never releases (LeakSanitizer reports it), and pinning
     // gains nothing on machines shared with other work.
-    device_ = rtcNewDevice("start_threads=1");
+    const std::size_t threads = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+    device_ = rtcNewDevice(("threads=" + std::to_string(threads)).c_str());
     if (!device_) throwRuntimeError("cannot create an Embree device (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
     rtcSetDeviceErrorFunction(device_, &EmbreeDevice::onError, this);
 }

@@ -1,0 +1,298 @@
+// `fourierflare simulate` on small generated plates, the shared real plates and the damaged corpus.
+
+#include "cli_runner.h"
+#include "test_support.h"
+
+#include <Imath/half.h>
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+
+using ff::test::run;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Ghost tables are cached across the tests of this suite (the cache is keyed and written atomically).
+const std::string kEnv = std::string("FF_CACHE_DIR='") + FF_TEST_CACHE_DIR + "' ";
+const std::string kLens = "lenses/cooke-triplet-50mm-f5.lens";
+constexpr int kW = 96, kH = 64;
+
+struct TestPlate {
+    std::vector<float> rgba = std::vector<float>(static_cast<std::size_t>(kW) * kH * 4, 0.0f);
+    std::vector<float> z = std::vector<float>(static_cast<std::size_t>(kW) * kH, 0.0f);
+    void set(int x, int y, float r, float g, float b, float a = 1.0f) {
+        float* p = &rgba[(static_cast<std::size_t>(y) * kW + x) * 4];
+        p[0] = r, p[1] = g, p[2] = b, p[3] = a;
+    }
+};
+
+// A plate with half R, G, B, A and a float Z, a faint background, a custom attribute; the data
+// window may be offset inside the display window.
+TestPlate writePlate(const fs::path& path, int lightX, int lightY, float value, int originX = 0, int originY = 0) {
+    TestPlate t;
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            t.set(x, y, 0.02f + 0.001f * float(x), 0.03f, 0.04f + 0.001f * float(y), 0.5f);
+            t.z[static_cast<std::size_t>(y) * kW + x] = 10.0f + float(x) + 0.25f * float(y);
+        }
+    if (lightX >= 0)
+        for (int dy = 0; dy < 2; ++dy)
+            for (int dx = 0; dx < 2; ++dx) t.set(lightX + dx, lightY + dy, value, value, value);
+    OIIO::ImageSpec spec(kW, kH, 5, OIIO::TypeDesc::HALF);
+    spec.channelnames = {"R", "G", "B", "A", "Z"};
+    spec.channelformats = {OIIO::TypeDesc::HALF, OIIO::TypeDesc::HALF, OIIO::TypeDesc::HALF, OIIO::TypeDesc::HALF, OIIO::TypeDesc::FLOAT};
+    spec.alpha_channel = 3;
+    spec.z_channel = 4;
+    spec.x = originX;
+    spec.y = originY;
+    spec.full_x = 0;
+    spec.full_y = 0;
+    spec.full_width = kW + 2 * originX;
+    spec.full_height = kH + 2 * originY;
+    spec.attribute("compression", "zip");
+    spec.attribute("studio:shot", "sq010_sh020");
+    std::vector<float> all(static_cast<std::size_t>(kW) * kH * 5);
+    for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) {
+        for (int c = 0; c < 4; ++c) all[p * 5 + c] = t.rgba[p * 4 + c];
+        all[p * 5 + 4] = t.z[p];
+    }
+    auto out = OIIO::ImageOutput::create(path.string());
+    EXPECT_TRUE(out && out->open(path.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, all.data()) && out->close());
+    return t;
+}
+
+struct Exr {
+    OIIO::ImageSpec spec;
+    std::vector<float> pixels; // all channels as float
+    int channel(const std::string& name) const {
+        for (int i = 0; i < spec.nchannels; ++i)
+            if (spec.channelnames[static_cast<std::size_t>(i)] == name) return i;
+        return -1;
+    }
+    float at(std::size_t p, int c) const { return pixels[p * static_cast<std::size_t>(spec.nchannels) + static_cast<std::size_t>(c)]; }
+};
+
+Exr readExr(const fs::path& path) {
+    Exr e;
+    auto in = OIIO::ImageInput::open(path.string());
+    if (!in) return e;
+    e.spec = in->spec();
+    e.pixels.resize(static_cast<std::size_t>(e.spec.width) * e.spec.height * e.spec.nchannels);
+    in->read_image(0, 0, 0, e.spec.nchannels, OIIO::TypeDesc::FLOAT, e.pixels.data());
+    return e;
+}
+
+std::string simulate(const fs::path& plate, const fs::path& out, const std::string& extra = "") {
+    return "simulate --lens " + kLens + " --plate '" + plate.string() + "' -o '" + out.string() + "' --table-grid 8 " + extra;
+}
+
+} // namespace
+
+TEST(CliSimulate, KeepsEveryChannelAndAddsFlareLayers) {
+    ff::test::TempDir dir;
+    const TestPlate plate = writePlate(dir / "plate.exr", 20, 12, 400.0f, 3, 2);
+    const auto r = run(simulate(dir / "plate.exr", dir / "out.exr", "--preview '" + (dir / "out.png").string() + "' --lights-out '" +
+                                                                        (dir / "lights.json").string() + "'"), kEnv);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("1 lights above luminance"), std::string::npos) << r.err;
+    const Exr e = readExr(dir / "out.exr");
+    ASSERT_EQ(e.spec.nchannels, 11);
+    EXPECT_EQ(e.spec.x, 3);
+    EXPECT_EQ(e.spec.y, 2);
+    EXPECT_EQ(e.spec.full_width, kW + 6);
+    EXPECT_EQ(e.spec.get_string_attribute("studio:shot"), "sq010_sh020");
+    EXPECT_NE(e.spec.get_string_attribute("fourierflare:lensHash"), "");
+    EXPECT_NE(e.spec.get_string_attribute("fourierflare:commandLine").find("simulate"), std::string::npos);
+    EXPECT_NE(e.spec.get_string_attribute("fourierflare:fourier").find("period"), std::string::npos);
+    // Input channels bit for bit (half values read back as float are exact) and in their formats.
+    const int R = e.channel("R"), A = e.channel("A"), Z = e.channel("Z"), fR = e.channel("flare.R"), cR = e.channel("composite.R");
+    ASSERT_TRUE(R >= 0 && A >= 0 && Z >= 0 && fR >= 0 && cR >= 0);
+    EXPECT_EQ(e.spec.channelformat(R), OIIO::TypeDesc::HALF);
+    EXPECT_EQ(e.spec.channelformat(Z), OIIO::TypeDesc::FLOAT);
+    auto asHalf = [](float v) { return static_cast<float>(static_cast<Imath::half>(v)); };
+    double flare = 0.0;
+    for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) {
+        ASSERT_EQ(e.at(p, R), asHalf(plate.rgba[p * 4]));
+        ASSERT_EQ(e.at(p, A), asHalf(plate.rgba[p * 4 + 3]));
+        ASSERT_EQ(e.at(p, Z), plate.z[p]);
+        ASSERT_EQ(e.at(p, cR), e.at(p, R) + e.at(p, fR)); // composite = plate + flare
+        flare += e.at(p, fR);
+    }
+    EXPECT_GT(flare, 0.0);
+    EXPECT_TRUE(fs::exists(dir / "out.png"));
+    const auto lights = nlohmann::json::parse(ff::test::readFile(dir / "lights.json"));
+    ASSERT_EQ(lights["lights"].size(), 1u);
+    // The light's 2 x 2 block centred on pixel corner (21, 13) of the data window, +3, +2 in the display window.
+    EXPECT_NEAR(lights["lights"][0]["x"].get<double>(), 24.0, 1e-3);
+    EXPECT_NEAR(lights["lights"][0]["y"].get<double>(), 15.0, 1e-3);
+    EXPECT_NEAR(lights["lights"][0]["flux"][0].get<double>(), 4 * 400.0, 1e-6);
+}
+
+// A light at the frame centre: every ghost is centred, so the flare is point-symmetric about the
+// centre, and its flux in the frame is the light's flux x each ghost's relative flux x the part of its
+// Gaussian inside the frame — computed here from the ghost table at 0 degrees.
+TEST(CliSimulate, CentredLightFluxAndSymmetryFollowTheTable) {
+    ff::test::TempDir dir;
+    writePlate(dir / "plate.exr", kW / 2 - 1, kH / 2 - 1, 500.0f);
+    const auto r = run(simulate(dir / "plate.exr", dir / "out.exr", "--sensor 36x24"), kEnv);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto t = run("table " + kLens + " --grid 8 -o '" + (dir / "t.json").string() + "'", kEnv);
+    ASSERT_EQ(t.code, 0) << t.err;
+    const auto table = nlohmann::json::parse(ff::test::readFile(dir / "t.json"));
+    const Exr e = readExr(dir / "out.exr");
+    const double pitch = 36.0 / kW, halfW = 0.5 * kW * pitch, halfH = 0.5 * kH * pitch;
+    const double lightFlux = 4 * 500.0;
+    const std::vector<double> lambdas = table["wavelengths_nm"].get<std::vector<double>>();
+    const char* names[3] = {"flare.R", "flare.G", "flare.B"};
+    const double targets[3] = {650.0, 550.0, 450.0};
+    for (int c = 0; c < 3; ++c) {
+        std::size_t w = 0;
+        for (std::size_t i = 1; i < lambdas.size(); ++i)
+            if (std::abs(lambdas[i] - targets[c]) < std::abs(lambdas[w] - targets[c])) w = i;
+        double expected = 0.0;
+        for (const auto& g : table["ghosts"]) {
+            const auto& wl = g["wavelengths"][w];
+            const double flux = wl["relative_flux"][0].get<double>();
+            if (flux <= 0.0) continue;
+            // On the axis the radial direction is image y: sigma_t along x, sigma_r along y.
+            const double sx = wl["gaussian"]["sigma_tangential_mm"][0].get<double>(), sy = wl["gaussian"]["sigma_radial_mm"][0].get<double>();
+            expected += lightFlux * flux * std::erf(halfW / (std::sqrt(2.0) * sx)) * std::erf(halfH / (std::sqrt(2.0) * sy));
+        }
+        const int ch = e.channel(names[c]);
+        ASSERT_GE(ch, 0);
+        double sum = 0.0, peak = 0.0, asym = 0.0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                const float v = e.at(static_cast<std::size_t>(y) * kW + x, ch), m = e.at(static_cast<std::size_t>(kH - 1 - y) * kW + (kW - 1 - x), ch);
+                sum += v;
+                peak = std::max(peak, double(v));
+                asym = std::max(asym, double(std::abs(v - m)));
+            }
+        EXPECT_NEAR(sum, expected, 3e-3 * expected) << names[c];
+        EXPECT_LE(asym, 1e-3 * peak) << names[c];
+    }
+}
+
+TEST(CliSimulate, OutputDoesNotDependOnTheThreadCount) {
+    ff::test::TempDir dir;
+    writePlate(dir / "plate.exr", 70, 40, 300.0f);
+    ASSERT_EQ(run("--threads 1 " + simulate(dir / "plate.exr", dir / "one.exr"), kEnv).code, 0);
+    ASSERT_EQ(run("--threads 2 " + simulate(dir / "plate.exr", dir / "two.exr"), kEnv).code, 0);
+    const Exr a = readExr(dir / "one.exr"), b = readExr(dir / "two.exr");
+    ASSERT_EQ(a.pixels.size(), b.pixels.size());
+    EXPECT_EQ(std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)), 0);
+}
+
+TEST(CliSimulate, PlatesWithoutLightsAndTinyPlates) {
+    ff::test::TempDir dir;
+    writePlate(dir / "dark.exr", -1, -1, 0.0f);
+    const auto r = run(simulate(dir / "dark.exr", dir / "out.exr"), kEnv);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("0 lights above luminance 2.000"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("no flare, the output is the plate plus a zero flare layer"), std::string::npos) << r.err;
+    const Exr e = readExr(dir / "out.exr");
+    const int f = e.channel("flare.G");
+    ASSERT_GE(f, 0);
+    for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) ASSERT_EQ(e.at(p, f), 0.0f);
+    // A 1 x 1 plate with a light in it.
+    OIIO::ImageSpec spec(1, 1, 3, OIIO::TypeDesc::FLOAT);
+    const float px[3] = {100.0f, 100.0f, 100.0f};
+    auto out = OIIO::ImageOutput::create((dir / "one.exr").string());
+    ASSERT_TRUE(out->open((dir / "one.exr").string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, px) && out->close());
+    const auto one = run(simulate(dir / "one.exr", dir / "one-out.exr"), kEnv);
+    EXPECT_EQ(one.code, 0) << one.err;
+}
+
+TEST(CliSimulate, RefusesBadInputsWithoutWritingAnything) {
+    ff::test::TempDir dir;
+    const fs::path out = dir / "out.exr";
+    ff::test::writeFile(dir / "empty.exr", "");
+    fs::create_directories(dir / "folder.exr");
+    for (const fs::path& bad : {dir / "empty.exr", dir / "folder.exr", dir / "missing.exr"}) {
+        const auto r = run(simulate(bad, out), kEnv);
+        EXPECT_EQ(r.code, 2) << bad << "\n" << r.err;
+        EXPECT_NE(r.err.find(bad.string()), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(out));
+    }
+    // A header claiming 16384 x 16384: refused before anything is allocated, unless allowed.
+    writePlate(dir / "small.exr", -1, -1, 0.0f);
+    {
+        std::string bytes = ff::test::readFile(dir / "small.exr");
+        const int huge[4] = {0, 0, 16383, 16383};
+        for (const std::string& key : {std::string("dataWindow\0box2i\0", 17), std::string("displayWindow\0box2i\0", 20)}) {
+            const auto at = bytes.find(key);
+            ASSERT_NE(at, std::string::npos);
+            std::memcpy(&bytes[at + key.size() + 4], huge, sizeof huge);
+        }
+        // Bytes enough for the 16384 / 16 line-offset entries of a zip file, so the header opens.
+        ff::test::writeFile(dir / "huge.exr", bytes + std::string(8 * 1024, '\0'));
+    }
+    const auto huge = run(simulate(dir / "huge.exr", out), kEnv);
+    EXPECT_EQ(huge.code, 2) << huge.err;
+    EXPECT_NE(huge.err.find("16384x16384 = 268435456 pixels, above the limit of 67108864 (--max-pixels raises it)"), std::string::npos) << huge.err;
+    EXPECT_FALSE(fs::exists(out));
+    writePlate(dir / "plate.exr", 20, 12, 400.0f);
+    EXPECT_EQ(run(simulate(dir / "plate.exr", dir / "plate.exr"), kEnv).code, 2);  // output = input
+    EXPECT_EQ(run(simulate(dir / "plate.exr", dir / "out.png"), kEnv).code, 2);    // not an EXR
+    const auto folder = run(simulate(dir / "plate.exr", dir / "no" / "such" / "folder.exr"), kEnv);
+    EXPECT_EQ(folder.code, 1) << folder.err;
+    EXPECT_EQ(run(simulate(dir / "plate.exr", out, "--threshold max:2"), kEnv).code, 2);
+    EXPECT_EQ(run(simulate(dir / "plate.exr", out, "--backend gl"), kEnv).code, 1); // no GL backend in this build
+    EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(CliSimulate, SequencesRenderEveryFrame) {
+    ff::test::TempDir dir;
+    writePlate(dir / "shot.0007.exr", 20, 12, 400.0f);
+    writePlate(dir / "shot.0008.exr", 60, 40, 400.0f);
+    const auto r = run("simulate --lens " + kLens + " --plate '" + (dir / "shot.%04d.exr").string() + "' --frames 7-8 -o '" +
+                           (dir / "out.%04d.exr").string() + "' --table-grid 8",
+                       kEnv);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(fs::exists(dir / "out.0007.exr"));
+    EXPECT_TRUE(fs::exists(dir / "out.0008.exr"));
+}
+
+TEST(CliSimulate, SharedPlatesRun) {
+    const fs::path plates = ff::test::sharedDataDir() / "plates";
+    if (!fs::exists(plates)) GTEST_SKIP() << "shared plates not found at " << plates << " (they are not part of the repository)";
+    ff::test::TempDir dir;
+    for (const char* name : {"Desk.exr", "CandleGlass.exr", "BrightRingsNanInf.exr"}) {
+        const auto r = run(simulate(plates / name, dir / "out.exr"), kEnv);
+        EXPECT_EQ(r.code, 0) << name << "\n" << r.err;
+        EXPECT_TRUE(fs::exists(dir / "out.exr")) << name;
+        if (std::string(name) == "CandleGlass.exr") {
+            EXPECT_NE(r.err.find("have alpha 0 (premultiplied emission)"), std::string::npos) << r.err;
+        }
+        if (std::string(name) == "BrightRingsNanInf.exr") {
+            EXPECT_NE(r.err.find("NaN or infinite"), std::string::npos) << r.err;
+        }
+        fs::remove(dir / "out.exr");
+    }
+}
+
+TEST(CliSimulate, DamagedFilesFailCleanlyAndQuickly) {
+    const fs::path damaged = ff::test::sharedDataDir() / "damaged";
+    if (!fs::exists(damaged)) GTEST_SKIP() << "damaged corpus not found at " << damaged << " (it is not part of the repository)";
+    ff::test::TempDir dir;
+    int files = 0;
+    for (const auto& entry : fs::directory_iterator(damaged)) {
+        if (entry.path().filename() == "LICENSE") continue;
+        ++files;
+        const auto start = std::chrono::steady_clock::now();
+        const auto r = run(simulate(entry.path(), dir / "out.exr"), kEnv);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        EXPECT_EQ(r.code, 2) << entry.path() << "\n" << r.err;
+        EXPECT_LT(seconds, 10.0) << entry.path();
+        EXPECT_NE(r.err.find("fourierflare: error: " + entry.path().string() + ": "), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(dir / "out.exr")) << entry.path();
+        for (const auto& left : fs::directory_iterator(dir.path())) ADD_FAILURE() << "left behind: " << left.path();
+    }
+    EXPECT_EQ(files, 40);
+}
