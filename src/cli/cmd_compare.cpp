@@ -11,7 +11,9 @@
 #include "ff/version.h"
 #include "fourier/render.h"
 #include "image/image_output.h"
+#include "image/light_detection.h"
 #include "image/metrics.h"
+#include "image/plate.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -29,8 +31,10 @@ namespace {
 struct CompareOptions {
     std::string lens;
     std::vector<std::string> lights;
-    std::string lightsFile;
-    std::string size = "1920x1080";
+    std::string lightsFile, plate;
+    std::string threshold = "2";
+    int maxLights = 16;
+    std::string size;
     std::string ns = "16,32,64,128,256";
     std::string output;
     int grid = 64, tableGrid = 32;
@@ -92,11 +96,40 @@ std::string errorPlot(const std::vector<int>& ns, const std::vector<std::pair<st
 }
 
 void runCompare(const CompareOptions& o, const GlobalOptions& g) {
-    if (o.lights.empty() == o.lightsFile.empty()) throw Error(ErrorKind::Usage, "give the lights with --light X,Y[,R,G,B] (repeatable) or --lights FILE");
-    const auto parts = text::split(o.size, 'x');
+    if (int(!o.lights.empty()) + int(!o.lightsFile.empty()) + int(!o.plate.empty()) != 1)
+        throw Error(ErrorKind::Usage, "give the lights with --light X,Y[,R,G,B] (repeatable), --lights FILE or --plate IMAGE");
+    // With a plate, its lights (found as simulate finds them) and, unless --size says otherwise, its size.
+    std::vector<ghosts::Light> plateLights;
+    std::string size = o.size;
+    std::size_t plateLightCount = 0;
+    if (!o.plate.empty()) {
+        image::PlateLimits limits;
+        limits.checker = std::filesystem::read_symlink("/proc/self/exe").string();
+        const image::Plate plate = image::readPlate(o.plate, limits);
+        image::DetectionSettings detection = image::parseThreshold(o.threshold);
+        const image::DetectionReport found = image::detectLights(plate, detection);
+        plateLightCount = found.lights.size();
+        for (const auto& l : found.lights) plateLights.push_back({l.x, l.y, l.flux});
+        // The traced reference costs seconds per light: keep the strongest.
+        std::stable_sort(plateLights.begin(), plateLights.end(), [](const ghosts::Light& a, const ghosts::Light& b) {
+            return image::luminance(a.flux[0], a.flux[1], a.flux[2]) > image::luminance(b.flux[0], b.flux[1], b.flux[2]);
+        });
+        if (plateLights.size() > static_cast<std::size_t>(o.maxLights)) plateLights.resize(static_cast<std::size_t>(o.maxLights));
+        if (plateLights.empty()) throw Error(ErrorKind::Input, SourceLocation{o.plate}, "no light above the threshold (luminance " + text::fixed(found.threshold, 3) + ") to compare");
+        if (size.empty()) size = std::to_string(plate.displayWidth) + "x" + std::to_string(plate.displayHeight);
+        else {
+            // Positions scale with the frame; fluxes do not.
+            const auto sp = text::split(size, 'x');
+            const auto sw = sp.size() == 2 ? text::parseNumber(sp[0]) : std::nullopt;
+            if (sw && *sw > 0)
+                for (auto& l : plateLights) l.xPx *= *sw / plate.displayWidth, l.yPx *= *sw / plate.displayWidth;
+        }
+    }
+    if (size.empty()) size = "1920x1080";
+    const auto parts = text::split(size, 'x');
     const auto w = parts.size() == 2 ? text::parseNumber(parts[0]) : std::nullopt, h = parts.size() == 2 ? text::parseNumber(parts[1]) : std::nullopt;
     if (!w || !h || *w < 8 || *h < 8 || *w > 8192 || *h > 8192 || *w != std::floor(*w) || *h != std::floor(*h))
-        throw Error(ErrorKind::Usage, "--size must be whole pixels between 8 and 8192, got " + text::quoted(o.size));
+        throw Error(ErrorKind::Usage, "--size must be whole pixels between 8 and 8192, got " + text::quoted(size));
     const int W = static_cast<int>(*w), H = static_cast<int>(*h);
     std::vector<int> ns;
     for (auto p : text::split(o.ns, ',')) {
@@ -121,7 +154,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
         if (!sw || !sh || !(*sw > 0) || !(*sh > 0)) throw Error(ErrorKind::Usage, "expected --sensor-size WIDTHxHEIGHT in mm, got " + text::quoted(o.sensorSize));
         sensorMm = {*sw, *sh};
     }
-    std::vector<ghosts::Light> lights = o.lightsFile.empty() ? std::vector<ghosts::Light>{} : readLightsJson(o.lightsFile);
+    std::vector<ghosts::Light> lights = o.lightsFile.empty() ? plateLights : readLightsJson(o.lightsFile);
     for (const std::string& l : o.lights) lights.push_back(parseLight(l));
     const image::Metadata meta = {{"Software", std::string("fourierflare ") + kVersion}, {"fourierflare:commandLine", g.commandLine},
                                   {"fourierflare:lens", lens.file}, {"fourierflare:lensHash", lens.contentHash}};
@@ -168,6 +201,9 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     md += "Lens `" + lens.file + "`, frame " + std::to_string(W) + " x " + std::to_string(H) + " px over " + text::fixed(sensorMm.first, 1) + " x " +
           text::fixed(sensorMm.second, 1) + " mm, " + std::to_string(lights.size()) + " light(s). Images are flux per pixel relative to each light's "
           "direct image; previews share one exposure (" + text::fixed(exposure, 2) + " EV, from the traced image).\n\n";
+    if (!o.plate.empty())
+        md += "Lights: the " + std::to_string(lights.size()) + " strongest of the " + std::to_string(plateLightCount) + " found in `" + o.plate +
+              "` (threshold " + o.threshold + ").\n\n";
     md += "- **traced**: every ghost ray-traced (" + std::to_string(o.grid) + "² rays per ghost, 450/550/650 nm) and rasterised — the reference.\n";
     md += "- **fitted**: the ghost table's profiles (per ghost, field angle and wavelength), axis-aligned, drawn directly over every pixel (no truncation).\n";
     md += "- **fourier**: the same profiles aggregated through the separable Fourier series (budget " + text::roundTrip(base.error) + ", hybrid).\n\n";
@@ -285,7 +321,10 @@ void addCompareCommand(CLI::App& app, GlobalOptions& global) {
     cmd->add_option("lens", o->lens, "Lens file (.lens, .zmx or .dat)")->required()->check(CLI::ExistingFile);
     cmd->add_option("--light", o->lights, "A light at X,Y pixels, optionally with its RGB flux: X,Y[,R,G,B] (repeatable)");
     cmd->add_option("--lights", o->lightsFile, "Lights from a JSON file")->check(CLI::ExistingFile);
-    cmd->add_option("--size", o->size, "Frame size in pixels, WIDTHxHEIGHT; the frame spans the sensor width");
+    cmd->add_option("--plate", o->plate, "Lights found in a plate as simulate finds them (the strongest --max-lights)");
+    cmd->add_option("--threshold", o->threshold, "With --plate: the light threshold (as for simulate)");
+    cmd->add_option("--max-lights", o->maxLights, "With --plate: compare the strongest N lights (tracing costs seconds per light)")->check(CLI::Range(1, 4096));
+    cmd->add_option("--size", o->size, "Frame size in pixels, WIDTHxHEIGHT (default: the plate's, else 1920x1080); the frame spans the sensor width");
     cmd->add_option("--n", o->ns, "Numbers of terms for the error-against-N table, comma-separated");
     cmd->add_option("-o,--output", o->output, "Report folder (created if missing)")->required();
     cmd->add_option("--grid", o->grid, "Rays per side of each ghost's pupil grid for the traced reference")->check(CLI::Range(4, 1024));

@@ -1,0 +1,112 @@
+// `simulate` per frame at 1920 x 1080 with 3 and with 300 lights (the double Gauss, the main job's
+// lens): the stages as the command runs them — read the plate, find the lights, instance the ghosts
+// from the table, aggregate (Fourier, hybrid), write the EXR. Baseline: the 3-light frame with the
+// table cached. "Uncached" adds building the ghost table (run once: it takes minutes).
+
+#include "cli/flare_scene.h"
+#include "fourier/render.h"
+#include "ghosts/ghost_table.h"
+#include "ghosts/instancing.h"
+#include "image/light_detection.h"
+#include "image/plate.h"
+#include "optics/lens_loader.h"
+
+#include <OpenImageIO/imageio.h>
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <random>
+
+namespace {
+
+using namespace ff;
+constexpr int kW = 1920, kH = 1080;
+
+std::string plateWith(int lights) {
+    const auto path = std::filesystem::temp_directory_path() / ("ff-bench-plate-" + std::to_string(lights) + ".exr");
+    if (std::filesystem::exists(path)) return path.string();
+    std::vector<float> px(static_cast<std::size_t>(kW) * kH * 3, 0.05f);
+    std::mt19937 rng(7);
+    std::uniform_int_distribution<int> x(10, kW - 12), y(10, kH - 12);
+    for (int l = 0; l < lights; ++l) {
+        const int cx = x(rng), cy = y(rng);
+        for (int dy = 0; dy < 3; ++dy)
+            for (int dx = 0; dx < 3; ++dx)
+                for (int c = 0; c < 3; ++c) px[(static_cast<std::size_t>(cy + dy) * kW + cx + dx) * 3 + c] = 500.0f;
+    }
+    OIIO::ImageSpec spec(kW, kH, 3, OIIO::TypeDesc::HALF);
+    spec.attribute("compression", "zip");
+    auto out = OIIO::ImageOutput::create(path.string());
+    out->open(path.string(), spec);
+    out->write_image(OIIO::TypeDesc::FLOAT, px.data());
+    out->close();
+    return path.string();
+}
+
+const optics::Lens& lens() {
+    static const optics::Lens l = optics::loadLens(std::string(FF_SOURCE_DIR) + "/lenses/double-gauss-50mm-f2.lens");
+    return l;
+}
+
+const ghosts::GhostTable& cachedTable() {
+    static const ghosts::GhostTable t = ghosts::buildGhostTable(lens(), ghosts::TableSettings{});
+    return t;
+}
+
+void frame(benchmark::State& state, const ghosts::GhostTable& table, const std::string& platePath) {
+    using Clock = std::chrono::steady_clock;
+    double read = 0, detect = 0, flare = 0, write = 0;
+    const auto out = std::filesystem::temp_directory_path() / "ff-bench-out.exr";
+    std::size_t ghostCount = 0;
+    auto lap = [](Clock::time_point& t) {
+        const auto now = Clock::now();
+        const double s = std::chrono::duration<double>(now - t).count();
+        t = now;
+        return s;
+    };
+    for (auto _ : state) {
+        auto t = Clock::now();
+        const image::Plate plate = image::readPlate(platePath);
+        read += lap(t);
+        const image::DetectionReport found = image::detectLights(plate, {});
+        std::vector<ghosts::Light> lights;
+        for (const auto& l : found.lights) lights.push_back({l.x, l.y, l.flux});
+        detect += lap(t);
+        const auto ghosts = cli::fourierGhosts(ghosts::instantiate(table, lights, {kW, kH, 36.0}));
+        const fourier::FourierRender r = fourier::renderFourier(ghosts, kW, kH, {});
+        ghostCount = ghosts.size();
+        flare += lap(t);
+        image::writeSimulatedExr(out.string(), plate, r.image.interleaved(), {});
+        write += lap(t);
+    }
+    const double n = double(state.iterations());
+    state.counters["read_ms"] = 1e3 * read / n;
+    state.counters["detect_ms"] = 1e3 * detect / n;
+    state.counters["flare_ms"] = 1e3 * flare / n;
+    state.counters["write_ms"] = 1e3 * write / n;
+    state.counters["ghosts"] = double(ghostCount);
+}
+
+void BM_SimulateCached(benchmark::State& state) {
+    const ghosts::GhostTable& table = cachedTable();
+    frame(state, table, plateWith(static_cast<int>(state.range(0))));
+}
+BENCHMARK(BM_SimulateCached)->Arg(3)->Arg(300)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_SimulateUncached(benchmark::State& state) {
+    double build = 0.0;
+    for (auto _ : state) {
+        const auto t = std::chrono::steady_clock::now();
+        const ghosts::GhostTable table = ghosts::buildGhostTable(lens(), ghosts::TableSettings{});
+        build += std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+        benchmark::DoNotOptimize(table.ghosts.data());
+    }
+    state.counters["table_s"] = build / double(state.iterations());
+}
+BENCHMARK(BM_SimulateUncached)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+
+} // namespace
+
+BENCHMARK_MAIN();
