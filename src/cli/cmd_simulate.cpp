@@ -25,6 +25,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <unistd.h>
 #include <numbers>
 
 namespace ff::cli {
@@ -235,7 +236,10 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& g) {
                             o.lightsOut.empty() ? "" : frameName(o.lightsOut, f, "--lights-out"), f});
     }
     Simulation sim(o, g);
-    for (const FrameJob& job : jobs) {
+    const bool bar = jobs.size() > 1 && !g.quiet && isatty(STDERR_FILENO);
+    for (std::size_t i = 0; i < jobs.size(); ++i) {
+        const FrameJob& job = jobs[i];
+        if (bar) std::fprintf(stderr, "fourierflare: frame %d (%zu of %zu)\n", job.frame, i + 1, jobs.size());
         if (!std::filesystem::exists(job.plate)) throw Error(ErrorKind::Input, SourceLocation{job.plate}, "no such plate");
         sim.run(job);
     }
