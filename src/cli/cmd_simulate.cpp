@@ -13,6 +13,8 @@
 #include "ff/version.h"
 #include "fourier/render.h"
 #include "ghosts/instancing.h"
+#include "gpu/gl_context.h"
+#include "gpu/gl_evaluator.h"
 #include "image/light_detection.h"
 #include "image/plate.h"
 #include "optics/paraxial.h"
@@ -84,12 +86,28 @@ struct FrameJob {
 class Simulation {
 public:
     Simulation(const SimulateOptions& o, const GlobalOptions& g) : o_(o), g_(g), reporter_(g) {
-        if (o.backend == "gl") throw Error(ErrorKind::Runtime, "the GL backend is not available in this build (use --backend cpu or auto)");
         if (o.gain < 0.0 || !std::isfinite(o.gain)) throw Error(ErrorKind::Usage, "--flare-gain must be a finite number >= 0");
         if (!o.sensor.empty() && o.fov > 0.0) throw Error(ErrorKind::Usage, "give either --sensor WxH or --fov DEG, not both");
         detection_ = image::parseThreshold(o.threshold);
         detection_.blockSize = o.block;
         fourier_ = o.fourier.settings();
+        // The GL backend: required with gl, taken with auto when a hardware device exists.
+        if (o.backend != "cpu") {
+            std::string why;
+            context_ = gpu::GlContext::create(why);
+            if (!context_ && o.backend == "gl") throw Error(ErrorKind::Runtime, "--backend gl: no OpenGL 4.5 context: " + why);
+            if (context_ && o.backend == "auto" && !context_->hardware()) {
+                note("--backend auto: no GPU (" + context_->renderer() + "), using the CPU");
+                context_.reset();
+            } else if (!context_) {
+                note("--backend auto: no OpenGL context (" + why + "), using the CPU");
+            }
+            if (context_) {
+                evaluator_ = std::make_unique<gpu::GlEvaluator>(*context_);
+                if (g.verbose) note("GL backend on " + context_->renderer());
+                fourier_.evaluator = [this](const fourier::Coefficients& z, fourier::FlareImage& image) { evaluator_->evaluate(z, image); };
+            }
+        }
         lens_ = loadTraceableLens(o.lens, o.zoom, reporter_);
         for (const std::string& l : o.lights) manualLights_.push_back(parseLight(l));
         if (!o.lightsFile.empty()) {
@@ -167,6 +185,7 @@ public:
                                 {"fourierflare:flareGain", text::roundTrip(o_.gain)},
                                 {"fourierflare:profile", o_.profile},
                                 {"fourierflare:fourier", flare.describe()},
+                                {"fourierflare:backend", context_ ? "gl: " + context_->renderer() : std::string("cpu")},
                                 {"fourierflare:table", table_->settingsKey},
                                 {"fourierflare:channels", "input channels unchanged; flare.R/G/B = the flare alone; composite.R/G/B = plate + flare"}};
         image::writeSimulatedExr(job.output, plate, flareRgb, meta);
@@ -216,6 +235,8 @@ private:
     std::vector<ghosts::Light> manualLights_;
     double sensorWidthMm_ = 36.0;
     std::unique_ptr<ghosts::GhostTable> table_;
+    std::unique_ptr<gpu::GlContext> context_;
+    std::unique_ptr<gpu::GlEvaluator> evaluator_;
     std::string checker_ = std::filesystem::read_symlink("/proc/self/exe").string(); // this program, for `plate-check`
 };
 
@@ -277,7 +298,7 @@ void addSimulateCommand(CLI::App& app, GlobalOptions& global) {
     cmd->add_option("-o,--output", o->output, "EXR to write: the plate's channels unchanged + flare.R/G/B + composite.R/G/B")->required();
     cmd->add_option("--preview", o->preview, "Also write the composite as a tonemapped PNG");
     cmd->add_option("--preview-flare", o->previewFlare, "Also write the flare alone as a PNG (automatic exposure)");
-    cmd->add_option("--backend", o->backend, "Aggregation backend: cpu, gl or auto (gl when available, else cpu)")->check(CLI::IsMember({"cpu", "gl", "auto"}));
+    cmd->add_option("--backend", o->backend, "Fourier evaluation: cpu, gl (OpenGL 4.5 compute through EGL; llvmpipe without a GPU) or auto (gl on a GPU, else cpu)")->check(CLI::IsMember({"cpu", "gl", "auto"}));
     cmd->add_option("--sensor", o->sensor, "Sensor size in mm, WIDTHxHEIGHT; the plate spans its width (default: the lens file's, else 36x24)");
     cmd->add_option("--fov", o->fov, "Horizontal field of view in degrees instead of --sensor (sensor width = 2 EFL tan(fov/2))")->check(CLI::Range(0.1, 170.0));
     cmd->add_option("--threshold", o->threshold, "Light threshold on luminance: VALUE (absolute), max:FRACTION (of the plate's maximum) or p:PERCENTILE");

@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     app.option_defaults()->always_capture_default();
     app.footer("Exit codes: 0 ok, 1 runtime failure, 2 usage or input error.\n"
-               "Example: fourierflare lens info lenses/double-gauss-50mm-f2.lens");
+               "Example: fourierflare simulate --lens lenses/double-gauss-50mm-f2.lens --plate data/night-street.exr -o out/night-street.exr --preview out/night-street.png");
     GlobalOptions global;
     for (int i = 0; i < argc; ++i) global.commandLine += (i ? " " : "") + std::string(argv[i]);
     app.add_flag("-q,--quiet", global.quiet, "Do not print notes (warnings and errors are always printed)");

@@ -18,27 +18,9 @@ namespace {
 
 double sinc(double u) { return u == 0.0 ? 1.0 : std::sin(u) / u; }
 
-// [kappa_n c_n(i + 0.5) sinc_n; kappa_n s_n(i + 0.5) sinc_n] for n < terms, i < pixels: 2 terms x pixels.
-std::vector<float> basis(int terms, int pixels, double period) {
-    std::vector<float> b(static_cast<std::size_t>(2) * terms * pixels);
-    const double w = 2.0 * std::numbers::pi / period;
-    for (int n = 0; n < terms; ++n) {
-        const double k = (n == 0 ? 1.0 : 2.0) * sinc(0.5 * n * w);
-        float* c = &b[static_cast<std::size_t>(n) * pixels];
-        float* s = &b[static_cast<std::size_t>(terms + n) * pixels];
-        for (int i = 0; i < pixels; ++i) {
-            // The phase reduced modulo 2 pi in float64 before the float32 store.
-            const double phase = std::fmod(n * w * (i + 0.5), 2.0 * std::numbers::pi);
-            c[i] = static_cast<float>(k * std::cos(phase));
-            s[i] = static_cast<float>(k * std::sin(phase));
-        }
-    }
-    return b;
-}
-
 void evaluateMatrix(const Coefficients& z, FlareImage& image) {
     const int n = z.n, m = z.m, W = image.width, H = image.height;
-    const std::vector<float> X = basis(n, W, z.periodX), Y = basis(m, H, z.periodY);
+    const std::vector<float> X = seriesBasis(n, W, z.periodX), Y = seriesBasis(m, H, z.periodY);
     std::vector<float> Z(static_cast<std::size_t>(4) * n * m), T(static_cast<std::size_t>(2) * n * H);
     for (int c = 0; c < 3; ++c) {
         for (std::size_t i = 0; i < Z.size(); ++i) Z[i] = static_cast<float>(z.z[c][i]);
@@ -123,6 +105,23 @@ void evaluateFft(const Coefficients& z, FlareImage& image) {
 }
 
 } // namespace
+
+std::vector<float> seriesBasis(int terms, int pixels, double period) {
+    std::vector<float> b(static_cast<std::size_t>(2) * terms * pixels);
+    const double w = 2.0 * std::numbers::pi / period;
+    for (int n = 0; n < terms; ++n) {
+        const double k = (n == 0 ? 1.0 : 2.0) * sinc(0.5 * n * w);
+        float* c = &b[static_cast<std::size_t>(n) * pixels];
+        float* s = &b[static_cast<std::size_t>(terms + n) * pixels];
+        for (int i = 0; i < pixels; ++i) {
+            // The phase reduced modulo 2 pi in float64 before the float32 store.
+            const double phase = std::fmod(n * w * (i + 0.5), 2.0 * std::numbers::pi);
+            c[i] = static_cast<float>(k * std::cos(phase));
+            s[i] = static_cast<float>(k * std::sin(phase));
+        }
+    }
+    return b;
+}
 
 void evaluate(const Coefficients& z, Evaluation method, FlareImage& image) {
     for (auto& ch : image.channel) std::fill(ch.begin(), ch.end(), 0.0f);

@@ -12,6 +12,10 @@
 
 namespace ff::fourier {
 
+/// The basis of one axis, 2 terms x pixels, row-major: rows n < terms hold
+/// kappa_n sinc(n w / 2) cos(n w (i + 1/2)), rows terms + n the same with sin (w = 2 pi / period).
+std::vector<float> seriesBasis(int terms, int pixels, double period);
+
 /// Writes (overwrites) the series into image (its size is the frame's). Evaluation::Auto = Matrix.
 void evaluate(const Coefficients& z, Evaluation method, FlareImage& image);
 

@@ -13,6 +13,7 @@
 
 #include "fourier/ghost.h"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,8 @@ struct FourierSettings {
     bool dropDc = false;        ///< zero the A_00 term (removes the mean: off by default, see docs)
     Evaluation evaluation = Evaluation::Auto;
     Basis basis = Basis::Separable;
+    /// Evaluates coefficients into an image instead of the CPU (a GPU backend); empty = CPU.
+    std::function<void(const struct Coefficients&, FlareImage&)> evaluator;
 };
 
 /// Wide: would wrap into the frame on this level's period; renderFourier gives these ghosts a coarse

@@ -30,7 +30,8 @@ void renderLevel(const std::vector<Ghost>& ghosts, const Plan& plan, const Fouri
     const Coefficients z = accumulate(ghosts, plan, settings);
     seconds.accumulate += since(t);
     FlareImage level(image.width, image.height);
-    evaluate(z, plan.evaluation, level);
+    if (settings.evaluator) settings.evaluator(z, level);
+    else evaluate(z, plan.evaluation, level);
     for (int c = 0; c < 3; ++c)
         for (std::size_t p = 0; p < image.pixels(); ++p) image.channel[c][p] += level.channel[c][p];
     seconds.evaluate += since(t);

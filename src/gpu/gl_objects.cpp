@@ -1,0 +1,66 @@
+#include "gpu/gl_objects.h"
+
+#include "core/error.h"
+
+#include <vector>
+
+namespace ff::gpu {
+
+void checkGl(const char* what) {
+    const GLenum e = glGetError();
+    if (e != GL_NO_ERROR) throwRuntimeError(std::string("OpenGL error 0x") + [e] {
+        char buf[16];
+        std::snprintf(buf, sizeof buf, "%04x", e);
+        return std::string(buf);
+    }() + " in " + what);
+}
+
+Buffer::Buffer() { glCreateBuffers(1, &id_); }
+Buffer::~Buffer() { glDeleteBuffers(1, &id_); }
+
+void Buffer::upload(const void* data, std::size_t bytes) {
+    glNamedBufferData(id_, static_cast<GLsizeiptr>(bytes), data, GL_DYNAMIC_DRAW);
+    checkGl("a buffer upload");
+}
+
+void Buffer::download(void* data, std::size_t bytes) const {
+    glGetNamedBufferSubData(id_, 0, static_cast<GLsizeiptr>(bytes), data);
+    checkGl("a buffer download");
+}
+
+ComputeProgram::ComputeProgram(std::string_view name, std::string_view source, int localSize) : localSize_(localSize) {
+    // The #version line stays first; LOCAL_SIZE goes right after it.
+    std::string text(source);
+    const std::size_t eol = text.find('\n');
+    text.insert(eol == std::string::npos ? text.size() : eol + 1, "#define LOCAL_SIZE " + std::to_string(localSize) + "\n");
+    const GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
+    const char* src = text.c_str();
+    glShaderSource(shader, 1, &src, nullptr);
+    glCompileShader(shader);
+    GLint ok = 0;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    auto log = [](GLuint obj, bool program) {
+        GLint length = 0;
+        program ? glGetProgramiv(obj, GL_INFO_LOG_LENGTH, &length) : glGetShaderiv(obj, GL_INFO_LOG_LENGTH, &length);
+        std::vector<char> buf(static_cast<std::size_t>(length > 0 ? length : 1), '\0');
+        program ? glGetProgramInfoLog(obj, length, nullptr, buf.data()) : glGetShaderInfoLog(obj, length, nullptr, buf.data());
+        return std::string(buf.data());
+    };
+    if (!ok) {
+        const std::string message = log(shader, false);
+        glDeleteShader(shader);
+        throwRuntimeError("shaders/" + std::string(name) + " does not compile: " + message);
+    }
+    id_ = glCreateProgram();
+    glAttachShader(id_, shader);
+    glLinkProgram(id_);
+    glDeleteShader(shader);
+    glGetProgramiv(id_, GL_LINK_STATUS, &ok);
+    if (!ok) throwRuntimeError("shaders/" + std::string(name) + " does not link: " + log(id_, true));
+}
+
+ComputeProgram::~ComputeProgram() { glDeleteProgram(id_); }
+
+void ComputeProgram::set(const char* uniform, int value) const { glProgramUniform1i(id_, glGetUniformLocation(id_, uniform), value); }
+
+} // namespace ff::gpu

@@ -1,0 +1,47 @@
+#pragma once
+// RAII owners of GL objects and GL error checking. They need the context current.
+
+#include <epoxy/gl.h>
+
+#include <cstddef>
+#include <string>
+#include <string_view>
+
+namespace ff::gpu {
+
+/// Throws ff::Error (Runtime) naming `what` if GL reports an error.
+void checkGl(const char* what);
+
+class Buffer {
+public:
+    Buffer();
+    ~Buffer();
+    Buffer(const Buffer&) = delete;
+    Buffer& operator=(const Buffer&) = delete;
+    GLuint id() const { return id_; }
+    /// (Re)allocates `bytes` and uploads `data` (may be null: uninitialised).
+    void upload(const void* data, std::size_t bytes);
+    void download(void* data, std::size_t bytes) const;
+    void bind(GLuint binding) const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id_); }
+
+private:
+    GLuint id_ = 0;
+};
+
+class ComputeProgram {
+public:
+    /// Compiles `source` (a shader of shaders/, by name for messages) with LOCAL_SIZE defined.
+    ComputeProgram(std::string_view name, std::string_view source, int localSize);
+    ~ComputeProgram();
+    ComputeProgram(const ComputeProgram&) = delete;
+    ComputeProgram& operator=(const ComputeProgram&) = delete;
+    void use() const { glUseProgram(id_); }
+    void set(const char* uniform, int value) const;
+    int localSize() const { return localSize_; }
+
+private:
+    GLuint id_ = 0;
+    int localSize_ = 0;
+};
+
+} // namespace ff::gpu
