@@ -13,6 +13,7 @@
 #include "ff/version.h"
 #include "fourier/render.h"
 #include "ghosts/instancing.h"
+#include "gpu/gl_accumulator.h"
 #include "gpu/gl_context.h"
 #include "gpu/gl_evaluator.h"
 #include "image/light_detection.h"
@@ -104,8 +105,13 @@ public:
             }
             if (context_) {
                 evaluator_ = std::make_unique<gpu::GlEvaluator>(*context_);
+                accumulator_ = std::make_unique<gpu::GlAccumulator>(*context_);
                 if (g.verbose) note("GL backend on " + context_->renderer());
                 fourier_.evaluator = [this](const fourier::Coefficients& z, fourier::FlareImage& image) { evaluator_->evaluate(z, image); };
+                if (fourier_.gaussianForm == fourier::GaussianForm::Periodised)
+                    fourier_.accumulator = [this](const std::vector<fourier::Ghost>& ghosts, const fourier::Plan& plan, const fourier::FourierSettings& s) {
+                        return accumulator_->accumulate(ghosts, plan, s);
+                    };
             }
         }
         lens_ = loadTraceableLens(o.lens, o.zoom, reporter_);
@@ -237,6 +243,7 @@ private:
     std::unique_ptr<ghosts::GhostTable> table_;
     std::unique_ptr<gpu::GlContext> context_;
     std::unique_ptr<gpu::GlEvaluator> evaluator_;
+    std::unique_ptr<gpu::GlAccumulator> accumulator_;
     std::string checker_ = std::filesystem::read_symlink("/proc/self/exe").string(); // this program, for `plate-check`
 };
 

@@ -19,6 +19,9 @@
 
 namespace ff::fourier {
 
+struct Coefficients; // aggregate.h
+struct Plan;
+
 enum class Evaluation { Auto, Matrix, Fft };
 const char* toString(Evaluation e);
 
@@ -41,8 +44,9 @@ struct FourierSettings {
     bool dropDc = false;        ///< zero the A_00 term (removes the mean: off by default, see docs)
     Evaluation evaluation = Evaluation::Auto;
     Basis basis = Basis::Separable;
-    /// Evaluates coefficients into an image instead of the CPU (a GPU backend); empty = CPU.
-    std::function<void(const struct Coefficients&, FlareImage&)> evaluator;
+    /// A GPU backend's accumulation and evaluation in place of the CPU's; empty = CPU.
+    std::function<Coefficients(const std::vector<Ghost>&, const Plan&, const FourierSettings&)> accumulator;
+    std::function<void(const Coefficients&, FlareImage&)> evaluator;
 };
 
 /// Wide: would wrap into the frame on this level's period; renderFourier gives these ghosts a coarse

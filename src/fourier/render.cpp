@@ -27,7 +27,7 @@ namespace {
 // Accumulates and evaluates one level into `image` (adding), then draws its direct ghosts.
 void renderLevel(const std::vector<Ghost>& ghosts, const Plan& plan, const FourierSettings& settings, FlareImage& image, StageSeconds& seconds,
                  std::chrono::steady_clock::time_point& t) {
-    const Coefficients z = accumulate(ghosts, plan, settings);
+    const Coefficients z = settings.accumulator ? settings.accumulator(ghosts, plan, settings) : accumulate(ghosts, plan, settings);
     seconds.accumulate += since(t);
     FlareImage level(image.width, image.height);
     if (settings.evaluator) settings.evaluator(z, level);

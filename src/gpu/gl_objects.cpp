@@ -62,5 +62,6 @@ ComputeProgram::ComputeProgram(std::string_view name, std::string_view source, i
 ComputeProgram::~ComputeProgram() { glDeleteProgram(id_); }
 
 void ComputeProgram::set(const char* uniform, int value) const { glProgramUniform1i(id_, glGetUniformLocation(id_, uniform), value); }
+void ComputeProgram::set(const char* uniform, float value) const { glProgramUniform1f(id_, glGetUniformLocation(id_, uniform), value); }
 
 } // namespace ff::gpu

@@ -18,7 +18,6 @@ public:
     ~Buffer();
     Buffer(const Buffer&) = delete;
     Buffer& operator=(const Buffer&) = delete;
-    GLuint id() const { return id_; }
     /// (Re)allocates `bytes` and uploads `data` (may be null: uninitialised).
     void upload(const void* data, std::size_t bytes);
     void download(void* data, std::size_t bytes) const;
@@ -37,6 +36,7 @@ public:
     ComputeProgram& operator=(const ComputeProgram&) = delete;
     void use() const { glUseProgram(id_); }
     void set(const char* uniform, int value) const;
+    void set(const char* uniform, float value) const;
     int localSize() const { return localSize_; }
 
 private:

@@ -3,6 +3,7 @@
 // saying why, where no context can be made.
 
 #include "fourier/render.h"
+#include "gpu/gl_accumulator.h"
 #include "gpu/gl_context.h"
 #include "gpu/gl_evaluator.h"
 
@@ -76,6 +77,49 @@ TEST(GlEvaluate, EmptyCoefficientsGiveABlackImage) {
     gl.evaluate(z, image);
     for (int c = 0; c < 3; ++c)
         for (float v : image.channel[c]) EXPECT_EQ(v, 0.0f);
+}
+
+} // namespace
+} // namespace ff::gpu
+
+namespace ff::gpu {
+namespace {
+
+// The accumulation shader against the CPU's GEMM accumulation (untrimmed, the same terms), through
+// the coefficients and through the evaluated image.
+TEST(GlAccumulate, MatchesTheCpuAccumulation) {
+    std::string why;
+    const auto context = GlContext::create(why);
+    if (!context) GTEST_SKIP() << "no OpenGL 4.5 context: " << why;
+    GlAccumulator gl(*context);
+    const int W = 160, H = 96;
+    for (auto shape : {fourier::Shape::Gaussian, fourier::Shape::Cos2}) {
+        const auto ghosts = randomGhosts(60, shape, W, H, 5);
+        fourier::FourierSettings s;
+        s.fixedN = 48;
+        s.trimFraction = 0.0;
+        const fourier::Plan plan = fourier::choosePlan(ghosts, W, H, s);
+        ASSERT_GT(plan.fourier, 0u);
+        const fourier::Coefficients cpu = fourier::accumulate(ghosts, plan, s), gpu = gl.accumulate(ghosts, plan, s);
+        double num = 0.0, den = 0.0;
+        for (int c = 0; c < 3; ++c)
+            for (std::size_t i = 0; i < cpu.z[c].size(); ++i) {
+                num += (gpu.z[c][i] - cpu.z[c][i]) * (gpu.z[c][i] - cpu.z[c][i]);
+                den += cpu.z[c][i] * cpu.z[c][i];
+            }
+        // float32 profiles and phases (the phase argument reduced on the host): 1e-5 of the coefficients' norm.
+        EXPECT_LE(std::sqrt(num / den), 1e-5) << fourier::toString(shape);
+        fourier::FlareImage a(W, H), b(W, H);
+        fourier::evaluate(cpu, fourier::Evaluation::Matrix, a);
+        fourier::evaluate(gpu, fourier::Evaluation::Matrix, b);
+        num = den = 0.0;
+        for (int c = 0; c < 3; ++c)
+            for (std::size_t p = 0; p < a.pixels(); ++p) {
+                num += (double(b.channel[c][p]) - a.channel[c][p]) * (double(b.channel[c][p]) - a.channel[c][p]);
+                den += double(a.channel[c][p]) * a.channel[c][p];
+            }
+        EXPECT_LE(std::sqrt(num / den), 1e-5) << fourier::toString(shape);
+    }
 }
 
 } // namespace

@@ -1,0 +1,88 @@
+#include "gpu/gl_accumulator.h"
+
+#include "core/error.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string_view>
+
+namespace ff::gpu {
+
+std::string_view embedded(std::string_view name);
+
+namespace {
+
+// std430 layout of shaders/accumulate.comp's Ghost.
+struct GpuGhost {
+    float u, v, shape, pad;
+    std::array<float, 4> widthX, widthY, peak;
+};
+static_assert(sizeof(GpuGhost) == 64);
+
+// x / period reduced to [0, 1) in double, so the shader's phases stay exact to float rounding.
+float fraction(double x, double period) {
+    const double f = x / period - std::floor(x / period);
+    return static_cast<float>(f >= 1.0 ? 0.0 : f);
+}
+
+} // namespace
+
+GlAccumulator::GlAccumulator(const GlContext& context) {
+    const int local = std::max(1, std::min(256, context.maxWorkGroupInvocations()));
+    program_ = std::make_unique<ComputeProgram>("accumulate.comp", embedded("accumulate.comp"), local);
+}
+
+GlAccumulator::~GlAccumulator() = default;
+
+fourier::Coefficients GlAccumulator::accumulate(const std::vector<fourier::Ghost>& ghosts, const fourier::Plan& plan,
+                                                const fourier::FourierSettings& settings) {
+    if (settings.gaussianForm != fourier::GaussianForm::Periodised)
+        throw Error(ErrorKind::Usage, "the GL accumulation computes periodised Gaussian coefficients only (no erf on the GPU)");
+    fourier::Coefficients co;
+    co.n = plan.n;
+    co.m = plan.m;
+    co.periodX = plan.periodX;
+    co.periodY = plan.periodY;
+    for (auto& z : co.z) z.assign(static_cast<std::size_t>(4) * co.n * co.m, 0.0);
+    if (co.n == 0 || co.m == 0) return co;
+    std::vector<GpuGhost> list;
+    for (std::size_t k = 0; k < ghosts.size(); ++k) {
+        if (plan.route[k] != fourier::Route::Fourier) continue;
+        const fourier::Ghost& g = ghosts[k];
+        GpuGhost q{fraction(g.x, co.periodX), fraction(g.y, co.periodY), g.shape == fourier::Shape::Gaussian ? 0.0f : 1.0f, 0.0f, {}, {}, {}};
+        for (int c = 0; c < 3; ++c) {
+            q.widthX[c] = static_cast<float>(g.widthX[c]);
+            q.widthY[c] = static_cast<float>(g.widthY[c]);
+            q.peak[c] = static_cast<float>(g.peak(c));
+        }
+        list.push_back(q);
+    }
+    if (!list.empty()) {
+        ghosts_.upload(list.data(), list.size() * sizeof(GpuGhost));
+        const std::size_t values = static_cast<std::size_t>(3) * 4 * co.n * co.m;
+        z_.upload(nullptr, values * sizeof(float));
+        program_->use();
+        program_->set("count", static_cast<int>(list.size()));
+        program_->set("N", co.n);
+        program_->set("M", co.m);
+        program_->set("periodX", static_cast<float>(co.periodX));
+        program_->set("periodY", static_cast<float>(co.periodY));
+        ghosts_.bind(0);
+        z_.bind(1);
+        const int invocations = 3 * co.n * co.m;
+        glDispatchCompute(static_cast<GLuint>((invocations + program_->localSize() - 1) / program_->localSize()), 1, 1);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        checkGl("accumulate.comp");
+        std::vector<float> z(values);
+        z_.download(z.data(), values * sizeof(float));
+        const std::size_t per = static_cast<std::size_t>(4) * co.n * co.m;
+        for (int c = 0; c < 3; ++c)
+            for (std::size_t i = 0; i < per; ++i) co.z[c][i] = z[static_cast<std::size_t>(c) * per + i];
+    }
+    if (settings.dropDc)
+        for (int c = 0; c < 3; ++c) co.at(c, 0, 0) = 0.0;
+    return co;
+}
+
+} // namespace ff::gpu
