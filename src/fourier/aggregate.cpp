@@ -63,13 +63,18 @@ void phases(double x, double w, int count, double* c, double* s) {
 
 } // namespace
 
-Coefficients accumulate(const std::vector<Ghost>& ghosts, const Plan& plan, const FourierSettings& settings) {
+Coefficients Coefficients::zeros(const Plan& plan) {
     Coefficients co;
     co.n = plan.n;
     co.m = plan.m;
     co.periodX = plan.periodX;
     co.periodY = plan.periodY;
     for (auto& z : co.z) z.assign(static_cast<std::size_t>(4) * co.n * co.m, 0.0);
+    return co;
+}
+
+Coefficients accumulate(const std::vector<Ghost>& ghosts, const Plan& plan, const FourierSettings& settings) {
+    Coefficients co = Coefficients::zeros(plan);
     if (co.n == 0 || co.m == 0) return co;
 
     // Groups of ghosts with the same bands, in ghost order (deterministic).

@@ -22,6 +22,9 @@ struct Coefficients {
     double periodX = 0.0, periodY = 0.0;
     std::array<std::vector<double>, 3> z; ///< per channel, 2n x 2m row-major: [[A, B], [C, D]]
 
+    /// All-zero coefficients of the plan's size and periods.
+    static Coefficients zeros(const Plan& plan);
+
     double& at(int c, int row, int col) { return z[c][static_cast<std::size_t>(row) * 2 * m + col]; }
     double at(int c, int row, int col) const { return z[c][static_cast<std::size_t>(row) * 2 * m + col]; }
 };

@@ -39,12 +39,7 @@ fourier::Coefficients GlAccumulator::accumulate(const std::vector<fourier::Ghost
                                                 const fourier::FourierSettings& settings) {
     if (settings.gaussianForm != fourier::GaussianForm::Periodised)
         throw Error(ErrorKind::Usage, "the GL accumulation computes periodised Gaussian coefficients only (no erf on the GPU)");
-    fourier::Coefficients co;
-    co.n = plan.n;
-    co.m = plan.m;
-    co.periodX = plan.periodX;
-    co.periodY = plan.periodY;
-    for (auto& z : co.z) z.assign(static_cast<std::size_t>(4) * co.n * co.m, 0.0);
+    fourier::Coefficients co = fourier::Coefficients::zeros(plan);
     if (co.n == 0 || co.m == 0) return co;
     std::vector<GpuGhost> list;
     for (std::size_t k = 0; k < ghosts.size(); ++k) {
