@@ -35,7 +35,7 @@ struct FourierSettings {
     int fixedM = 0;             ///< > 0: use this M (y terms); else N scaled by Ty / Tx
     double fixedPeriodX = 0.0, fixedPeriodY = 0.0; ///< > 0: use these periods (pixels)
     bool hybrid = true;         ///< draw ghosts that need more terms directly; false: all go through Fourier
-                                ///< except those that would wrap into the frame (always direct)
+                                ///< (ghosts that would wrap into the frame still go to the coarse level)
     /// Accumulate each ghost only over the terms it needs for this fraction of the budget (0: all N x M).
     double trimFraction = 0.25;
     /// Largest period, as a multiple of the frame's larger side; ghosts needing more are Wide.
