@@ -267,8 +267,8 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
         p["seconds"] = {{"fitted", fittedSeconds}, {"fourier", four.seconds.total()}, {"accumulate", four.seconds.accumulate},
                         {"evaluate", four.seconds.evaluate}, {"direct", four.seconds.direct}};
         p["differenceScales"] = scales;
-        // Error against N: every ghost through Fourier with all N terms (no hybrid, no trimming)
-        // except those that would wrap into the frame, the automatic period: the truncation error.
+        // Error against N: every ghost through Fourier with all N terms (no hybrid, no trimming; those
+        // that would wrap into the frame on the coarse level), the automatic period: the truncation error.
         std::vector<double> errFit, errTraced;
         for (int n : ns) {
             fourier::FourierSettings s = base;
