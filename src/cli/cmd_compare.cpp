@@ -289,7 +289,8 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     }
     md += "\nPSNR uses the reference's peak. Flux ratio = total flux of the image / total flux of the reference.\n\n";
     md += "## Error against the number of terms\n\nEvery ghost through Fourier with N terms along x (M in proportion to the periods), no hybrid "
-          "split and no per-ghost trimming; relative L2 against the fitted (truncation alone) and the traced image.\n\n| N |";
+          "split and no per-ghost trimming (ghosts whose copies would reach the frame on a period of twice its size go to a coarse level "
+          "with its own period and terms, the same in every row); relative L2 against the fitted (truncation alone) and the traced image.\n\n| N |";
     for (const auto& s : vsFitted) md += " " + s.first + " |";
     for (const auto& s : vsTraced) md += " " + s.first + " |";
     md += "\n|---|";
