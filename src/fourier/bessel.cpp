@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/text.h"
 #include "fourier/direct.h"
+#include "fourier/fftw_planner.h"
 
 #include <fftw3.h>
 #include <tbb/parallel_for.h>
@@ -61,11 +62,6 @@ void catmullRom(double t, double w[4]) {
     w[1] = 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0);
     w[2] = 0.5 * (-3.0 * t3 + 4.0 * t2 + t);
     w[3] = 0.5 * (t3 - t2);
-}
-
-std::mutex& plannerMutex() {
-    static std::mutex m;
-    return m;
 }
 
 } // namespace
@@ -185,7 +181,7 @@ FourierRender renderBessel(const std::vector<Ghost>& ghosts, int W, int H, const
         std::vector<fftwf_complex> probeIn(static_cast<std::size_t>(half));
         std::vector<float> probeOut(static_cast<std::size_t>(angles));
         {
-            std::lock_guard<std::mutex> lock(plannerMutex());
+            std::lock_guard<std::mutex> lock(fftwPlannerMutex());
             plan = fftwf_plan_dft_c2r_1d(angles, probeIn.data(), probeOut.data(), FFTW_ESTIMATE | FFTW_UNALIGNED);
         }
         std::array<std::vector<float>, 3> rings3;
@@ -219,7 +215,7 @@ FourierRender renderBessel(const std::vector<Ghost>& ghosts, int W, int H, const
             }
         });
         {
-            std::lock_guard<std::mutex> lock(plannerMutex());
+            std::lock_guard<std::mutex> lock(fftwPlannerMutex());
             fftwf_destroy_plan(plan);
         }
         // Pixels from the polar grid (bicubic, periodic in theta).

@@ -1,6 +1,7 @@
 #include "fourier/evaluate.h"
 
 #include "core/error.h"
+#include "fourier/fftw_planner.h"
 
 #include <cblas.h>
 #include <fftw3.h>
@@ -30,12 +31,6 @@ void evaluateMatrix(const Coefficients& z, FlareImage& image) {
     }
 }
 
-// FFTW's planner is not thread-safe; execution of an existing plan on new arrays is.
-std::mutex& plannerMutex() {
-    static std::mutex m;
-    return m;
-}
-
 struct FftwFree {
     void operator()(void* p) const { fftwf_free(p); }
 };
@@ -57,7 +52,7 @@ void evaluateFft(const Coefficients& z, FlareImage& image) {
     }
     fftwf_plan plan;
     {
-        std::lock_guard<std::mutex> lock(plannerMutex());
+        std::lock_guard<std::mutex> lock(fftwPlannerMutex());
         plan = fftwf_plan_dft_c2r_2d(py, px, in[0].get(), out[0].get(), FFTW_ESTIMATE);
     }
     if (!plan) throw Error(ErrorKind::Runtime, "FFTW could not plan the evaluation");
@@ -100,7 +95,7 @@ void evaluateFft(const Coefficients& z, FlareImage& image) {
         for (int y = 0; y < image.height; ++y)
             std::copy_n(out[c].get() + static_cast<std::size_t>(y) * px, image.width, image.channel[c].data() + static_cast<std::size_t>(y) * image.width);
     });
-    std::lock_guard<std::mutex> lock(plannerMutex());
+    std::lock_guard<std::mutex> lock(fftwPlannerMutex());
     fftwf_destroy_plan(plan);
 }
 
