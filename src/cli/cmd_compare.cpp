@@ -5,6 +5,7 @@
 #include "cli/commands.h"
 #include "cli/flare_scene.h"
 #include "cli/fourier_choices.h"
+#include "cli/option_parsing.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/text.h"
@@ -118,19 +119,13 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
         if (plateLights.empty()) throw Error(ErrorKind::Input, SourceLocation{o.plate}, "no light above the threshold (luminance " + text::fixed(found.threshold, 3) + ") to compare");
         if (size.empty()) size = std::to_string(plate.displayWidth) + "x" + std::to_string(plate.displayHeight);
         else {
-            // Positions scale with the frame; fluxes do not.
-            const auto sp = text::split(size, 'x');
-            const auto sw = sp.size() == 2 ? text::parseNumber(sp[0]) : std::nullopt;
-            if (sw && *sw > 0)
-                for (auto& l : plateLights) l.xPx *= *sw / plate.displayWidth, l.yPx *= *sw / plate.displayWidth;
+            // Positions scale with the frame (the frame spans the sensor width); fluxes do not.
+            const double scale = double(parseFrameSize(size, "--size", 8, 8192).first) / plate.displayWidth;
+            for (auto& l : plateLights) l.xPx *= scale, l.yPx *= scale;
         }
     }
     if (size.empty()) size = "1920x1080";
-    const auto parts = text::split(size, 'x');
-    const auto w = parts.size() == 2 ? text::parseNumber(parts[0]) : std::nullopt, h = parts.size() == 2 ? text::parseNumber(parts[1]) : std::nullopt;
-    if (!w || !h || *w < 8 || *h < 8 || *w > 8192 || *h > 8192 || *w != std::floor(*w) || *h != std::floor(*h))
-        throw Error(ErrorKind::Usage, "--size must be whole pixels between 8 and 8192, got " + text::quoted(size));
-    const int W = static_cast<int>(*w), H = static_cast<int>(*h);
+    const auto [W, H] = parseFrameSize(size, "--size", 8, 8192);
     std::vector<int> ns;
     for (auto p : text::split(o.ns, ',')) {
         const auto v = text::parseNumber(p);
@@ -148,12 +143,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     ConsoleReporter reporter(g);
     const optics::Lens lens = loadTraceableLens(o.lens, o.zoom, reporter);
     std::pair<double, double> sensorMm = lens.sensorMm.value_or(std::make_pair(36.0, 24.0));
-    if (!o.sensorSize.empty()) {
-        const auto sp = text::split(o.sensorSize, 'x');
-        const auto sw = sp.size() == 2 ? text::parseNumber(sp[0]) : std::nullopt, sh = sp.size() == 2 ? text::parseNumber(sp[1]) : std::nullopt;
-        if (!sw || !sh || !(*sw > 0) || !(*sh > 0)) throw Error(ErrorKind::Usage, "expected --sensor-size WIDTHxHEIGHT in mm, got " + text::quoted(o.sensorSize));
-        sensorMm = {*sw, *sh};
-    }
+    if (!o.sensorSize.empty()) sensorMm = parseSensorSize(o.sensorSize, "--sensor-size");
     std::vector<ghosts::Light> lights = o.lightsFile.empty() ? plateLights : readLightsJson(o.lightsFile);
     for (const std::string& l : o.lights) lights.push_back(parseLight(l));
     const image::Metadata meta = {{"Software", std::string("fourierflare ") + kVersion}, {"fourierflare:commandLine", g.commandLine},

@@ -3,6 +3,7 @@
 #include "cli/commands.h"
 #include "cli/flare_scene.h"
 #include "cli/fourier_choices.h"
+#include "cli/option_parsing.h"
 #include "cli/trace_choices.h"
 #include "core/error.h"
 #include "core/file_io.h"
@@ -44,13 +45,6 @@ struct RenderOptions {
     FourierOptions fourier;
 };
 
-std::pair<double, double> parsePair(const std::string& s, char sep, const char* what) {
-    const auto parts = text::split(s, sep);
-    if (parts.size() != 2 || !text::parseNumber(parts[0]) || !text::parseNumber(parts[1]))
-        throw Error(ErrorKind::Usage, std::string("expected ") + what + ", got " + text::quoted(s));
-    return {*text::parseNumber(parts[0]), *text::parseNumber(parts[1])};
-}
-
 // --verbose: the aggregator's choices and where the time went.
 void printPlan(const fourier::FourierRender& r) {
     const fourier::Plan& p = r.plan;
@@ -79,10 +73,7 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
     if (!o.angle.empty() && o.mode != "traced") throw Error(ErrorKind::Usage, "--angle works with --mode traced; give the light's position with --light X,Y");
     if (explicitGhosts && o.mode == "traced") throw Error(ErrorKind::Usage, "--ghosts needs --mode fitted or fourier (a ghost list has nothing to trace)");
     if (!explicitGhosts && o.lens.empty()) throw Error(ErrorKind::Usage, "a lens file is required (unless --ghosts gives the ghosts)");
-    const auto [w, h] = parsePair(o.size, 'x', "--size WIDTHxHEIGHT in pixels (e.g. 1280x720)");
-    if (w < 1 || h < 1 || w > 16384 || h > 16384 || w != std::floor(w) || h != std::floor(h))
-        throw Error(ErrorKind::Usage, "--size must be whole pixels between 1 and 16384, got " + text::quoted(o.size));
-    const int W = static_cast<int>(w), H = static_cast<int>(h);
+    const auto [W, H] = parseFrameSize(o.size, "--size", 1, 16384);
     std::vector<std::pair<double, double>> probes;
     for (const std::string& p : o.probes) {
         const auto xy = parsePair(p, ',', "--probe X,Y in pixels");
@@ -114,14 +105,14 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
     } else {
         const optics::Lens lens = loadTraceableLens(o.lens, o.zoom, reporter);
         std::pair<double, double> sensorMm = lens.sensorMm.value_or(std::make_pair(36.0, 24.0));
-        if (!o.sensorSize.empty()) sensorMm = parsePair(o.sensorSize, 'x', "--sensor-size WIDTHxHEIGHT in mm (e.g. 36x24)");
+        if (!o.sensorSize.empty()) sensorMm = parseSensorSize(o.sensorSize, "--sensor-size");
         meta.push_back({"fourierflare:lens", lens.file});
         meta.push_back({"fourierflare:lensHash", lens.contentHash});
         meta.push_back({"fourierflare:units", "flux per pixel relative to the direct image of a unit light (= 1 per channel)"});
         std::vector<ghosts::Light> lights = o.lightsFile.empty() ? std::vector<ghosts::Light>{} : readLightsJson(o.lightsFile);
         for (const std::string& l : o.lights) lights.push_back(parseLight(l));
         trace::TracedFlareOptions t;
-        t.frame = {W, H, sensorMm.first / w};
+        t.frame = {W, H, sensorMm.first / W};
         t.spectralSamples = o.spectral;
         t.sampling = samplingFrom(o.sampling);
         t.grid = o.grid;

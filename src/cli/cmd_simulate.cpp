@@ -6,6 +6,7 @@
 #include "cli/commands.h"
 #include "cli/flare_scene.h"
 #include "cli/fourier_choices.h"
+#include "cli/option_parsing.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/text.h"
@@ -92,17 +93,26 @@ public:
         detection_ = image::parseThreshold(o.threshold);
         detection_.blockSize = o.block;
         fourier_ = o.fourier.settings();
-        // The GL backend: required with gl, taken with auto when a hardware device exists.
+        lens_ = loadTraceableLens(o.lens, o.zoom, reporter_);
+        for (const std::string& l : o.lights) manualLights_.push_back(parseLight(l));
+        if (!o.lightsFile.empty()) {
+            const auto more = readLightsJson(o.lightsFile);
+            manualLights_.insert(manualLights_.end(), more.begin(), more.end());
+        }
+        // Sensor width: --sensor, else from --fov through the EFL, else the lens file's, else 36 mm.
+        sensorWidthMm_ = lens_.sensorMm ? lens_.sensorMm->first : 36.0;
+        if (!o.sensor.empty()) {
+            sensorWidthMm_ = parseSensorSize(o.sensor, "--sensor").first;
+        } else if (o.fov > 0.0) {
+            sensorWidthMm_ = 2.0 * std::abs(optics::paraxialEfl(lens_, lines::d)) * std::tan(0.5 * o.fov * std::numbers::pi / 180.0);
+        }
+        // The GL backend: required with gl; with auto, taken only on a hardware device (no software
+        // context is made just to be dropped).
         if (o.backend != "cpu") {
             std::string why;
-            context_ = gpu::GlContext::create(why);
+            context_ = gpu::GlContext::create(why, o.backend == "auto");
             if (!context_ && o.backend == "gl") throw Error(ErrorKind::Runtime, "--backend gl: no OpenGL 4.5 context: " + why);
-            if (context_ && o.backend == "auto" && !context_->hardware()) {
-                note("--backend auto: no GPU (" + context_->renderer() + "), using the CPU");
-                context_.reset();
-            } else if (!context_) {
-                note("--backend auto: no OpenGL context (" + why + "), using the CPU");
-            }
+            if (!context_) note("--backend auto: no GPU (" + why + "), using the CPU");
             if (context_) {
                 evaluator_ = std::make_unique<gpu::GlEvaluator>(*context_);
                 accumulator_ = std::make_unique<gpu::GlAccumulator>(*context_);
@@ -113,22 +123,6 @@ public:
                         return accumulator_->accumulate(ghosts, plan, s);
                     };
             }
-        }
-        lens_ = loadTraceableLens(o.lens, o.zoom, reporter_);
-        for (const std::string& l : o.lights) manualLights_.push_back(parseLight(l));
-        if (!o.lightsFile.empty()) {
-            const auto more = readLightsJson(o.lightsFile);
-            manualLights_.insert(manualLights_.end(), more.begin(), more.end());
-        }
-        // Sensor width: --sensor, else from --fov through the EFL, else the lens file's, else 36 mm.
-        sensorWidthMm_ = lens_.sensorMm ? lens_.sensorMm->first : 36.0;
-        if (!o.sensor.empty()) {
-            const auto parts = text::split(o.sensor, 'x');
-            const auto w = parts.size() == 2 ? text::parseNumber(parts[0]) : std::nullopt, h = parts.size() == 2 ? text::parseNumber(parts[1]) : std::nullopt;
-            if (!w || !h || !(*w > 0.0) || !(*h > 0.0) || *w > 1000.0) throw Error(ErrorKind::Usage, "expected --sensor WIDTHxHEIGHT in mm (e.g. 36x24), got " + text::quoted(o.sensor));
-            sensorWidthMm_ = *w;
-        } else if (o.fov > 0.0) {
-            sensorWidthMm_ = 2.0 * std::abs(optics::paraxialEfl(lens_, lines::d)) * std::tan(0.5 * o.fov * std::numbers::pi / 180.0);
         }
     }
 

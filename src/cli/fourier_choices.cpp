@@ -1,5 +1,6 @@
 #include "cli/fourier_choices.h"
 
+#include "cli/option_parsing.h"
 #include "core/error.h"
 #include "core/text.h"
 #include "ghosts/table_cache.h"
@@ -31,13 +32,11 @@ fourier::FourierSettings FourierOptions::settings() const {
     s.error = error;
     s.fixedN = n;
     if (!period.empty()) {
-        const auto parts = text::split(period, ',');
-        const auto tx = parts.size() == 2 ? text::parseNumber(parts[0]) : std::nullopt;
-        const auto ty = parts.size() == 2 ? text::parseNumber(parts[1]) : std::nullopt;
-        if (!tx || !ty || !(*tx >= 1.0) || !(*ty >= 1.0) || *tx > 1e6 || *ty > 1e6)
-            throw Error(ErrorKind::Usage, "expected --fourier-period TX,TY in pixels, got " + text::quoted(period));
-        s.fixedPeriodX = *tx;
-        s.fixedPeriodY = *ty;
+        const auto [tx, ty] = parsePair(period, ',', "--fourier-period TX,TY in pixels");
+        if (!(tx >= 1.0) || !(ty >= 1.0) || tx > 1e6 || ty > 1e6)
+            throw Error(ErrorKind::Usage, "--fourier-period must be between 1 and 1e6 pixels, got " + text::quoted(period));
+        s.fixedPeriodX = tx;
+        s.fixedPeriodY = ty;
     }
     s.gaussianForm = gaussianForm == "exact" ? fourier::GaussianForm::Exact
                      : gaussianForm == "as7126" ? fourier::GaussianForm::ErfAS7126

@@ -47,7 +47,7 @@ EGLContext makeContext(EGLDisplay d) {
 
 } // namespace
 
-std::unique_ptr<GlContext> GlContext::create(std::string& why) {
+std::unique_ptr<GlContext> GlContext::create(std::string& why, bool hardwareOnly) {
     if (!eglLibraryPresent()) {
         why = "no EGL library (libEGL.so.1) on this machine";
         return nullptr;
@@ -69,12 +69,12 @@ std::unique_ptr<GlContext> GlContext::create(std::string& why) {
                 if (d != EGL_NO_DISPLAY) candidates.push_back({d, true});
             }
     }
-    if (hasExtension(clientExtensions, "EGL_MESA_platform_surfaceless")) {
+    if (!hardwareOnly && hasExtension(clientExtensions, "EGL_MESA_platform_surfaceless")) {
         const EGLDisplay d = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
         if (d != EGL_NO_DISPLAY) candidates.push_back({d, false});
     }
     if (candidates.empty()) {
-        why = "EGL offers neither a device nor Mesa's surfaceless platform";
+        why = hardwareOnly ? "EGL offers no hardware device" : "EGL offers neither a device nor Mesa's surfaceless platform";
         return nullptr;
     }
     for (const Candidate& cand : candidates) {

@@ -12,7 +12,8 @@ namespace ff::gpu {
 class GlContext {
 public:
     /// A context, or null with the reason in `why` (no EGL library, no device, no 4.5 core context).
-    static std::unique_ptr<GlContext> create(std::string& why);
+    /// hardwareOnly: do not fall back to the surfaceless platform (software rendering).
+    static std::unique_ptr<GlContext> create(std::string& why, bool hardwareOnly = false);
     ~GlContext();
     GlContext(const GlContext&) = delete;
     GlContext& operator=(const GlContext&) = delete;
