@@ -6,7 +6,6 @@
 #include "core/file_io.h"
 #include "core/text.h"
 #include "export/engine_exports.h"
-#include "ghosts/table_cache.h"
 #include "ghosts/table_json.h"
 
 #include <CLI/CLI.hpp>
@@ -32,7 +31,7 @@ void runExport(const ExportOptions& o, const GlobalOptions& g) {
     ConsoleReporter reporter(g);
     const optics::Lens lens = loadTraceableLens(o.lens, o.table.zoom, reporter);
     bool cached = false;
-    const ghosts::GhostTable t = ghosts::tableFor(lens, o.table.settings(), true, {}, reporter, &cached);
+    const ghosts::GhostTable t = loadTable(lens, o.table, g, reporter, true, &cached);
     const double angle = std::isnan(o.fieldAngle) ? exporting::defaultFieldAngle(t) : o.fieldAngle;
     if (angle < 0.0 || angle > t.anglesDeg.back())
         throw Error(ErrorKind::Usage, "--field-angle " + text::roundTrip(angle) + " is outside the table's 0.." +

@@ -4,7 +4,6 @@
 #include "cli/trace_choices.h"
 #include "core/error.h"
 #include "core/file_io.h"
-#include "ghosts/table_cache.h"
 #include "ghosts/table_json.h"
 
 #include <CLI/CLI.hpp>
@@ -13,7 +12,6 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <unistd.h>
 #include <vector>
 
 namespace ff::cli {
@@ -30,19 +28,8 @@ void runTable(const TableCommandOptions& o, const GlobalOptions& g) {
     if (samePath(o.output, o.lens)) throw Error(ErrorKind::Usage, "the output '" + o.output + "' is the input lens file");
     ConsoleReporter reporter(g);
     const optics::Lens lens = loadTraceableLens(o.lens, o.table.zoom, reporter);
-    const ghosts::TableSettings s = o.table.settings();
-    const bool bar = !g.quiet && isatty(STDERR_FILENO);
-    ghosts::Progress progress;
-    if (bar)
-        progress = [](std::size_t done, std::size_t total) {
-            const int width = 40, filled = static_cast<int>(width * std::min(1.0, double(done) / double(total)));
-            std::fprintf(stderr, "\rfourierflare: tracing and fitting ghosts [%.*s%*s] %zu", filled,
-                         "########################################", width - filled, "", done);
-            std::fflush(stderr);
-        };
     bool cached = false;
-    const ghosts::GhostTable t = ghosts::tableFor(lens, s, !o.noCache, progress, reporter, &cached);
-    if (bar) std::fprintf(stderr, "\n");
+    const ghosts::GhostTable t = loadTable(lens, o.table, g, reporter, !o.noCache, &cached);
     writeFileAtomic(o.output, ghosts::tableToJson(t));
 
     if (g.quiet) return;

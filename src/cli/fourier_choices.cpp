@@ -3,13 +3,9 @@
 #include "cli/option_parsing.h"
 #include "core/error.h"
 #include "core/text.h"
-#include "ghosts/table_cache.h"
 
 #include <CLI/CLI.hpp>
 
-#include <algorithm>
-#include <cstdio>
-#include <unistd.h>
 
 namespace ff::cli {
 
@@ -46,22 +42,6 @@ fourier::FourierSettings FourierOptions::settings() const {
     s.hybrid = !noHybrid;
     s.basis = basis == "bessel" ? fourier::Basis::Bessel : fourier::Basis::Separable;
     return s;
-}
-
-ghosts::GhostTable loadTable(const optics::Lens& lens, const TableOptions& table, const GlobalOptions& g, Reporter& reporter) {
-    const bool bar = !g.quiet && isatty(STDERR_FILENO);
-    ghosts::Progress progress;
-    if (bar)
-        progress = [](std::size_t done, std::size_t total) {
-            const int width = 40, filled = static_cast<int>(width * std::min(1.0, double(done) / double(total)));
-            std::fprintf(stderr, "\rfourierflare: ghost table [%.*s%*s] %zu", filled, "########################################", width - filled, "", done);
-            std::fflush(stderr);
-        };
-    bool cached = false;
-    ghosts::GhostTable t = ghosts::tableFor(lens, table.settings(), true, progress, reporter, &cached);
-    if (bar) std::fprintf(stderr, "\n");
-    if (!g.quiet && !cached) std::fprintf(stderr, "fourierflare: built the ghost table in %.1f s (cached for next time)\n", t.buildSeconds);
-    return t;
 }
 
 } // namespace ff::cli

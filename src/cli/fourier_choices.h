@@ -29,7 +29,4 @@ struct FourierOptions {
     fourier::FourierSettings settings() const;
 };
 
-/// The ghost table of the lens (from the cache when valid), with a progress bar on a terminal.
-ghosts::GhostTable loadTable(const optics::Lens& lens, const TableOptions& table, const GlobalOptions& g, Reporter& reporter);
-
 } // namespace ff::cli

@@ -1,9 +1,14 @@
 #include "cli/trace_choices.h"
 
 #include "core/error.h"
+#include "ghosts/table_cache.h"
 #include "optics/lens_loader.h"
 
 #include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <unistd.h>
 
 namespace ff::cli {
 
@@ -48,6 +53,25 @@ ghosts::TableSettings TableOptions::settings() const {
     s.coating = coatingFrom(coating);
     s.maxAngleDeg = maxAngle;
     return s;
+}
+
+ghosts::GhostTable loadTable(const optics::Lens& lens, const TableOptions& table, const GlobalOptions& g, Reporter& reporter, bool useCache,
+                             bool* fromCache) {
+    const bool bar = !g.quiet && isatty(STDERR_FILENO);
+    ghosts::Progress progress;
+    if (bar)
+        progress = [](std::size_t done, std::size_t total) {
+            const int width = 40, filled = static_cast<int>(width * std::min(1.0, double(done) / double(total)));
+            std::fprintf(stderr, "\rfourierflare: ghost table [%.*s%*s] %zu", filled, "########################################", width - filled, "", done);
+            std::fflush(stderr);
+        };
+    bool cached = false;
+    ghosts::GhostTable t = ghosts::tableFor(lens, table.settings(), useCache, progress, reporter, &cached);
+    if (bar) std::fprintf(stderr, "\n");
+    if (!g.quiet && !cached)
+        std::fprintf(stderr, "fourierflare: built the ghost table in %.1f s%s\n", t.buildSeconds, useCache ? " (cached for next time)" : "");
+    if (fromCache) *fromCache = cached;
+    return t;
 }
 
 } // namespace ff::cli

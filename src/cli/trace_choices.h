@@ -34,4 +34,9 @@ struct TableOptions {
     ghosts::TableSettings settings() const;
 };
 
+/// The ghost table of the lens: from the cache when a valid entry exists (and useCache), else built
+/// with a progress bar on a terminal, saying how long it took; `fromCache` tells which happened.
+ghosts::GhostTable loadTable(const optics::Lens& lens, const TableOptions& table, const GlobalOptions& g, Reporter& reporter,
+                             bool useCache = true, bool* fromCache = nullptr);
+
 } // namespace ff::cli
