@@ -45,9 +45,9 @@ void runTable(const TableCommandOptions& o, const GlobalOptions& g) {
         return v[v.size() / 2];
     };
     auto worst = [](const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); };
-    std::fprintf(stderr, "fourierflare: %s ghost table: %zu ghosts x %zu wavelengths x %zu field angles (0..%.2f deg)%s\n",
-                 cached ? "cached" : "built", t.ghosts.size(), t.wavelengthsNm.size(), t.anglesDeg.size(), t.anglesDeg.back(),
-                 cached ? "" : (" in " + std::to_string(static_cast<int>(std::lround(t.buildSeconds))) + " s").c_str());
+    // (How long the build took was said by loadTable.)
+    std::fprintf(stderr, "fourierflare: %s ghost table: %zu ghosts x %zu wavelengths x %zu field angles (0..%.2f deg)\n",
+                 cached ? "cached" : "built", t.ghosts.size(), t.wavelengthsNm.size(), t.anglesDeg.size(), t.anglesDeg.back());
     std::fprintf(stderr, "fourierflare: interpolation error at mid-angles: median %.2f %%, 95th percentile %.2f %%, worst %.2f %%\n",
                  100.0 * t.interpolationErrorMedian, 100.0 * t.interpolationErrorP95, 100.0 * t.interpolationError);
     std::fprintf(stderr, "fourierflare: fit error (relative L2): Gaussian median %.3f, worst %.3f; cos2 median %.3f, worst %.3f\n",
