@@ -7,6 +7,7 @@
 #include "fourier/render.h"
 #include "ghosts/ghost_table.h"
 #include "ghosts/instancing.h"
+#include "image/composite.h"
 #include "image/light_detection.h"
 #include "image/plate.h"
 #include "optics/lens_loader.h"
@@ -78,7 +79,8 @@ void frame(benchmark::State& state, const ghosts::GhostTable& table, const std::
         const fourier::FourierRender r = fourier::renderFourier(ghosts, kW, kH, {});
         ghostCount = ghosts.size();
         flare += lap(t);
-        image::writeSimulatedExr(out.string(), plate, r.image.interleaved(), {});
+        const std::vector<float> layer = r.image.interleaved();
+        image::writeSimulatedExr(out.string(), plate, layer, image::composite(plate.rgb(), layer), {});
         write += lap(t);
     }
     const double n = double(state.iterations());

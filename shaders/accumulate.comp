@@ -30,6 +30,7 @@ uniform int N;
 uniform int M;
 uniform float periodX;
 uniform float periodY;
+uniform int dropDc;     // 1: A_00 = 0 (--drop-dc)
 
 const float PI = 3.14159265358979;
 
@@ -61,6 +62,7 @@ void main() {
         cc += amplitude * sx * cy;
         d += amplitude * sx * sy;
     }
+    if (dropDc != 0 && n == 0 && m == 0) a = 0.0;
     const int base = c * (2 * N) * (2 * M);
     z[base + n * (2 * M) + m] = a;
     z[base + n * (2 * M) + M + m] = b;

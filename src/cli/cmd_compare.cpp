@@ -168,7 +168,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     const ghosts::GhostTable tab = loadTable(lens, table, g, reporter);
     const double tableSeconds = seconds(t0);
     const ghosts::Camera cam{W, H, sensorMm.first};
-    const fourier::FourierSettings base = o.fourier.settings();
+    const fourier::FourierSettings base = o.fourier.settings(g);
 
     const std::vector<float> tracedRgb = traced.interleaved();
     const double exposure = image::autoExposure(tracedRgb);

@@ -81,7 +81,7 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
             throw Error(ErrorKind::Usage, "--probe " + p + " lies outside the " + o.size + " frame");
         probes.push_back(xy);
     }
-    const fourier::FourierSettings fs = o.fourier.settings();
+    const fourier::FourierSettings fs = o.fourier.settings(g);
 
     ConsoleReporter reporter(g);
     image::Metadata meta = {{"Software", std::string("fourierflare ") + kVersion}, {"fourierflare:commandLine", g.commandLine},

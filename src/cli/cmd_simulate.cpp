@@ -14,9 +14,8 @@
 #include "ff/version.h"
 #include "fourier/render.h"
 #include "ghosts/instancing.h"
-#include "gpu/gl_accumulator.h"
-#include "gpu/gl_context.h"
-#include "gpu/gl_evaluator.h"
+#include "gpu/gl_backend.h"
+#include "image/composite.h"
 #include "image/light_detection.h"
 #include "image/plate.h"
 #include "optics/paraxial.h"
@@ -38,7 +37,6 @@ namespace {
 
 struct SimulateOptions {
     std::string lens, plate, output, preview, previewFlare, lightsOut, lightsFile;
-    std::string backend = "auto";
     std::string sensor;
     double fov = 0.0;
     std::string threshold = "2";
@@ -92,7 +90,6 @@ public:
         if (!o.sensor.empty() && o.fov > 0.0) throw Error(ErrorKind::Usage, "give either --sensor WxH or --fov DEG, not both");
         detection_ = image::parseThreshold(o.threshold);
         detection_.blockSize = o.block;
-        fourier_ = o.fourier.settings();
         lens_ = loadTraceableLens(o.lens, o.zoom, reporter_);
         for (const std::string& l : o.lights) manualLights_.push_back(parseLight(l));
         if (!o.lightsFile.empty()) {
@@ -106,24 +103,10 @@ public:
         } else if (o.fov > 0.0) {
             sensorWidthMm_ = 2.0 * std::abs(optics::paraxialEfl(lens_, lines::d)) * std::tan(0.5 * o.fov * std::numbers::pi / 180.0);
         }
-        // The GL backend: required with gl; with auto, taken only on a hardware device (no software
-        // context is made just to be dropped).
-        if (o.backend != "cpu") {
-            std::string why;
-            context_ = gpu::GlContext::create(why, o.backend == "auto");
-            if (!context_ && o.backend == "gl") throw Error(ErrorKind::Runtime, "--backend gl: no OpenGL 4.5 context: " + why);
-            if (!context_) note("--backend auto: no GPU (" + why + "), using the CPU");
-            if (context_) {
-                evaluator_ = std::make_unique<gpu::GlEvaluator>(*context_);
-                accumulator_ = std::make_unique<gpu::GlAccumulator>(*context_);
-                if (g.verbose) note("GL backend on " + context_->renderer());
-                fourier_.evaluator = [this](const fourier::Coefficients& z, fourier::FlareImage& image) { evaluator_->evaluate(z, image); };
-                if (fourier_.gaussianForm == fourier::GaussianForm::Periodised)
-                    fourier_.accumulator = [this](const std::vector<fourier::Ghost>& ghosts, const fourier::Plan& plan, const fourier::FourierSettings& s) {
-                        return accumulator_->accumulate(ghosts, plan, s);
-                    };
-            }
-        }
+        // Options checked first: the backend (EGL) is touched last.
+        fourier_ = o.fourier.settings(g);
+        // The Fourier-Bessel basis has no GL path (renderBessel runs on the CPU).
+        if (fourier_.basis == fourier::Basis::Separable) gl_ = dynamic_cast<gpu::GlBackend*>(fourier_.backend.get());
     }
 
     void run(const FrameJob& job) {
@@ -172,6 +155,9 @@ public:
         if (g_.verbose) note("fourier: " + flare.describe() + "; seconds: accumulate " + text::fixed(flare.seconds.accumulate, 4) +
                              ", evaluate " + text::fixed(flare.seconds.evaluate, 4) + ", direct " + text::fixed(flare.seconds.direct, 4));
         const std::vector<float> flareRgb = flare.image.interleaved();
+        // Composite on the device that holds the flare (bit-identical to image::composite).
+        const bool compositeOnGl = gl_ && plate.width <= gl_->maxCompositeSide() && plate.height <= gl_->maxCompositeSide();
+        const std::vector<float> comp = compositeOnGl ? gl_->composite(plate.rgb()) : image::composite(plate.rgb(), flareRgb);
         const double tFlare = since(t);
 
         image::Metadata meta = {{"Software", std::string("fourierflare ") + kVersion},
@@ -185,14 +171,16 @@ public:
                                 {"fourierflare:flareGain", text::roundTrip(o_.gain)},
                                 {"fourierflare:profile", o_.profile},
                                 {"fourierflare:fourier", flare.describe()},
-                                {"fourierflare:backend", context_ ? "gl: " + context_->renderer() : std::string("cpu")},
+                                {"fourierflare:backend", gl_ ? gl_->describe() : std::string("cpu")},
                                 {"fourierflare:table", table_->settingsKey},
                                 {"fourierflare:channels", "input channels unchanged; flare.R/G/B = the flare alone; composite.R/G/B = plate + flare"}};
-        image::writeSimulatedExr(job.output, plate, flareRgb, meta);
+        image::writeSimulatedExr(job.output, plate, flareRgb, comp, meta);
         if (!job.preview.empty()) {
-            std::vector<float> comp = plate.rgb();
-            for (std::size_t i = 0; i < comp.size(); ++i) comp[i] = std::isfinite(comp[i]) ? comp[i] + flareRgb[i] : flareRgb[i];
-            image::writePng(job.preview, plate.width, plate.height, image::tonemapPreview(comp, o_.exposure), meta);
+            // The preview shows the flare where the plate is NaN or infinite.
+            std::vector<float> shown = comp;
+            for (std::size_t i = 0; i < shown.size(); ++i)
+                if (!std::isfinite(shown[i])) shown[i] = flareRgb[i];
+            image::writePng(job.preview, plate.width, plate.height, image::tonemapPreview(shown, o_.exposure), meta);
         }
         if (!job.previewFlare.empty())
             image::writePng(job.previewFlare, plate.width, plate.height, image::tonemapPreview(flareRgb, image::autoExposure(flareRgb)), meta);
@@ -235,9 +223,7 @@ private:
     std::vector<ghosts::Light> manualLights_;
     double sensorWidthMm_ = 36.0;
     std::unique_ptr<ghosts::GhostTable> table_;
-    std::unique_ptr<gpu::GlContext> context_;
-    std::unique_ptr<gpu::GlEvaluator> evaluator_;
-    std::unique_ptr<gpu::GlAccumulator> accumulator_;
+    gpu::GlBackend* gl_ = nullptr; ///< fourier_.backend when it is the GL one
     std::string checker_ = std::filesystem::read_symlink("/proc/self/exe").string(); // this program, for `plate-check`
 };
 
@@ -299,7 +285,6 @@ void addSimulateCommand(CLI::App& app, GlobalOptions& global) {
     cmd->add_option("-o,--output", o->output, "EXR to write: the plate's channels unchanged + flare.R/G/B + composite.R/G/B")->required();
     cmd->add_option("--preview", o->preview, "Also write the composite as a tonemapped PNG");
     cmd->add_option("--preview-flare", o->previewFlare, "Also write the flare alone as a PNG (automatic exposure)");
-    cmd->add_option("--backend", o->backend, "Fourier evaluation: cpu, gl (OpenGL 4.5 compute through EGL; llvmpipe without a GPU) or auto (gl on a GPU, else cpu)")->check(CLI::IsMember({"cpu", "gl", "auto"}));
     cmd->add_option("--sensor", o->sensor, "Sensor size in mm, WIDTHxHEIGHT; the plate spans its width (default: the lens file's, else 36x24)");
     cmd->add_option("--fov", o->fov, "Horizontal field of view in degrees instead of --sensor (sensor width = 2 EFL tan(fov/2))")->check(CLI::Range(0.1, 170.0));
     cmd->add_option("--threshold", o->threshold, "Light threshold on luminance: VALUE (absolute), max:FRACTION (of the plate's maximum) or p:PERCENTILE");

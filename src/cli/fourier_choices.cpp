@@ -3,9 +3,11 @@
 #include "cli/option_parsing.h"
 #include "core/error.h"
 #include "core/text.h"
+#include "gpu/gl_backend.h"
 
 #include <CLI/CLI.hpp>
 
+#include <cstdio>
 
 namespace ff::cli {
 
@@ -21,9 +23,20 @@ void FourierOptions::addTo(CLI::App& cmd) {
     cmd.add_option("--fourier-basis", basis, "separable (cosine/sine on a rectangle) or bessel (radial Fourier-Bessel on a disc; Gaussian ghosts)")
         ->check(CLI::IsMember({"separable", "bessel"}));
     cmd.add_flag("--no-hybrid", noHybrid, "Send every ghost through Fourier, however many terms it needs");
+    cmd.add_option("--backend", backend,
+                   "Where the Fourier flare is drawn: cpu, gl (OpenGL 4.5 compute through EGL; llvmpipe without a GPU) or auto (gl on a GPU, else cpu)")
+        ->check(CLI::IsMember({"cpu", "gl", "auto"}));
 }
 
-fourier::FourierSettings FourierOptions::settings() const {
+namespace {
+
+void note(const GlobalOptions& g, const std::string& s) {
+    if (!g.quiet) std::fprintf(stderr, "fourierflare: note: %s\n", s.c_str());
+}
+
+} // namespace
+
+fourier::FourierSettings FourierOptions::settings(const GlobalOptions& g) const {
     fourier::FourierSettings s;
     s.error = error;
     s.fixedN = n;
@@ -41,6 +54,19 @@ fourier::FourierSettings FourierOptions::settings() const {
     s.dropDc = dropDc;
     s.hybrid = !noHybrid;
     s.basis = basis == "bessel" ? fourier::Basis::Bessel : fourier::Basis::Separable;
+    // The GL backend: required with gl; with auto, taken only on a hardware device (no software
+    // context is made just to be dropped).
+    if (backend != "cpu") {
+        std::string why;
+        auto context = gpu::GlContext::create(why, backend == "auto");
+        if (!context && backend == "gl") throw Error(ErrorKind::Runtime, "--backend gl: no OpenGL 4.5 context: " + why);
+        if (!context) note(g, "--backend auto: no GPU (" + why + "), using the CPU");
+        if (context) {
+            s.backend = std::make_shared<gpu::GlBackend>(std::move(context));
+            if (g.verbose) note(g, "backend " + s.backend->describe());
+            if (s.basis == fourier::Basis::Bessel) note(g, "the Fourier-Bessel basis has no GL path: it runs on the CPU");
+        }
+    }
     return s;
 }
 

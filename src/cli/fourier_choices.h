@@ -24,9 +24,12 @@ struct FourierOptions {
     bool dropDc = false;
     bool noHybrid = false;
     std::string basis = "separable";
+    std::string backend = "auto";       ///< cpu, gl or auto
 
     void addTo(CLI::App& cmd);
-    fourier::FourierSettings settings() const;
+    /// The settings, with the GL backend made when --backend asks for it: gl without an OpenGL 4.5
+    /// context throws ff::Error (Runtime); auto takes a hardware device only, else notes the fall-back.
+    fourier::FourierSettings settings(const GlobalOptions& g) const;
 };
 
 } // namespace ff::cli

@@ -13,13 +13,13 @@
 
 #include "fourier/ghost.h"
 
-#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace ff::fourier {
 
-struct Coefficients; // aggregate.h
+class Backend; // backend.h
 struct Plan;
 
 enum class Evaluation { Auto, Matrix, Fft };
@@ -44,9 +44,8 @@ struct FourierSettings {
     bool dropDc = false;        ///< zero the A_00 term (removes the mean: off by default, see docs)
     Evaluation evaluation = Evaluation::Auto;
     Basis basis = Basis::Separable;
-    /// A GPU backend's accumulation and evaluation in place of the CPU's; empty = CPU.
-    std::function<Coefficients(const std::vector<Ghost>&, const Plan&, const FourierSettings&)> accumulator;
-    std::function<void(const Coefficients&, FlareImage&)> evaluator;
+    /// The device that draws the levels (backend.h); null: the CPU.
+    std::shared_ptr<Backend> backend;
 };
 
 /// Wide: would wrap into the frame on this level's period; renderFourier gives these ghosts a coarse

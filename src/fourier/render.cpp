@@ -27,11 +27,15 @@ namespace {
 // Accumulates and evaluates one level into `image` (adding), then draws its direct ghosts.
 void renderLevel(const std::vector<Ghost>& ghosts, const Plan& plan, const FourierSettings& settings, FlareImage& image, StageSeconds& seconds,
                  std::chrono::steady_clock::time_point& t) {
-    const Coefficients z = settings.accumulator ? settings.accumulator(ghosts, plan, settings) : accumulate(ghosts, plan, settings);
+    if (settings.backend) {
+        settings.backend->addLevel(ghosts, plan, settings, seconds);
+        t = std::chrono::steady_clock::now();
+        return;
+    }
+    const Coefficients z = accumulate(ghosts, plan, settings);
     seconds.accumulate += since(t);
     FlareImage level(image.width, image.height);
-    if (settings.evaluator) settings.evaluator(z, level);
-    else evaluate(z, plan.evaluation, level);
+    evaluate(z, plan.evaluation, level);
     for (int c = 0; c < 3; ++c)
         for (std::size_t p = 0; p < image.pixels(); ++p) image.channel[c][p] += level.channel[c][p];
     seconds.evaluate += since(t);
@@ -51,6 +55,7 @@ FourierRender renderFourier(const std::vector<Ghost>& ghosts, int width, int hei
     r.plan = choosePlan(ghosts, width, height, settings);
     r.seconds.plan = since(t);
     r.image = FlareImage(width, height);
+    if (settings.backend) settings.backend->begin(width, height);
     renderLevel(ghosts, r.plan, settings, r.image, r.seconds, t);
     if (r.plan.wide > 0) {
         std::vector<Ghost> wide;
@@ -69,6 +74,10 @@ FourierRender renderFourier(const std::vector<Ghost>& ghosts, int width, int hei
         r.coarse->wide = 0;
         r.seconds.plan += since(t);
         renderLevel(wide, *r.coarse, coarse, r.image, r.seconds, t);
+    }
+    if (settings.backend) {
+        settings.backend->finish(r.image);
+        r.seconds.evaluate += since(t); // the read-back
     }
     return r;
 }

@@ -1,17 +1,13 @@
 #pragma once
 // The aggregator end to end: plan, accumulate, evaluate, and draw the hybrid's direct ghosts.
 
+#include "fourier/backend.h"
 #include "fourier/evaluate.h"
 
 #include <optional>
 #include <string>
 
 namespace ff::fourier {
-
-struct StageSeconds {
-    double plan = 0.0, accumulate = 0.0, evaluate = 0.0, direct = 0.0;
-    double total() const { return plan + accumulate + evaluate + direct; }
-};
 
 struct FourierRender {
     FlareImage image;

@@ -29,23 +29,24 @@ float fraction(double x, double period) {
 } // namespace
 
 GlAccumulator::GlAccumulator(const GlContext& context) {
-    const int local = std::max(1, std::min(256, context.maxWorkGroupInvocations()));
-    program_ = std::make_unique<ComputeProgram>("accumulate.comp", embedded("accumulate.comp"), local);
+    localSize_ = std::max(1, std::min(256, context.maxWorkGroupInvocations()));
+    program_ = std::make_unique<ComputeProgram>("accumulate.comp", embedded("accumulate.comp"), localSize_);
 }
 
 GlAccumulator::~GlAccumulator() = default;
 
-fourier::Coefficients GlAccumulator::accumulate(const std::vector<fourier::Ghost>& ghosts, const fourier::Plan& plan,
-                                                const fourier::FourierSettings& settings) {
+void GlAccumulator::accumulate(const std::vector<fourier::Ghost>& ghosts, const fourier::Plan& plan, const fourier::FourierSettings& settings,
+                               Buffer& z) {
     if (settings.gaussianForm != fourier::GaussianForm::Periodised)
         throw Error(ErrorKind::Usage, "the GL accumulation computes periodised Gaussian coefficients only (no erf on the GPU)");
-    fourier::Coefficients co = fourier::Coefficients::zeros(plan);
-    if (co.n == 0 || co.m == 0) return co;
+    const std::size_t values = static_cast<std::size_t>(3) * 4 * plan.n * plan.m;
+    z.zeros(values * sizeof(float));
+    if (values == 0) return;
     std::vector<GpuGhost> list;
     for (std::size_t k = 0; k < ghosts.size(); ++k) {
         if (plan.route[k] != fourier::Route::Fourier) continue;
         const fourier::Ghost& g = ghosts[k];
-        GpuGhost q{fraction(g.x, co.periodX), fraction(g.y, co.periodY), g.shape == fourier::Shape::Gaussian ? 0.0f : 1.0f, 0.0f, {}, {}, {}};
+        GpuGhost q{fraction(g.x, plan.periodX), fraction(g.y, plan.periodY), g.shape == fourier::Shape::Gaussian ? 0.0f : 1.0f, 0.0f, {}, {}, {}};
         for (int c = 0; c < 3; ++c) {
             q.widthX[c] = static_cast<float>(g.widthX[c]);
             q.widthY[c] = static_cast<float>(g.widthY[c]);
@@ -53,30 +54,33 @@ fourier::Coefficients GlAccumulator::accumulate(const std::vector<fourier::Ghost
         }
         list.push_back(q);
     }
-    if (!list.empty()) {
-        ghosts_.upload(list.data(), list.size() * sizeof(GpuGhost));
-        const std::size_t values = static_cast<std::size_t>(3) * 4 * co.n * co.m;
-        z_.upload(nullptr, values * sizeof(float));
-        program_->use();
-        program_->set("count", static_cast<int>(list.size()));
-        program_->set("N", co.n);
-        program_->set("M", co.m);
-        program_->set("periodX", static_cast<float>(co.periodX));
-        program_->set("periodY", static_cast<float>(co.periodY));
-        ghosts_.bind(0);
-        z_.bind(1);
-        const int invocations = 3 * co.n * co.m;
-        glDispatchCompute(static_cast<GLuint>((invocations + program_->localSize() - 1) / program_->localSize()), 1, 1);
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        checkGl("accumulate.comp");
-        std::vector<float> z(values);
-        z_.download(z.data(), values * sizeof(float));
-        const std::size_t per = static_cast<std::size_t>(4) * co.n * co.m;
-        for (int c = 0; c < 3; ++c)
-            for (std::size_t i = 0; i < per; ++i) co.z[c][i] = z[static_cast<std::size_t>(c) * per + i];
-    }
-    if (settings.dropDc)
-        for (int c = 0; c < 3; ++c) co.at(c, 0, 0) = 0.0;
+    if (list.empty()) return;
+    ghosts_.upload(list.data(), list.size() * sizeof(GpuGhost));
+    program_->use();
+    program_->set("count", static_cast<int>(list.size()));
+    program_->set("N", plan.n);
+    program_->set("M", plan.m);
+    program_->set("periodX", static_cast<float>(plan.periodX));
+    program_->set("periodY", static_cast<float>(plan.periodY));
+    program_->set("dropDc", settings.dropDc ? 1 : 0);
+    ghosts_.bind(0);
+    z.bind(1);
+    const int invocations = 3 * plan.n * plan.m;
+    glDispatchCompute(static_cast<GLuint>((invocations + localSize_ - 1) / localSize_), 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    checkGl("accumulate.comp");
+}
+
+fourier::Coefficients GlAccumulator::accumulate(const std::vector<fourier::Ghost>& ghosts, const fourier::Plan& plan,
+                                                const fourier::FourierSettings& settings) {
+    fourier::Coefficients co = fourier::Coefficients::zeros(plan);
+    accumulate(ghosts, plan, settings, z_);
+    if (co.n == 0 || co.m == 0) return co;
+    const std::size_t per = static_cast<std::size_t>(4) * co.n * co.m;
+    std::vector<float> z(3 * per);
+    z_.download(z.data(), z.size() * sizeof(float));
+    for (int c = 0; c < 3; ++c)
+        for (std::size_t i = 0; i < per; ++i) co.z[c][i] = z[static_cast<std::size_t>(c) * per + i];
     return co;
 }
 

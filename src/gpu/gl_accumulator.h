@@ -20,10 +20,13 @@ public:
     /// other than periodised (the GPU has no erf; the A&S form would be the way to add one).
     fourier::Coefficients accumulate(const std::vector<fourier::Ghost>& ghosts, const fourier::Plan& plan,
                                      const fourier::FourierSettings& settings);
+    /// The same into z, left on the GPU: float [3][2N][2M].
+    void accumulate(const std::vector<fourier::Ghost>& ghosts, const fourier::Plan& plan, const fourier::FourierSettings& settings, Buffer& z);
 
 private:
     std::unique_ptr<ComputeProgram> program_;
     Buffer ghosts_, z_;
+    int localSize_ = 0;
 };
 
 } // namespace ff::gpu

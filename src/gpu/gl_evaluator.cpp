@@ -18,26 +18,21 @@ GlEvaluator::GlEvaluator(const GlContext& context) {
 
 GlEvaluator::~GlEvaluator() = default;
 
-void GlEvaluator::evaluate(const fourier::Coefficients& z, fourier::FlareImage& image) {
-    for (auto& ch : image.channel) std::fill(ch.begin(), ch.end(), 0.0f);
-    if (z.n == 0 || z.m == 0) return;
-    const int W = image.width, H = image.height, twoN = 2 * z.n, twoM = 2 * z.m;
-    std::vector<float> zf(static_cast<std::size_t>(3) * twoN * twoM);
-    for (int c = 0; c < 3; ++c)
-        for (std::size_t i = 0; i < z.z[c].size(); ++i) zf[static_cast<std::size_t>(c) * twoN * twoM + i] = static_cast<float>(z.z[c][i]);
-    const std::vector<float> bx = fourier::seriesBasis(z.n, W, z.periodX), by = fourier::seriesBasis(z.m, H, z.periodY);
-    z_.upload(zf.data(), zf.size() * sizeof(float));
+void GlEvaluator::add(const Buffer& z, int n, int m, double periodX, double periodY, int W, int H, Buffer& image) {
+    if (n == 0 || m == 0) return;
+    const int twoN = 2 * n, twoM = 2 * m;
+    const std::vector<float> bx = fourier::seriesBasis(n, W, periodX), by = fourier::seriesBasis(m, H, periodY);
     basisX_.upload(bx.data(), bx.size() * sizeof(float));
     basisY_.upload(by.data(), by.size() * sizeof(float));
-    t_.upload(nullptr, static_cast<std::size_t>(3) * twoN * H * sizeof(float));
-    image_.upload(nullptr, static_cast<std::size_t>(3) * W * H * sizeof(float));
+    const std::size_t rows = static_cast<std::size_t>(3) * twoN * H * sizeof(float);
+    if (t_.bytes() != rows) t_.upload(nullptr, rows);
 
-    const auto groups = [](int n, int size) { return static_cast<GLuint>((n + size - 1) / size); };
+    const auto groups = [](int count, int size) { return static_cast<GLuint>((count + size - 1) / size); };
     rows_->use();
     rows_->set("twoN", twoN);
     rows_->set("twoM", twoM);
     rows_->set("height", H);
-    z_.bind(0);
+    z.bind(0);
     basisY_.bind(1);
     t_.bind(2);
     glDispatchCompute(groups(H, rows_->localSize()), static_cast<GLuint>(3 * twoN), 1);
@@ -50,11 +45,22 @@ void GlEvaluator::evaluate(const fourier::Coefficients& z, fourier::FlareImage& 
     pixels_->set("height", H);
     t_.bind(0);
     basisX_.bind(1);
-    image_.bind(2);
+    image.bind(2);
     glDispatchCompute(groups(W, pixels_->localSize()), static_cast<GLuint>(H), 1);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     checkGl("evaluate_pixels.comp");
+}
 
+void GlEvaluator::evaluate(const fourier::Coefficients& z, fourier::FlareImage& image) {
+    const int W = image.width, H = image.height;
+    image_.zeros(static_cast<std::size_t>(3) * W * H * sizeof(float));
+    if (z.n > 0 && z.m > 0) {
+        std::vector<float> zf(static_cast<std::size_t>(3) * 4 * z.n * z.m);
+        for (int c = 0; c < 3; ++c)
+            std::transform(z.z[c].begin(), z.z[c].end(), zf.begin() + static_cast<long>(c) * 4 * z.n * z.m, [](double v) { return static_cast<float>(v); });
+        z_.upload(zf.data(), zf.size() * sizeof(float));
+        add(z_, z.n, z.m, z.periodX, z.periodY, W, H, image_);
+    }
     std::vector<float> planes(static_cast<std::size_t>(3) * W * H);
     image_.download(planes.data(), planes.size() * sizeof(float));
     for (int c = 0; c < 3; ++c)

@@ -20,7 +20,33 @@ Buffer::~Buffer() { glDeleteBuffers(1, &id_); }
 
 void Buffer::upload(const void* data, std::size_t bytes) {
     glNamedBufferData(id_, static_cast<GLsizeiptr>(bytes), data, GL_DYNAMIC_DRAW);
+    bytes_ = bytes;
     checkGl("a buffer upload");
+}
+
+void Buffer::zeros(std::size_t bytes) {
+    if (bytes != bytes_) upload(nullptr, bytes);
+    // A null pattern fills with zeros.
+    glClearNamedBufferData(id_, GL_R32F, GL_RED, GL_FLOAT, nullptr);
+    checkGl("a buffer clear");
+}
+
+Texture::Texture() = default;
+Texture::~Texture() {
+    if (id_) glDeleteTextures(1, &id_);
+}
+
+void Texture::upload(const float* rgb, int width, int height) {
+    if (!id_ || width != width_ || height != height_) {
+        if (id_) glDeleteTextures(1, &id_);
+        glCreateTextures(GL_TEXTURE_2D, 1, &id_);
+        glTextureStorage2D(id_, 1, GL_RGB32F, width, height);
+        width_ = width;
+        height_ = height;
+    }
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTextureSubImage2D(id_, 0, 0, 0, width, height, GL_RGB, GL_FLOAT, rgb);
+    checkGl("a texture upload");
 }
 
 void Buffer::download(void* data, std::size_t bytes) const {

@@ -20,11 +20,31 @@ public:
     Buffer& operator=(const Buffer&) = delete;
     /// (Re)allocates `bytes` and uploads `data` (may be null: uninitialised).
     void upload(const void* data, std::size_t bytes);
+    /// Makes the buffer `bytes` long and all zero (keeps the storage when the size is unchanged).
+    void zeros(std::size_t bytes);
     void download(void* data, std::size_t bytes) const;
     void bind(GLuint binding) const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id_); }
+    std::size_t bytes() const { return bytes_; }
 
 private:
     GLuint id_ = 0;
+    std::size_t bytes_ = 0;
+};
+
+/// A 2D RGB float32 texture, read by shaders with texelFetch.
+class Texture {
+public:
+    Texture();
+    ~Texture();
+    Texture(const Texture&) = delete;
+    Texture& operator=(const Texture&) = delete;
+    /// (Re)allocates width x height texels and uploads R, G, B interleaved rows.
+    void upload(const float* rgb, int width, int height);
+    void bind(GLuint unit) const { glBindTextureUnit(unit, id_); }
+
+private:
+    GLuint id_ = 0;
+    int width_ = 0, height_ = 0;
 };
 
 class ComputeProgram {

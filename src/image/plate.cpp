@@ -220,8 +220,10 @@ Plate readPlate(const std::string& path, const PlateLimits& limits) {
     return readDirect(path, limits, true);
 }
 
-void writeSimulatedExr(const std::string& path, const Plate& plate, const std::vector<float>& flare, const Metadata& metadata) {
-    if (!plate.file || flare.size() != plate.pixelCount() * 3) throwRuntimeError("writeSimulatedExr: the flare does not match the plate");
+void writeSimulatedExr(const std::string& path, const Plate& plate, const std::vector<float>& flare, const std::vector<float>& composite,
+                       const Metadata& metadata) {
+    if (!plate.file || flare.size() != plate.pixelCount() * 3 || composite.size() != flare.size())
+        throwRuntimeError("writeSimulatedExr: the flare does not match the plate");
     const OIIO::ImageSpec& in = plate.file->spec;
     const int n = in.nchannels;
     // Input channel formats; those EXR cannot store are written as float.
@@ -267,10 +269,8 @@ void writeSimulatedExr(const std::string& path, const Plate& plate, const std::v
             }
             dst += outFormat[ci].size();
         }
-        const float f[3] = {flare[p * 3], flare[p * 3 + 1], flare[p * 3 + 2]};
-        const float comp[3] = {plate.value(p, plate.r) + f[0], plate.value(p, plate.g) + f[1], plate.value(p, plate.b) + f[2]};
-        std::memcpy(dst, f, sizeof f);
-        std::memcpy(dst + sizeof f, comp, sizeof comp);
+        std::memcpy(dst, &flare[p * 3], 3 * sizeof(float));
+        std::memcpy(dst + 3 * sizeof(float), &composite[p * 3], 3 * sizeof(float));
     }
     writeAtomic(path, out, OIIO::TypeDesc::UNKNOWN, buffer.data());
 }

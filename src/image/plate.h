@@ -59,8 +59,9 @@ int checkPlate(const std::string& path, const PlateLimits& limits);
 /// Writes an EXR (zip, scanlines) holding every channel of the plate unchanged — names, order, data
 /// and display windows, metadata; channels stored as half, float or uint32 keep their bits, other
 /// formats (8/16-bit integers) are written as float of the values read — followed by flare.R, flare.G,
-/// flare.B and composite.R, composite.G, composite.B (float). `flare` is R, G, B interleaved over the
-/// data window; composite = plate R, G, B + flare. Atomic.
-void writeSimulatedExr(const std::string& path, const Plate& plate, const std::vector<float>& flare, const Metadata& metadata);
+/// flare.B and composite.R, composite.G, composite.B (float). `flare` and `composite` (composite.h) are
+/// R, G, B interleaved over the data window. Atomic.
+void writeSimulatedExr(const std::string& path, const Plate& plate, const std::vector<float>& flare, const std::vector<float>& composite,
+                       const Metadata& metadata);
 
 } // namespace ff::image

@@ -323,4 +323,12 @@ TEST(CliSimulate, GlBackendMatchesTheCpuBackend) {
         const int ca = a.channel(name), cb = b.channel(name);
         for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) ASSERT_EQ(a.at(p, ca), b.at(p, cb));
     }
+    // Composited on the GPU: one float addition of the plate and the GL flare, as on the CPU.
+    for (const char* c : {"R", "G", "B"}) {
+        const int plate = a.channel(c), flare = a.channel(std::string("flare.") + c), comp = a.channel(std::string("composite.") + c);
+        for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) {
+            const float f = a.at(p, flare);
+            ASSERT_EQ(a.at(p, comp), f == 0.0f ? a.at(p, plate) : a.at(p, plate) + f) << c << " pixel " << p;
+        }
+    }
 }

@@ -6,6 +6,7 @@
 #include "fourier/sampled.h"
 
 #include "core/error.h"
+#include "fourier/sampled_gaussian_support.h"
 
 #include <gtest/gtest.h>
 
@@ -16,41 +17,8 @@ namespace ff::fourier {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-
-// Integral over [a, b] of exp(-u^2 / 2 s^2) (the profile centred at 0).
-double gaussianCell(double s, double a, double b) {
-    const double k = 1.0 / (std::sqrt(2.0) * s);
-    return s * std::sqrt(0.5 * kPi) * (std::erf(b * k) - std::erf(a * k));
-}
-
-// A Gaussian of unit flux centred at (cx, cy), sampled as cell integrals on cells of `step` pixels
-// over +-8 sigma.
-SampledGhost sampledGaussian(double cx, double cy, double sx, double sy, double step, const double rgb[3]) {
-    SampledGhost g;
-    g.step = step;
-    g.x0 = std::floor((cx - 8.0 * sx) / step) * step;
-    g.y0 = std::floor((cy - 8.0 * sy) / step) * step;
-    g.width = static_cast<int>(std::ceil(16.0 * sx / step)) + 1;
-    g.height = static_cast<int>(std::ceil(16.0 * sy / step)) + 1;
-    const double norm = 1.0 / (2.0 * kPi * sx * sy);
-    for (int j = 0; j < g.height; ++j) {
-        const double y = g.y0 + j * step - cy;
-        const double iy = gaussianCell(sy, y, y + step);
-        for (int i = 0; i < g.width; ++i) {
-            const double x = g.x0 + i * step - cx;
-            const double v = norm * gaussianCell(sx, x, x + step) * iy;
-            for (int c = 0; c < 3; ++c) g.values.push_back(static_cast<float>(rgb[c] * v));
-        }
-    }
-    return g;
-}
-
-// The continuous Gaussian's coefficient (1 / T) Int exp(-u^2 / 2 s^2) e^{i n w (u + c)} du, as
-// (cos part, sin part): s sqrt(2 pi) / T exp(-(n w s)^2 / 2) (cos, sin)(n w c).
-std::pair<double, double> gaussianTerm(int n, double s, double c, double T) {
-    const double w = 2.0 * kPi / T, g = s * std::sqrt(2.0 * kPi) / T * std::exp(-0.5 * (n * w * s) * (n * w * s));
-    return {g * std::cos(n * w * c), g * std::sin(n * w * c)};
-}
+using testing::gaussianTerm;
+using testing::sampledGaussian;
 
 TEST(SampledCoefficients, SampledGaussianMatchesTheClosedForm) {
     const double rgb[3] = {1.0, 0.5, 0.25};

@@ -6,6 +6,7 @@
 #include "gpu/gl_accumulator.h"
 #include "gpu/gl_context.h"
 #include "gpu/gl_evaluator.h"
+#include "gl_test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -15,23 +16,7 @@
 namespace ff::gpu {
 namespace {
 
-std::vector<fourier::Ghost> randomGhosts(int count, fourier::Shape shape, int W, int H, unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    std::vector<fourier::Ghost> g(static_cast<std::size_t>(count));
-    for (auto& k : g) {
-        k.shape = shape;
-        k.x = u(rng) * W;
-        k.y = u(rng) * H;
-        const double s = 2.0 * std::pow(10.0, u(rng)), aspect = 0.5 + u(rng);
-        for (int c = 0; c < 3; ++c) {
-            k.widthX[c] = s * (1.0 + 0.05 * c);
-            k.widthY[c] = s * aspect;
-            k.flux[c] = u(rng);
-        }
-    }
-    return g;
-}
+using testing::randomGhosts;
 
 TEST(GlEvaluate, MatchesTheCpuMatrixForm) {
     std::string why;

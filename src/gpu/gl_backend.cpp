@@ -1,0 +1,75 @@
+#include "gpu/gl_backend.h"
+
+#include "fourier/aggregate.h"
+
+#include <algorithm>
+#include <chrono>
+
+namespace ff::gpu {
+
+namespace {
+
+// Seconds since t (after the GPU has finished what was queued), and t moved to now.
+double since(std::chrono::steady_clock::time_point& t) {
+    glFinish();
+    const auto now = std::chrono::steady_clock::now();
+    const double s = std::chrono::duration<double>(now - t).count();
+    t = now;
+    return s;
+}
+
+} // namespace
+
+GlBackend::GlBackend(std::unique_ptr<GlContext> context) : context_(std::move(context)) {
+    accumulator_ = std::make_unique<GlAccumulator>(*context_);
+    evaluator_ = std::make_unique<GlEvaluator>(*context_);
+    direct_ = std::make_unique<GlDirect>(*context_);
+    compositor_ = std::make_unique<GlCompositor>(*context_);
+}
+
+GlBackend::~GlBackend() = default;
+
+std::string GlBackend::describe() const { return "gl: " + context_->renderer(); }
+
+void GlBackend::begin(int width, int height) {
+    width_ = width;
+    height_ = height;
+    image_.zeros(static_cast<std::size_t>(3) * width * height * sizeof(float));
+}
+
+void GlBackend::addLevel(const std::vector<fourier::Ghost>& ghosts, const fourier::Plan& plan, const fourier::FourierSettings& settings,
+                         fourier::StageSeconds& seconds) {
+    auto t = std::chrono::steady_clock::now();
+    if (plan.fourier > 0 && plan.n > 0 && plan.m > 0) {
+        // The GPU has no erf: the exact and A&S Gaussian forms are accumulated on the CPU and uploaded.
+        const bool anyGaussian = std::any_of(ghosts.begin(), ghosts.end(), [](const fourier::Ghost& g) { return g.shape == fourier::Shape::Gaussian; });
+        if (settings.gaussianForm == fourier::GaussianForm::Periodised || !anyGaussian) {
+            accumulator_->accumulate(ghosts, plan, settings, z_);
+        } else {
+            const fourier::Coefficients co = fourier::accumulate(ghosts, plan, settings);
+            std::vector<float> zf;
+            for (const auto& ch : co.z) std::transform(ch.begin(), ch.end(), std::back_inserter(zf), [](double v) { return static_cast<float>(v); });
+            z_.upload(zf.data(), zf.size() * sizeof(float));
+        }
+        seconds.accumulate += since(t);
+        evaluator_->add(z_, plan.n, plan.m, plan.periodX, plan.periodY, width_, height_, image_);
+        seconds.evaluate += since(t);
+    }
+    std::vector<std::size_t> direct;
+    for (std::size_t k = 0; k < ghosts.size(); ++k)
+        if (plan.route[k] == fourier::Route::Direct) direct.push_back(k);
+    direct_->add(ghosts, direct, width_, height_, image_);
+    seconds.direct += since(t);
+}
+
+void GlBackend::finish(fourier::FlareImage& image) {
+    image = fourier::FlareImage(width_, height_);
+    const std::size_t plane = image.pixels();
+    std::vector<float> planes(3 * plane);
+    image_.download(planes.data(), planes.size() * sizeof(float));
+    for (int c = 0; c < 3; ++c) std::copy_n(planes.begin() + static_cast<long>(c * plane), plane, image.channel[c].begin());
+}
+
+std::vector<float> GlBackend::composite(const std::vector<float>& plate) { return compositor_->composite(plate, width_, height_, image_); }
+
+} // namespace ff::gpu

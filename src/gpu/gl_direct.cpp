@@ -1,0 +1,75 @@
+#include "gpu/gl_direct.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string_view>
+
+namespace ff::gpu {
+
+std::string_view embedded(std::string_view name);
+
+namespace {
+
+// std430 layout of shaders/direct_draw.comp's DirectGhost.
+struct GpuDirectGhost {
+    std::array<int, 4> box;
+    float offsetX, offsetY, shape, pad;
+    std::array<float, 4> widthX, widthY, peak;
+};
+static_assert(sizeof(GpuDirectGhost) == 80);
+
+constexpr int kTile = 16; // the shader's work group is one kTile x kTile tile
+
+} // namespace
+
+GlDirect::GlDirect(const GlContext&) {
+    // A fixed 16 x 16 work group: 256 invocations, within the 1024 every GL 4.5 device allows.
+    program_ = std::make_unique<ComputeProgram>("direct_draw.comp", embedded("direct_draw.comp"), kTile * kTile);
+}
+
+GlDirect::~GlDirect() = default;
+
+void GlDirect::add(const std::vector<fourier::Ghost>& ghosts, const std::vector<std::size_t>& which, int W, int H, Buffer& image) {
+    std::vector<GpuDirectGhost> list;
+    list.reserve(which.size());
+    for (std::size_t k : which) {
+        const fourier::Ghost& g = ghosts[k];
+        // The footprint as fourier::drawDirect clips it: pixels floor(c - e) .. floor(c + e) in the frame.
+        const double ex = g.extentX(), ey = g.extentY();
+        const int x0 = std::max(0, static_cast<int>(std::floor(g.x - ex))), x1 = std::min(W - 1, static_cast<int>(std::floor(g.x + ex)));
+        const int y0 = std::max(0, static_cast<int>(std::floor(g.y - ey))), y1 = std::min(H - 1, static_cast<int>(std::floor(g.y + ey)));
+        if (x1 < x0 || y1 < y0) continue;
+        GpuDirectGhost q{{x0, y0, x1, y1}, static_cast<float>(x0 - g.x), static_cast<float>(y0 - g.y), g.shape == fourier::Shape::Gaussian ? 0.0f : 1.0f,
+                         0.0f, {}, {}, {}};
+        for (int c = 0; c < 3; ++c) {
+            q.widthX[c] = static_cast<float>(g.widthX[c]);
+            q.widthY[c] = static_cast<float>(g.widthY[c]);
+            q.peak[c] = static_cast<float>(g.peak(c));
+        }
+        list.push_back(q);
+    }
+    if (list.empty()) return;
+    ghosts_.upload(list.data(), list.size() * sizeof(GpuDirectGhost));
+    program_->use();
+    program_->set("count", static_cast<int>(list.size()));
+    program_->set("width", W);
+    program_->set("height", H);
+    ghosts_.bind(0);
+    image.bind(1);
+    glDispatchCompute(static_cast<GLuint>((W + kTile - 1) / kTile), static_cast<GLuint>((H + kTile - 1) / kTile), 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    checkGl("direct_draw.comp");
+}
+
+void GlDirect::draw(const std::vector<fourier::Ghost>& ghosts, const std::vector<std::size_t>& which, fourier::FlareImage& image) {
+    const std::size_t plane = image.pixels();
+    std::vector<float> planes(3 * plane);
+    for (int c = 0; c < 3; ++c) std::copy(image.channel[c].begin(), image.channel[c].end(), planes.begin() + static_cast<long>(c * plane));
+    image_.upload(planes.data(), planes.size() * sizeof(float));
+    add(ghosts, which, image.width, image.height, image_);
+    image_.download(planes.data(), planes.size() * sizeof(float));
+    for (int c = 0; c < 3; ++c) std::copy_n(planes.begin() + static_cast<long>(c * plane), plane, image.channel[c].begin());
+}
+
+} // namespace ff::gpu

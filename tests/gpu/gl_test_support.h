@@ -1,0 +1,55 @@
+#pragma once
+// What the GL tests share: random ghost sets and image comparisons.
+
+#include "fourier/ghost.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+namespace ff::gpu::testing {
+
+/// Ghosts of one shape at random positions in a W x H frame (some hanging over its edges), sizes
+/// log-uniform in [minSize, maxSize], per-axis and per-channel widths, random fluxes.
+inline std::vector<fourier::Ghost> randomGhosts(int count, fourier::Shape shape, int W, int H, unsigned seed, double minSize = 2.0,
+                                                double maxSize = 20.0) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<fourier::Ghost> g(static_cast<std::size_t>(count));
+    for (auto& k : g) {
+        k.shape = shape;
+        k.x = (1.1 * u(rng) - 0.05) * W;
+        k.y = (1.1 * u(rng) - 0.05) * H;
+        const double s = minSize * std::pow(maxSize / minSize, u(rng)), aspect = 0.5 + u(rng);
+        for (int c = 0; c < 3; ++c) {
+            k.widthX[c] = s * (1.0 + 0.05 * c);
+            k.widthY[c] = s * aspect;
+            k.flux[c] = u(rng);
+        }
+    }
+    return g;
+}
+
+struct Difference {
+    double relativeL2 = 0.0; ///< ||a - b|| / ||b|| over all channels
+    double worst = 0.0;      ///< largest |a - b|
+    double peak = 0.0;       ///< largest |b|
+};
+
+inline Difference difference(const fourier::FlareImage& a, const fourier::FlareImage& b) {
+    Difference d;
+    double num = 0.0, den = 0.0;
+    for (int c = 0; c < 3; ++c)
+        for (std::size_t p = 0; p < b.pixels(); ++p) {
+            const double x = double(a.channel[c][p]) - b.channel[c][p];
+            num += x * x;
+            den += double(b.channel[c][p]) * b.channel[c][p];
+            d.worst = std::max(d.worst, std::abs(x));
+            d.peak = std::max(d.peak, std::abs(double(b.channel[c][p])));
+        }
+    d.relativeL2 = den > 0.0 ? std::sqrt(num / den) : std::sqrt(num);
+    return d;
+}
+
+} // namespace ff::gpu::testing
