@@ -8,8 +8,6 @@
 
 #include "fourier/direct.h"
 #include "fourier/render.h"
-#include "gpu/gl_context.h"
-#include "gpu/gl_evaluator.h"
 
 #include <benchmark/benchmark.h>
 #include <cblas.h>
@@ -71,25 +69,6 @@ void BM_Evaluate(benchmark::State& state, Evaluation e) {
 }
 BENCHMARK_CAPTURE(BM_Evaluate, matrix, Evaluation::Matrix)->Arg(64)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_Evaluate, fft, Evaluation::Fft)->Arg(64)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
-
-// The same evaluation through the GL compute shaders (whatever EGL offers: a GPU, or llvmpipe).
-void BM_EvaluateGl(benchmark::State& state) {
-    static std::string why;
-    static const auto context = ff::gpu::GlContext::create(why);
-    if (!context) {
-        state.SkipWithError(("no OpenGL 4.5 context: " + why).c_str());
-        return;
-    }
-    static ff::gpu::GlEvaluator gl(*context);
-    const Coefficients z = coefficientsAt(static_cast<int>(state.range(0)));
-    FlareImage image(kW, kH);
-    for (auto _ : state) {
-        gl.evaluate(z, image);
-        benchmark::DoNotOptimize(image.channel[0].data());
-    }
-    state.SetLabel(context->renderer());
-}
-BENCHMARK(BM_EvaluateGl)->Arg(64)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The same two sgemm calls per channel as the matrix evaluation, on ready float matrices.
 void BM_GemmFloor(benchmark::State& state) {

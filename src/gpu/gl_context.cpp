@@ -1,11 +1,14 @@
 #include "gpu/gl_context.h"
 
+#include "gpu/gl_objects.h"
+
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>
 
 #include <dlfcn.h>
 
 #include <cstring>
+#include <string>
 #include <vector>
 
 namespace ff::gpu {
@@ -44,6 +47,14 @@ EGLContext makeContext(EGLDisplay d) {
     }
     return c;
 }
+
+#ifndef NDEBUG
+// Debug builds: the driver's errors and high-severity messages are kept and reported by the next
+// checkGl (gl_objects.cpp), with the failing call's name.
+void GLAPIENTRY debugMessage(GLenum, GLenum type, GLuint, GLenum severity, GLsizei length, const GLchar* message, const void*) {
+    if (type == GL_DEBUG_TYPE_ERROR || severity == GL_DEBUG_SEVERITY_HIGH) recordDebugMessage(std::string(message, static_cast<std::size_t>(length)));
+}
+#endif
 
 } // namespace
 
@@ -99,6 +110,11 @@ std::unique_ptr<GlContext> GlContext::create(std::string& why, bool hardwareOnly
         const std::string r = renderer ? renderer : "";
         ctx->hardware_ = cand.hardware && r.find("llvmpipe") == std::string::npos && r.find("softpipe") == std::string::npos;
         glGetIntegerv(GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS, &ctx->maxInvocations_);
+#ifndef NDEBUG
+        glEnable(GL_DEBUG_OUTPUT);
+        glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+        glDebugMessageCallback(debugMessage, nullptr);
+#endif
         return ctx;
     }
     why = "no EGL display could make an OpenGL 4.5 core context";

@@ -2,17 +2,29 @@
 
 #include "core/error.h"
 
+#include <cstdio>
 #include <vector>
 
 namespace ff::gpu {
 
+namespace {
+thread_local std::string debugMessages; // the context is current on one thread only
+}
+
+void recordDebugMessage(std::string message) {
+    if (!debugMessages.empty()) debugMessages += "; ";
+    debugMessages += message;
+}
+
 void checkGl(const char* what) {
     const GLenum e = glGetError();
-    if (e != GL_NO_ERROR) throwRuntimeError(std::string("OpenGL error 0x") + [e] {
-        char buf[16];
-        std::snprintf(buf, sizeof buf, "%04x", e);
-        return std::string(buf);
-    }() + " in " + what);
+    std::string messages;
+    messages.swap(debugMessages);
+    if (e == GL_NO_ERROR && messages.empty()) return;
+    char code[16];
+    std::snprintf(code, sizeof code, "%04x", e);
+    throwRuntimeError((e != GL_NO_ERROR ? std::string("OpenGL error 0x") + code : std::string("OpenGL debug message")) + " in " + what +
+                      (messages.empty() ? "" : ": " + messages));
 }
 
 Buffer::Buffer() { glCreateBuffers(1, &id_); }

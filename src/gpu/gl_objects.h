@@ -9,8 +9,11 @@
 
 namespace ff::gpu {
 
-/// Throws ff::Error (Runtime) naming `what` if GL reports an error.
+/// Throws ff::Error (Runtime) naming `what` if GL reports an error (with the driver's debug messages
+/// in debug builds).
 void checkGl(const char* what);
+/// Keeps a driver debug message for the next checkGl (the debug callback of debug builds).
+void recordDebugMessage(std::string message);
 
 class Buffer {
 public:
@@ -25,6 +28,7 @@ public:
     void download(void* data, std::size_t bytes) const;
     void bind(GLuint binding) const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id_); }
     std::size_t bytes() const { return bytes_; }
+    GLuint id() const { return id_; }
 
 private:
     GLuint id_ = 0;

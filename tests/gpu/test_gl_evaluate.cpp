@@ -2,6 +2,7 @@
 // profiles, per-axis widths, a hybrid plan). Runs on whatever EGL offers — llvmpipe in CI — and skips,
 // saying why, where no context can be made.
 
+#include "core/error.h"
 #include "fourier/render.h"
 #include "gpu/gl_accumulator.h"
 #include "gpu/gl_context.h"
@@ -105,6 +106,29 @@ TEST(GlAccumulate, MatchesTheCpuAccumulation) {
             }
         EXPECT_LE(std::sqrt(num / den), 1e-5) << fourier::toString(shape);
     }
+}
+
+} // namespace
+} // namespace ff::gpu
+
+namespace ff::gpu {
+namespace {
+
+// A GL error (reading past a buffer's end) becomes an ff::Error naming the call, not a silent zero.
+TEST(GlObjects, ErrorsAreReported) {
+    std::string why;
+    const auto context = GlContext::create(why);
+    if (!context) GTEST_SKIP() << "no OpenGL 4.5 context: " << why;
+    Buffer b;
+    b.zeros(16);
+    std::vector<float> out(64);
+    try {
+        b.download(out.data(), out.size() * sizeof(float));
+        ADD_FAILURE() << "no error reported";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("a buffer download"), std::string::npos) << e.what();
+    }
+    EXPECT_NO_THROW(checkGl("nothing")); // the error was consumed
 }
 
 } // namespace

@@ -1,0 +1,158 @@
+// The OpenGL backend (docs/gpu.md, docs/performance.md), on whatever EGL offers — a GPU, or llvmpipe:
+//  - the bandwidth floor: a device-side copy of a buffer the size of the RGB float output; the floor
+//    of an evaluation is output bytes / that bandwidth;
+//  - evaluation of given coefficients with everything on the GPU (no read-back), 1920 x 1080 and
+//    3840 x 2160 at N = 64, 128, 256, next to the CPU's matrix evaluation of the same coefficients;
+//  - the whole GL render (accumulation + evaluation + read-back) against the number of ghosts K.
+// On a software rasteriser only the 1080p, N = 64 and K <= 1000 cases run (the rest take minutes).
+
+#include "fourier/render.h"
+#include "gpu/gl_backend.h"
+#include "gpu/gl_evaluator.h"
+
+#include <benchmark/benchmark.h>
+#include <epoxy/gl.h>
+
+#include <chrono>
+#include <cmath>
+#include <random>
+
+namespace {
+
+using namespace ff::fourier;
+
+struct Frame {
+    int width, height;
+};
+constexpr Frame kFrames[] = {{1920, 1080}, {3840, 2160}};
+
+ff::gpu::GlBackend* backend(std::string& why) {
+    static std::string reason;
+    static const std::shared_ptr<ff::gpu::GlBackend> gl = [] {
+        auto context = ff::gpu::GlContext::create(reason);
+        return context ? std::make_shared<ff::gpu::GlBackend>(std::move(context)) : nullptr;
+    }();
+    why = reason;
+    return gl.get();
+}
+
+// The GL backend, or null after skipping the benchmark (no context; too slow on a software rasteriser).
+ff::gpu::GlBackend* backendFor(benchmark::State& state, bool heavy) {
+    std::string why;
+    ff::gpu::GlBackend* gl = backend(why);
+    if (!gl) state.SkipWithError(("no OpenGL 4.5 context: " + why).c_str());
+    else if (heavy && !gl->context().hardware()) state.SkipWithError("software rasteriser: skipped (minutes per iteration)");
+    else state.SetLabel(gl->context().renderer());
+    return gl && (!heavy || gl->context().hardware()) ? gl : nullptr;
+}
+
+std::vector<Ghost> ghosts(int K, int W, int H) {
+    std::mt19937 rng(42);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<Ghost> g(static_cast<std::size_t>(K));
+    for (Ghost& k : g) {
+        k.x = u(rng) * W;
+        k.y = u(rng) * H;
+        const double s = (W / 64.0) * std::pow(4.0, u(rng)); // 30-120 px at 1080p
+        for (int c = 0; c < 3; ++c) {
+            k.widthX[c] = s * (1.0 + 0.05 * c);
+            k.widthY[c] = s * (0.8 + 0.05 * c);
+            k.flux[c] = u(rng);
+        }
+    }
+    return g;
+}
+
+FourierSettings fixed(int n, const Frame& f) {
+    FourierSettings s;
+    s.fixedN = n;
+    s.fixedPeriodX = f.width * 5.0 / 3.0;
+    s.fixedPeriodY = f.height * 5.0 / 3.0;
+    s.hybrid = false;
+    return s;
+}
+
+Coefficients coefficientsAt(int n, const Frame& f) {
+    const auto g = ghosts(100, f.width, f.height);
+    const FourierSettings s = fixed(n, f);
+    return accumulate(g, choosePlan(g, f.width, f.height, s), s);
+}
+
+// The time to copy a buffer of the output's size on the device (reads and writes it once): the floor
+// an evaluation that writes the output is read against.
+void BM_GlCopyFloor(benchmark::State& state) {
+    const Frame f = kFrames[state.range(0)];
+    ff::gpu::GlBackend* gl = backendFor(state, false);
+    if (!gl) return;
+    const std::size_t bytes = static_cast<std::size_t>(3) * f.width * f.height * sizeof(float);
+    ff::gpu::Buffer a, b;
+    a.zeros(bytes);
+    b.zeros(bytes);
+    glFinish();
+    for (auto _ : state) {
+        const auto t = std::chrono::steady_clock::now();
+        glCopyNamedBufferSubData(a.id(), b.id(), 0, 0, static_cast<GLsizeiptr>(bytes));
+        glFinish();
+        state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count());
+    }
+    state.counters["GB/s copied"] = benchmark::Counter(double(bytes) * 1e-9, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_GlCopyFloor)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseManualTime();
+
+// Evaluation with the coefficients and the image on the GPU (args: frame 0 = 1080p / 1 = 2160p, N).
+void BM_GlEvaluate(benchmark::State& state) {
+    const Frame f = kFrames[state.range(0)];
+    const int n = static_cast<int>(state.range(1));
+    ff::gpu::GlBackend* gl = backendFor(state, state.range(0) > 0 || n > 64);
+    if (!gl) return;
+    const Coefficients z = coefficientsAt(n, f);
+    std::vector<float> zf;
+    for (const auto& ch : z.z)
+        for (double v : ch) zf.push_back(static_cast<float>(v));
+    ff::gpu::Buffer zb, image;
+    zb.upload(zf.data(), zf.size() * sizeof(float));
+    image.zeros(static_cast<std::size_t>(3) * f.width * f.height * sizeof(float));
+    ff::gpu::GlEvaluator evaluator(gl->context());
+    evaluator.add(zb, z.n, z.m, z.periodX, z.periodY, f.width, f.height, image); // warm-up: compile, allocate
+    glFinish();
+    for (auto _ : state) {
+        const auto t = std::chrono::steady_clock::now();
+        evaluator.add(zb, z.n, z.m, z.periodX, z.periodY, f.width, f.height, image);
+        glFinish();
+        state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count());
+    }
+    state.counters["M"] = z.m;
+}
+BENCHMARK(BM_GlEvaluate)->ArgsProduct({{0, 1}, {64, 128, 256}})->Unit(benchmark::kMillisecond)->UseManualTime();
+
+// The CPU's matrix evaluation of the same coefficients, in the same run.
+void BM_CpuEvaluate(benchmark::State& state) {
+    const Frame f = kFrames[state.range(0)];
+    const Coefficients z = coefficientsAt(static_cast<int>(state.range(1)), f);
+    FlareImage image(f.width, f.height);
+    for (auto _ : state) {
+        evaluate(z, Evaluation::Matrix, image);
+        benchmark::DoNotOptimize(image.channel[0].data());
+    }
+}
+BENCHMARK(BM_CpuEvaluate)->ArgsProduct({{0, 1}, {64, 128, 256}})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The whole GL render at 1080p, N = 64 (accumulation on the GPU, evaluation, read-back) against K.
+void BM_GlRender(benchmark::State& state) {
+    const Frame f = kFrames[0];
+    const int K = static_cast<int>(state.range(0));
+    ff::gpu::GlBackend* gl = backendFor(state, K > 1000);
+    if (!gl) return;
+    const auto g = ghosts(K, f.width, f.height);
+    FourierSettings s = fixed(64, f);
+    s.backend = std::shared_ptr<ff::gpu::GlBackend>(std::shared_ptr<ff::gpu::GlBackend>{}, gl); // not owned
+    for (auto _ : state) {
+        const FourierRender r = renderFourier(g, f.width, f.height, s);
+        benchmark::DoNotOptimize(r.image.channel[0].data());
+    }
+}
+BENCHMARK(BM_GlRender)->RangeMultiplier(10)->Range(100, 100000)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+} // namespace
+
+BENCHMARK_MAIN();
