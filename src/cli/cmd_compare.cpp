@@ -187,6 +187,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     report["budget"] = base.error;
     report["previewExposureEv"] = exposure;
     report["seconds"] = {{"traced", tracedSeconds}, {"table", tableSeconds}};
+    report["fourierBackend"] = base.backend ? base.backend->describe() : std::string("cpu");
     std::string md = "# Flare comparison: " + lens.name + "\n\n";
     md += "Lens `" + lens.file + "`, frame " + std::to_string(W) + " x " + std::to_string(H) + " px over " + text::fixed(sensorMm.first, 1) + " x " +
           text::fixed(sensorMm.second, 1) + " mm, " + std::to_string(lights.size()) + " light(s). Images are flux per pixel relative to each light's "
@@ -292,7 +293,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
         for (const auto& s : vsTraced) md += " " + text::scientific(s.second[i], 3) + " |";
         md += "\n";
     }
-    md += "\n![error against N](error-vs-n.svg)\n\n## Wall time\n\n" + timing;
+    md += "\n![error against N](error-vs-n.svg)\n\n## Wall time\n\nFourier backend: " + report["fourierBackend"].get<std::string>() + ".\n\n" + timing;
     md += "\n## Files\n\n`traced`, `fitted-*`, `fourier-*` as EXR (linear) and PNG (same exposure); `diff-A-vs-B.png`: luminance of A minus B, "
           "red where A is brighter, blue where darker, white where equal, full colour at the 99.9th percentile of |A − B| (values in report.json, "
           "`differenceScales`).\n";

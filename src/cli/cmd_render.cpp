@@ -98,6 +98,7 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
             fourier::FourierRender r = fourier::renderFourier(ghosts, W, H, fs);
             image = std::move(r.image);
             meta.push_back({"fourierflare:fourier", r.describe()});
+            meta.push_back({"fourierflare:backend", fs.backend ? fs.backend->describe() : std::string("cpu")});
             if (g.verbose) printPlan(r);
             summary = "aggregated " + std::to_string(ghosts.size()) + " ghosts: " + r.describe();
         }
@@ -156,6 +157,8 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
                 fourier::FourierRender r = fourier::renderFourier(ghosts, W, H, fs);
                 image = std::move(r.image);
                 meta.push_back({"fourierflare:fourier", r.describe()});
+                meta.push_back({"fourierflare:backend", fs.backend ? fs.backend->describe() : std::string("cpu")});
+            meta.push_back({"fourierflare:backend", fs.backend ? fs.backend->describe() : std::string("cpu")});
                 if (g.verbose) printPlan(r);
                 summary = "aggregated " + std::to_string(ghosts.size()) + " ghosts of " + std::to_string(lights.size()) + " light(s): " + r.describe();
             }

@@ -53,6 +53,26 @@ TEST(CliFourier, GhostListRendersTheAnalyticValueInBothModes) {
     }
 }
 
+TEST(CliFourier, GhostListOnTheGlBackendGivesTheAnalyticValue) {
+    ff::test::TempDir dir;
+    // A small ghost (drawn directly) and a large one (through the series), both with their centre on
+    // a pixel corner, far enough apart that each probe sees one.
+    write(dir / "g.json", R"({"ghosts": [{"x": 20, "y": 20, "widthX": 1.5, "widthY": 2, "flux": [1, 2, 3]},
+                                         {"x": 100, "y": 40, "widthX": 12, "widthY": 10, "flux": 50}]})");
+    auto mass = [](double s) { return 0.5 * std::erf(1.0 / (s * std::numbers::sqrt2)); };
+    const auto r = run("render --ghosts '" + (dir / "g.json").string() +
+                       "' --size 160x80 --mode fourier --backend gl --fourier-n 24 --probe 20,20 --probe 100,40 -o '" + (dir / "g.exr").string() + "'");
+    if (r.code == 1 && r.err.find("no OpenGL 4.5 context") != std::string::npos) GTEST_SKIP() << r.err;
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto p = probes(r.out);
+    ASSERT_EQ(p.size(), 2u) << r.out;
+    for (int c = 0; c < 3; ++c) {
+        const double small = (c + 1) * mass(1.5) * mass(2.0), large = 50.0 * mass(12.0) * mass(10.0);
+        EXPECT_NEAR(p[0][c], small, 1e-3 * small);
+        EXPECT_NEAR(p[1][c], large, 1e-3 * large);
+    }
+}
+
 TEST(CliFourier, GhostListErrorsNameTheEntry) {
     ff::test::TempDir dir;
     write(dir / "bad.json", R"({"ghosts": [{"x": 1, "y": 2, "widthX": 3, "widthY": -1, "flux": 1}]})");
