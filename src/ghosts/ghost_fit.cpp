@@ -85,9 +85,9 @@ ProfileFit fitProfile(const LocalImage& img, Profile p, double flux, double star
 } // namespace
 
 GhostFit fitGhost(const trace::Bundle& b, const std::vector<trace::RayResult>& c, const std::vector<trace::RayResult>& k,
-                  double scale, const FitOptions& o) {
+                  double scale, const FitOptions& o, const trace::BundleMoments* moments) {
     GhostFit fit;
-    const trace::BundleMoments m = trace::measureBundle(b, c, scale, o.maxRadiusMm);
+    const trace::BundleMoments m = moments ? *moments : trace::measureBundle(b, c, scale, o.maxRadiusMm);
     fit.survivingFraction = m.launched ? double(m.surviving) / double(m.launched) : 0.0;
     if (m.energy <= 0.0) return fit;
     const double e = m.energy;

@@ -9,6 +9,7 @@
 // ghost's traced flux: a fit never invents or loses energy. The fit error is the relative L2 distance
 // between the fitted profile and the traced image, over a square of +-4 sigma around the centroid.
 
+#include "trace/bundle_moments.h"
 #include "trace/embree_tracer.h"
 #include "trace/pupil_sampling.h"
 
@@ -49,8 +50,10 @@ struct FitOptions {
 
 /// Fits one ghost. energyScale multiplies every ray's weight x cell area (e.g. 1 / direct energy).
 /// Flux, moments and fits all use the rays that count (see FitOptions::maxRadiusMm). A ghost with no
-/// such ray gets a zero fit.
+/// such ray gets a zero fit. `moments`, when given, are the bundle's moments measured by the caller
+/// (e.g. trace::measureBundleResolved, with the same scale and radius); else the grid's are used.
 GhostFit fitGhost(const trace::Bundle& centres, const std::vector<trace::RayResult>& centreHits,
-                  const std::vector<trace::RayResult>& cornerHits, double energyScale, const FitOptions& options = {});
+                  const std::vector<trace::RayResult>& cornerHits, double energyScale, const FitOptions& options = {},
+                  const trace::BundleMoments* moments = nullptr);
 
 } // namespace ff::ghosts

@@ -24,7 +24,8 @@ std::string TableSettings::key() const {
     k += " sampling " + std::to_string(static_cast<int>(sampling)) + " grid " + std::to_string(grid) + " sensor " +
          std::to_string(static_cast<int>(sensor)) + " coating " + std::to_string(static_cast<int>(coating)) + " max " +
          text::roundTrip(maxAngleDeg) + " tol " + text::roundTrip(interpolationTolerance) + " angles " + std::to_string(maxAngles) +
-         " sensorsize " + text::roundTrip(sensorSizeMm.first) + "x" + text::roundTrip(sensorSizeMm.second);
+         " sensorsize " + text::roundTrip(sensorSizeMm.first) + "x" + text::roundTrip(sensorSizeMm.second) + " edges " +
+         std::to_string(edgeSubdivisions);
     return k;
 }
 
@@ -93,12 +94,14 @@ public:
             const trace::Field field{degToRad(anglesDeg[a]), 0.0};
             const trace::PupilRegion region = trace::pupilRegion(frame_, field, s_.sampling, geometry_, directSteps_);
             const trace::Bundle b = trace::regionBundle(frame_, field, region, s_.grid);
+            const trace::Bundle corners = trace::cornerBundle(frame_, field, b);
             out[a].directY.assign(nW, 0.0);
             out[a].ghosts.assign(nG, std::vector<TableEntry>(nW));
             for (std::size_t w = 0; w < nW; ++w) {
-                std::vector<trace::RayResult> hits(b.rays.size());
+                std::vector<trace::RayResult> hits(b.rays.size()), k(corners.rays.size());
                 tracer_.trace(atLambda_[w], directSteps_, b.rays, hits);
-                const trace::BundleMoments m = trace::measureBundle(b, hits);
+                tracer_.trace(atLambda_[w], directSteps_, corners.rays, k);
+                const trace::BundleMoments m = measure(w, directSteps_, field, b, hits, k, 1.0, 0.0);
                 directEnergy[a][w] = m.energy;
                 out[a].directY[w] = m.centroidY;
             }
@@ -114,7 +117,9 @@ public:
                 std::vector<trace::RayResult> c(centres.rays.size()), k(corners.rays.size());
                 tracer_.trace(atLambda_[w], steps_[g], centres.rays, c);
                 tracer_.trace(atLambda_[w], steps_[g], corners.rays, k);
-                const GhostFit f = fitGhost(centres, c, k, 1.0 / directEnergy[a][w], fitOptions_);
+                const double scale = 1.0 / directEnergy[a][w];
+                const trace::BundleMoments m = measure(w, steps_[g], field, centres, c, k, scale, fitOptions_.maxRadiusMm);
+                const GhostFit f = fitGhost(centres, c, k, scale, fitOptions_, &m);
                 TableEntry& e = out[a].ghosts[g][w];
                 e.centroidY = f.centroidY;
                 e.sigmaR = f.sigmaR;
@@ -130,6 +135,14 @@ public:
     }
 
 private:
+    // The bundle's moments, its vignetting edges resolved on sub-grids (TableSettings::edgeSubdivisions).
+    trace::BundleMoments measure(std::size_t w, const std::vector<trace::PathStep>& steps, const trace::Field& field, const trace::Bundle& b,
+                                 const std::vector<trace::RayResult>& c, const std::vector<trace::RayResult>& k, double scale,
+                                 double maxRadius) const {
+        if (s_.edgeSubdivisions <= 1) return trace::measureBundle(b, c, scale, maxRadius);
+        return trace::measureBundleResolved(tracer_, atLambda_[w], steps, frame_, field, b, c, k, s_.edgeSubdivisions, scale, maxRadius);
+    }
+
     void report() {
         const std::size_t d = ++done_;
         if (!progress_) return;

@@ -2,7 +2,7 @@
 
 namespace ff::trace {
 
-BundleMoments measureBundle(const Bundle& b, const std::vector<RayResult>& hits, double scale, double maxRadius) {
+BundleMoments measureSamples(std::span<const RayResult> hits, std::span<const double> areas, double scale, double maxRadius) {
     BundleMoments m;
     auto counts = [&](const RayResult& r) {
         return maxRadius <= 0.0 ||
@@ -10,14 +10,14 @@ BundleMoments measureBundle(const Bundle& b, const std::vector<RayResult>& hits,
     };
     double sx = 0.0, sy = 0.0;
     for (std::size_t i = 0; i < hits.size(); ++i) {
-        if (!b.launched[i]) continue;
+        if (areas[i] <= 0.0) continue;
         ++m.launched;
         const RayResult& r = hits[i];
         if (r.status == optics::RayStatus::Blocked) ++m.blocked;
         if (r.status != optics::RayStatus::Ok) continue;
         ++m.surviving;
         if (!counts(r)) continue;
-        const double w = r.weight * b.cellArea * scale;
+        const double w = r.weight * areas[i] * scale;
         m.energy += w;
         sx += w * r.sensorPoint.x;
         sy += w * r.sensorPoint.y;
@@ -27,8 +27,8 @@ BundleMoments measureBundle(const Bundle& b, const std::vector<RayResult>& hits,
     m.centroidY = sy / m.energy;
     for (std::size_t i = 0; i < hits.size(); ++i) {
         const RayResult& r = hits[i];
-        if (!b.launched[i] || r.status != optics::RayStatus::Ok || !counts(r)) continue;
-        const double w = r.weight * b.cellArea * scale;
+        if (areas[i] <= 0.0 || r.status != optics::RayStatus::Ok || !counts(r)) continue;
+        const double w = r.weight * areas[i] * scale;
         const double dx = r.sensorPoint.x - m.centroidX, dy = r.sensorPoint.y - m.centroidY;
         m.mxx += w * dx * dx;
         m.myy += w * dy * dy;
@@ -37,6 +37,59 @@ BundleMoments measureBundle(const Bundle& b, const std::vector<RayResult>& hits,
     m.mxx /= m.energy;
     m.myy /= m.energy;
     m.mxy /= m.energy;
+    return m;
+}
+
+BundleMoments measureBundle(const Bundle& b, const std::vector<RayResult>& hits, double scale, double maxRadius) {
+    std::vector<double> areas(hits.size());
+    for (std::size_t i = 0; i < hits.size(); ++i) areas[i] = b.launched[i] ? b.cellArea : 0.0;
+    return measureSamples(hits, areas, scale, maxRadius);
+}
+
+BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWavelength& L, const std::vector<PathStep>& steps,
+                                    const PupilFrame& pupil, const Field& field, const Bundle& centres, const std::vector<RayResult>& c,
+                                    const std::vector<RayResult>& k, int subdivisions, double scale, double maxRadius) {
+    // Cells whose centre and corners disagree on whether their light counts: lost or not, and
+    // inside maxRadius or not (a wide ghost cut there moves in steps just as one cut by a stop).
+    auto counted = [&](const RayResult& r) {
+        return r.status == optics::RayStatus::Ok &&
+               (maxRadius <= 0.0 || r.sensorPoint.x * r.sensorPoint.x + r.sensorPoint.y * r.sensorPoint.y <= maxRadius * maxRadius);
+    };
+    const int n = centres.n;
+    std::vector<char> edge(c.size(), 0);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const std::size_t cell = static_cast<std::size_t>(j) * n + i, corner = static_cast<std::size_t>(j) * (n + 1) + i;
+            const int in = counted(c[cell]) + counted(k[corner]) + counted(k[corner + 1]) + counted(k[corner + n + 1]) + counted(k[corner + n + 2]);
+            edge[cell] = in > 0 && in < 5;
+        }
+    std::vector<RayResult> hits;
+    std::vector<double> areas;
+    std::vector<optics::Ray> subRays;
+    const double subArea = centres.cellArea / (double(subdivisions) * subdivisions);
+    for (std::size_t i = 0; i < c.size(); ++i) {
+        if (!centres.launched[i]) continue;
+        if (!edge[i]) {
+            hits.push_back(c[i]);
+            areas.push_back(centres.cellArea);
+            continue;
+        }
+        const int col = static_cast<int>(i % static_cast<std::size_t>(centres.n)), row = static_cast<int>(i / static_cast<std::size_t>(centres.n));
+        const Bundle sub = gridBundle(pupil, field, subdivisions, centres.x0 + (col + 0.5) * centres.cell, centres.y0 + (row + 0.5) * centres.cell,
+                                      0.5 * centres.cell, false);
+        subRays.insert(subRays.end(), sub.rays.begin(), sub.rays.end());
+    }
+    if (!subRays.empty()) {
+        std::vector<RayResult> subHits(subRays.size());
+        tracer.trace(L, steps, subRays, subHits);
+        hits.insert(hits.end(), subHits.begin(), subHits.end());
+        areas.insert(areas.end(), subHits.size(), subArea);
+    }
+    BundleMoments m = measureSamples(hits, areas, scale, maxRadius);
+    const BundleMoments grid = measureBundle(centres, c, scale, maxRadius);
+    m.launched = grid.launched;
+    m.surviving = grid.surviving;
+    m.blocked = grid.blocked;
     return m;
 }
 

@@ -5,6 +5,7 @@
 #include "trace/embree_tracer.h"
 #include "trace/pupil_sampling.h"
 
+#include <span>
 #include <vector>
 
 namespace ff::trace {
@@ -20,5 +21,19 @@ struct BundleMoments {
 /// towards energy and moments (the counts still cover every surviving ray).
 BundleMoments measureBundle(const Bundle& bundle, const std::vector<RayResult>& hits, double scale = 1.0,
                             double maxRadiusMm = 0.0);
+
+/// The same over samples that stand for pupil areas of their own (area 0: not launched).
+BundleMoments measureSamples(std::span<const RayResult> hits, std::span<const double> areas, double scale, double maxRadiusMm);
+
+/// measureBundle with the vignetting edges resolved below the grid. A cell whose centre and corner
+/// rays (cornerBundle) do not share one fate — lost or arriving, landing inside maxRadiusMm or not —
+/// straddles an edge that a single centre ray counts all or nothing of, so the moments would move in
+/// steps as the field angle sweeps the edge across cells; here each such cell is re-traced on a
+/// `subdivisions` x `subdivisions` sub-grid and counted by its sub-cells. Counts (launched,
+/// surviving, blocked) stay those of the grid's centre rays.
+BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWavelength& L, const std::vector<PathStep>& steps,
+                                    const PupilFrame& pupil, const Field& field, const Bundle& centres,
+                                    const std::vector<RayResult>& centreHits, const std::vector<RayResult>& cornerHits, int subdivisions,
+                                    double scale = 1.0, double maxRadiusMm = 0.0);
 
 } // namespace ff::trace

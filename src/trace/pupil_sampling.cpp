@@ -59,7 +59,7 @@ PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sa
     // Coarse pass over everything that could enter the front surface, traced analytically.
     const double shift = std::abs(std::tan(field.angleRad)) * std::abs(frame.z - frame.startZ);
     const double half = std::max(frame.frontRadius, frame.radius) + shift + frame.radius;
-    constexpr int kCoarse = 48;
+    constexpr int kCoarse = 96;
     const Bundle coarse = gridBundle(frame, field, kCoarse, 0.0, 0.0, half, false);
     std::vector<RayResult> hits(coarse.rays.size());
     traceAnalytic(L, steps, coarse.rays, hits);
