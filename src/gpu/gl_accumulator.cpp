@@ -1,6 +1,7 @@
 #include "gpu/gl_accumulator.h"
 
 #include "core/error.h"
+#include "gpu/gl_ghost_layout.h"
 
 #include <algorithm>
 #include <array>
@@ -16,15 +17,10 @@ namespace {
 // std430 layout of shaders/accumulate.comp's Ghost.
 struct GpuGhost {
     float u, v, shape, pad;
-    std::array<float, 4> widthX, widthY, peak;
+    GpuChannels channels;
 };
 static_assert(sizeof(GpuGhost) == 64);
 
-// x / period reduced to [0, 1) in double, so the shader's phases stay exact to float rounding.
-float fraction(double x, double period) {
-    const double f = x / period - std::floor(x / period);
-    return static_cast<float>(f >= 1.0 ? 0.0 : f);
-}
 
 } // namespace
 
@@ -46,13 +42,7 @@ void GlAccumulator::accumulate(const std::vector<fourier::Ghost>& ghosts, const 
     for (std::size_t k = 0; k < ghosts.size(); ++k) {
         if (plan.route[k] != fourier::Route::Fourier) continue;
         const fourier::Ghost& g = ghosts[k];
-        GpuGhost q{fraction(g.x, plan.periodX), fraction(g.y, plan.periodY), g.shape == fourier::Shape::Gaussian ? 0.0f : 1.0f, 0.0f, {}, {}, {}};
-        for (int c = 0; c < 3; ++c) {
-            q.widthX[c] = static_cast<float>(g.widthX[c]);
-            q.widthY[c] = static_cast<float>(g.widthY[c]);
-            q.peak[c] = static_cast<float>(g.peak(c));
-        }
-        list.push_back(q);
+        list.push_back({periodFraction(g.x, plan.periodX), periodFraction(g.y, plan.periodY), gpuShape(g), 0.0f, gpuChannels(g)});
     }
     if (list.empty()) return;
     ghosts_.upload(list.data(), list.size() * sizeof(GpuGhost));

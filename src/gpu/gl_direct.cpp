@@ -1,5 +1,7 @@
 #include "gpu/gl_direct.h"
 
+#include "gpu/gl_ghost_layout.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -15,7 +17,7 @@ namespace {
 struct GpuDirectGhost {
     std::array<int, 4> box;
     float offsetX, offsetY, shape, pad;
-    std::array<float, 4> widthX, widthY, peak;
+    GpuChannels channels;
 };
 static_assert(sizeof(GpuDirectGhost) == 80);
 
@@ -40,14 +42,7 @@ void GlDirect::add(const std::vector<fourier::Ghost>& ghosts, const std::vector<
         const int x0 = std::max(0, static_cast<int>(std::floor(g.x - ex))), x1 = std::min(W - 1, static_cast<int>(std::floor(g.x + ex)));
         const int y0 = std::max(0, static_cast<int>(std::floor(g.y - ey))), y1 = std::min(H - 1, static_cast<int>(std::floor(g.y + ey)));
         if (x1 < x0 || y1 < y0) continue;
-        GpuDirectGhost q{{x0, y0, x1, y1}, static_cast<float>(x0 - g.x), static_cast<float>(y0 - g.y), g.shape == fourier::Shape::Gaussian ? 0.0f : 1.0f,
-                         0.0f, {}, {}, {}};
-        for (int c = 0; c < 3; ++c) {
-            q.widthX[c] = static_cast<float>(g.widthX[c]);
-            q.widthY[c] = static_cast<float>(g.widthY[c]);
-            q.peak[c] = static_cast<float>(g.peak(c));
-        }
-        list.push_back(q);
+        list.push_back({{x0, y0, x1, y1}, static_cast<float>(x0 - g.x), static_cast<float>(y0 - g.y), gpuShape(g), 0.0f, gpuChannels(g)});
     }
     if (list.empty()) return;
     ghosts_.upload(list.data(), list.size() * sizeof(GpuDirectGhost));

@@ -1,5 +1,7 @@
 #include "gpu/gl_sampled.h"
 
+#include "gpu/gl_ghost_layout.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -18,10 +20,6 @@ struct GpuSampledGhost {
 };
 static_assert(sizeof(GpuSampledGhost) == 32);
 
-float fraction(double x, double period) {
-    const double f = x / period - std::floor(x / period);
-    return static_cast<float>(f >= 1.0 ? 0.0 : f);
-}
 
 // Per-ghost slices kept on the GPU at once: ghosts per dispatch bounded by 64 MiB of slices.
 constexpr std::size_t kSliceBytes = std::size_t(64) << 20;
@@ -42,7 +40,7 @@ void GlSampled::add(const std::vector<fourier::SampledGhost>& ghosts, int n, int
     std::vector<GpuSampledGhost> list;
     std::vector<float> values;
     for (const auto& g : ghosts) {
-        list.push_back({fraction(g.x0 + 0.5 * g.step, periodX), fraction(g.y0 + 0.5 * g.step, periodY), static_cast<float>(g.step / periodX),
+        list.push_back({periodFraction(g.x0 + 0.5 * g.step, periodX), periodFraction(g.y0 + 0.5 * g.step, periodY), static_cast<float>(g.step / periodX),
                         static_cast<float>(g.step / periodY), g.width, g.height, static_cast<int>(values.size()), 0});
         values.insert(values.end(), g.values.begin(), g.values.end());
     }
