@@ -59,9 +59,9 @@ double gaussianCoefficient(int n, double sigma, double T, GaussianForm form) {
     return 0.0;
 }
 
-namespace {
-
 double sinc(double u) { return u == 0.0 ? 1.0 : std::sin(u) / u; }
+
+namespace {
 
 // The cos^2 coefficient's shape: T h_n / w as a function of theta = n w_T w.
 double hann(double t) { return sinc(t) + 0.5 * sinc(t - std::numbers::pi) + 0.5 * sinc(t + std::numbers::pi); }

@@ -35,6 +35,9 @@ double profileIntegral(Shape s, double width);
 /// erf through Abramowitz & Stegun 7.1.26 (odd extension to x < 0).
 double erfAS7126(double x);
 
+/// sin(u) / u, 1 at 0: the transform of a box (a pixel or a sample cell) and of the cos^2 bump's parts.
+double sinc(double u);
+
 /// Re[exp(-y^2) erf(x + i y)] for x > 0, by the series of Abramowitz & Stegun 7.1.29 with the
 /// exp(-y^2) folded into every term so that nothing overflows for large y.
 double scaledRealErf(double x, double y);

@@ -17,8 +17,6 @@ namespace ff::fourier {
 
 namespace {
 
-double sinc(double u) { return u == 0.0 ? 1.0 : std::sin(u) / u; }
-
 void evaluateMatrix(const Coefficients& z, FlareImage& image) {
     const int n = z.n, m = z.m, W = image.width, H = image.height;
     const std::vector<float> X = seriesBasis(n, W, z.periodX), Y = seriesBasis(m, H, z.periodY);

@@ -20,7 +20,6 @@
 namespace ff::fourier {
 
 class Backend; // backend.h
-struct Plan;
 
 enum class Evaluation { Auto, Matrix, Fft };
 const char* toString(Evaluation e);

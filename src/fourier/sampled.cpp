@@ -10,8 +10,6 @@ namespace ff::fourier {
 
 namespace {
 
-double sinc(double u) { return std::abs(u) < 1e-12 ? 1.0 : std::sin(u) / u; }
-
 // cos and sin of n w (x0 + (i + 1/2) s) for i < count, phases reduced in float64.
 void phases(int n, double w, double x0, double s, int count, std::vector<double>& c, std::vector<double>& si) {
     c.resize(static_cast<std::size_t>(count));

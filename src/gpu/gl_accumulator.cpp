@@ -2,10 +2,9 @@
 
 #include "core/error.h"
 #include "gpu/gl_ghost_layout.h"
+#include "gpu/gl_transfer.h"
 
 #include <algorithm>
-#include <array>
-#include <cmath>
 #include <string_view>
 
 namespace ff::gpu {
@@ -20,7 +19,6 @@ struct GpuGhost {
     GpuChannels channels;
 };
 static_assert(sizeof(GpuGhost) == 64);
-
 
 } // namespace
 
@@ -65,12 +63,7 @@ fourier::Coefficients GlAccumulator::accumulate(const std::vector<fourier::Ghost
                                                 const fourier::FourierSettings& settings) {
     fourier::Coefficients co = fourier::Coefficients::zeros(plan);
     accumulate(ghosts, plan, settings, z_);
-    if (co.n == 0 || co.m == 0) return co;
-    const std::size_t per = static_cast<std::size_t>(4) * co.n * co.m;
-    std::vector<float> z(3 * per);
-    z_.download(z.data(), z.size() * sizeof(float));
-    for (int c = 0; c < 3; ++c)
-        for (std::size_t i = 0; i < per; ++i) co.z[c][i] = z[static_cast<std::size_t>(c) * per + i];
+    if (co.n > 0 && co.m > 0) downloadCoefficients(z_, co);
     return co;
 }
 

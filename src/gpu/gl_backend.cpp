@@ -1,6 +1,7 @@
 #include "gpu/gl_backend.h"
 
 #include "fourier/aggregate.h"
+#include "gpu/gl_transfer.h"
 
 #include <algorithm>
 #include <chrono>
@@ -46,10 +47,7 @@ void GlBackend::addLevel(const std::vector<fourier::Ghost>& ghosts, const fourie
         if (settings.gaussianForm == fourier::GaussianForm::Periodised || !anyGaussian) {
             accumulator_->accumulate(ghosts, plan, settings, z_);
         } else {
-            const fourier::Coefficients co = fourier::accumulate(ghosts, plan, settings);
-            std::vector<float> zf;
-            for (const auto& ch : co.z) std::transform(ch.begin(), ch.end(), std::back_inserter(zf), [](double v) { return static_cast<float>(v); });
-            z_.upload(zf.data(), zf.size() * sizeof(float));
+            uploadCoefficients(fourier::accumulate(ghosts, plan, settings), z_);
         }
         seconds.accumulate += since(t);
         evaluator_->add(z_, plan.n, plan.m, plan.periodX, plan.periodY, width_, height_, image_);
@@ -64,10 +62,7 @@ void GlBackend::addLevel(const std::vector<fourier::Ghost>& ghosts, const fourie
 
 void GlBackend::finish(fourier::FlareImage& image) {
     image = fourier::FlareImage(width_, height_);
-    const std::size_t plane = image.pixels();
-    std::vector<float> planes(3 * plane);
-    image_.download(planes.data(), planes.size() * sizeof(float));
-    for (int c = 0; c < 3; ++c) std::copy_n(planes.begin() + static_cast<long>(c * plane), plane, image.channel[c].begin());
+    downloadImage(image_, image);
 }
 
 std::vector<float> GlBackend::composite(const std::vector<float>& plate) { return compositor_->composite(plate, width_, height_, image_); }

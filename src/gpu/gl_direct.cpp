@@ -1,6 +1,7 @@
 #include "gpu/gl_direct.h"
 
 #include "gpu/gl_ghost_layout.h"
+#include "gpu/gl_transfer.h"
 
 #include <algorithm>
 #include <array>
@@ -58,13 +59,9 @@ void GlDirect::add(const std::vector<fourier::Ghost>& ghosts, const std::vector<
 }
 
 void GlDirect::draw(const std::vector<fourier::Ghost>& ghosts, const std::vector<std::size_t>& which, fourier::FlareImage& image) {
-    const std::size_t plane = image.pixels();
-    std::vector<float> planes(3 * plane);
-    for (int c = 0; c < 3; ++c) std::copy(image.channel[c].begin(), image.channel[c].end(), planes.begin() + static_cast<long>(c * plane));
-    image_.upload(planes.data(), planes.size() * sizeof(float));
+    uploadImage(image, image_);
     add(ghosts, which, image.width, image.height, image_);
-    image_.download(planes.data(), planes.size() * sizeof(float));
-    for (int c = 0; c < 3; ++c) std::copy_n(planes.begin() + static_cast<long>(c * plane), plane, image.channel[c].begin());
+    downloadImage(image_, image);
 }
 
 } // namespace ff::gpu

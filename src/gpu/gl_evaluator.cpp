@@ -1,6 +1,7 @@
 #include "gpu/gl_evaluator.h"
 
 #include "fourier/evaluate.h"
+#include "gpu/gl_transfer.h"
 
 #include <algorithm>
 #include <string_view>
@@ -55,16 +56,10 @@ void GlEvaluator::evaluate(const fourier::Coefficients& z, fourier::FlareImage& 
     const int W = image.width, H = image.height;
     image_.zeros(static_cast<std::size_t>(3) * W * H * sizeof(float));
     if (z.n > 0 && z.m > 0) {
-        std::vector<float> zf(static_cast<std::size_t>(3) * 4 * z.n * z.m);
-        for (int c = 0; c < 3; ++c)
-            std::transform(z.z[c].begin(), z.z[c].end(), zf.begin() + static_cast<long>(c) * 4 * z.n * z.m, [](double v) { return static_cast<float>(v); });
-        z_.upload(zf.data(), zf.size() * sizeof(float));
+        uploadCoefficients(z, z_);
         add(z_, z.n, z.m, z.periodX, z.periodY, W, H, image_);
     }
-    std::vector<float> planes(static_cast<std::size_t>(3) * W * H);
-    image_.download(planes.data(), planes.size() * sizeof(float));
-    for (int c = 0; c < 3; ++c)
-        std::copy_n(planes.begin() + static_cast<long>(c) * W * H, static_cast<std::size_t>(W) * H, image.channel[c].begin());
+    downloadImage(image_, image);
 }
 
 } // namespace ff::gpu

@@ -1,6 +1,7 @@
 #include "gpu/gl_sampled.h"
 
 #include "gpu/gl_ghost_layout.h"
+#include "gpu/gl_transfer.h"
 
 #include <algorithm>
 #include <array>
@@ -76,14 +77,9 @@ void GlSampled::add(const std::vector<fourier::SampledGhost>& ghosts, int n, int
 }
 
 void GlSampled::accumulate(const std::vector<fourier::SampledGhost>& ghosts, fourier::Coefficients& z) {
-    const std::size_t per = static_cast<std::size_t>(4) * z.n * z.m;
-    std::vector<float> zf(3 * per);
-    for (int c = 0; c < 3; ++c) std::transform(z.z[c].begin(), z.z[c].end(), zf.begin() + static_cast<long>(c * per), [](double v) { return static_cast<float>(v); });
-    z_.upload(zf.data(), zf.size() * sizeof(float));
+    uploadCoefficients(z, z_);
     add(ghosts, z.n, z.m, z.periodX, z.periodY, z_);
-    z_.download(zf.data(), zf.size() * sizeof(float));
-    for (int c = 0; c < 3; ++c)
-        for (std::size_t i = 0; i < per; ++i) z.z[c][i] = zf[c * per + i];
+    downloadCoefficients(z_, z);
 }
 
 } // namespace ff::gpu
