@@ -1,7 +1,7 @@
 #pragma once
 // What the GL tests share: random ghost sets and image comparisons.
 
-#include "fourier/ghost.h"
+#include "fourier/aggregate.h"
 
 #include <algorithm>
 #include <cmath>
@@ -50,6 +50,17 @@ inline Difference difference(const fourier::FlareImage& a, const fourier::FlareI
         }
     d.relativeL2 = den > 0.0 ? std::sqrt(num / den) : std::sqrt(num);
     return d;
+}
+
+/// ||a - b|| / ||b|| over the coefficients of all channels.
+inline double coefficientDifference(const fourier::Coefficients& a, const fourier::Coefficients& b) {
+    double num = 0.0, den = 0.0;
+    for (int c = 0; c < 3; ++c)
+        for (std::size_t i = 0; i < b.z[c].size(); ++i) {
+            num += (a.z[c][i] - b.z[c][i]) * (a.z[c][i] - b.z[c][i]);
+            den += b.z[c][i] * b.z[c][i];
+        }
+    return std::sqrt(num / den);
 }
 
 } // namespace ff::gpu::testing

@@ -37,18 +37,10 @@ TEST(GlEvaluate, MatchesTheCpuMatrixForm) {
         fourier::FlareImage cpu(W, H), gpu(W, H);
         fourier::evaluate(z, fourier::Evaluation::Matrix, cpu);
         gl.evaluate(z, gpu);
-        double num = 0.0, den = 0.0, worst = 0.0, peak = 0.0;
-        for (int c = 0; c < 3; ++c)
-            for (std::size_t p = 0; p < cpu.pixels(); ++p) {
-                const double d = double(gpu.channel[c][p]) - cpu.channel[c][p];
-                num += d * d;
-                den += double(cpu.channel[c][p]) * cpu.channel[c][p];
-                worst = std::max(worst, std::abs(d));
-                peak = std::max(peak, std::abs(double(cpu.channel[c][p])));
-            }
+        const auto d = testing::difference(gpu, cpu);
         // Both are float32 sums of 2M and 2N products in different orders: a few ulps per term.
-        EXPECT_LE(std::sqrt(num / den), 1e-5) << fourier::toString(shape) << ", N " << plan.n;
-        EXPECT_LE(worst, 1e-5 * peak) << fourier::toString(shape);
+        EXPECT_LE(d.relativeL2, 1e-5) << fourier::toString(shape) << ", N " << plan.n;
+        EXPECT_LE(d.worst, 1e-5 * d.peak) << fourier::toString(shape);
     }
 }
 
@@ -87,24 +79,12 @@ TEST(GlAccumulate, MatchesTheCpuAccumulation) {
         const fourier::Plan plan = fourier::choosePlan(ghosts, W, H, s);
         ASSERT_GT(plan.fourier, 0u);
         const fourier::Coefficients cpu = fourier::accumulate(ghosts, plan, s), gpu = gl.accumulate(ghosts, plan, s);
-        double num = 0.0, den = 0.0;
-        for (int c = 0; c < 3; ++c)
-            for (std::size_t i = 0; i < cpu.z[c].size(); ++i) {
-                num += (gpu.z[c][i] - cpu.z[c][i]) * (gpu.z[c][i] - cpu.z[c][i]);
-                den += cpu.z[c][i] * cpu.z[c][i];
-            }
         // float32 profiles and phases (the phase argument reduced on the host): 1e-5 of the coefficients' norm.
-        EXPECT_LE(std::sqrt(num / den), 1e-5) << fourier::toString(shape);
+        EXPECT_LE(testing::coefficientDifference(gpu, cpu), 1e-5) << fourier::toString(shape);
         fourier::FlareImage a(W, H), b(W, H);
         fourier::evaluate(cpu, fourier::Evaluation::Matrix, a);
         fourier::evaluate(gpu, fourier::Evaluation::Matrix, b);
-        num = den = 0.0;
-        for (int c = 0; c < 3; ++c)
-            for (std::size_t p = 0; p < a.pixels(); ++p) {
-                num += (double(b.channel[c][p]) - a.channel[c][p]) * (double(b.channel[c][p]) - a.channel[c][p]);
-                den += double(a.channel[c][p]) * a.channel[c][p];
-            }
-        EXPECT_LE(std::sqrt(num / den), 1e-5) << fourier::toString(shape);
+        EXPECT_LE(testing::difference(b, a).relativeL2, 1e-5) << fourier::toString(shape);
     }
 }
 

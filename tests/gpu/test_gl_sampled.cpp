@@ -3,6 +3,7 @@
 // cell sizes (more ghosts than one slice chunk would need, to exercise the ordered sum).
 
 #include "fourier/sampled_gaussian_support.h"
+#include "gl_test_support.h"
 #include "gpu/gl_context.h"
 #include "gpu/gl_sampled.h"
 
@@ -64,13 +65,7 @@ TEST(GlSampled, MatchesTheCpuOnSeveralGhosts) {
     cpu.at(1, 2, 3) = gpu.at(1, 2, 3) = 1e-4; // the sums add to what z holds
     fourier::accumulateSampled(ghosts, cpu);
     gl.accumulate(ghosts, gpu);
-    double num = 0.0, den = 0.0;
-    for (int c = 0; c < 3; ++c)
-        for (std::size_t i = 0; i < cpu.z[c].size(); ++i) {
-            num += (gpu.z[c][i] - cpu.z[c][i]) * (gpu.z[c][i] - cpu.z[c][i]);
-            den += cpu.z[c][i] * cpu.z[c][i];
-        }
-    EXPECT_LE(std::sqrt(num / den), 1e-5);
+    EXPECT_LE(testing::coefficientDifference(gpu, cpu), 1e-5);
 }
 
 } // namespace
