@@ -6,6 +6,7 @@
 //    full-frame sum, separable full-frame sum (outer products as one GEMM of inner size K) and
 //    drawing clipped to each ghost's footprint.
 
+#include "fourier/aggregate.h"
 #include "fourier/direct.h"
 #include "fourier/render.h"
 
@@ -96,6 +97,25 @@ void BM_FourierTotal(benchmark::State& state) {
     }
 }
 BENCHMARK(BM_FourierTotal)->RangeMultiplier(10)->Range(10, 100000)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Accumulation alone against K, by method (docs/fourier.md, "Gridded accumulation"): every group as
+// a GEMM, every group on a grid, or the plan's choice per group.
+void BM_Accumulate(benchmark::State& state, Accumulation method) {
+    const auto g = ghosts(static_cast<int>(state.range(0)));
+    FourierSettings s = fixed(64);
+    s.accumulation = method;
+    const Plan plan = choosePlan(g, kW, kH, s);
+    for (auto _ : state) {
+        const Coefficients z = accumulate(g, plan, s);
+        benchmark::DoNotOptimize(z.z[0].data());
+    }
+    std::size_t gridded = 0;
+    for (const AccumulationGroup& group : plan.groups) gridded += group.method == Accumulation::Grid ? group.members.size() : 0;
+    state.counters["gridded"] = double(gridded);
+}
+BENCHMARK_CAPTURE(BM_Accumulate, gemm, Accumulation::Gemm)->RangeMultiplier(10)->Range(100, 100000)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Accumulate, grid, Accumulation::Grid)->RangeMultiplier(10)->Range(100, 100000)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Accumulate, auto, Accumulation::Auto)->RangeMultiplier(10)->Range(100, 100000)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Every ghost evaluated at every pixel (pixel centres, no footprint): K W H exponentials per channel.
 void BM_DirectFullFrame(benchmark::State& state) {

@@ -19,6 +19,10 @@ void FourierOptions::addTo(CLI::App& cmd) {
     cmd.add_option("--gaussian-form", gaussianForm, "Gaussian coefficients: periodised, exact (truncated, complex erf) or as7126")
         ->check(CLI::IsMember({"periodised", "exact", "as7126"}));
     cmd.add_option("--evaluation", evaluation, "Series evaluation: auto, matrix (two GEMMs) or fft")->check(CLI::IsMember({"auto", "matrix", "fft"}));
+    cmd.add_option("--fourier-accumulation", accumulation,
+                   "How ghosts are summed into the coefficients: auto (per group, the cheaper), gemm (per-ghost coefficient vectors) or grid "
+                   "(spread onto a sampling grid and transformed; docs/fourier.md)")
+        ->check(CLI::IsMember({"auto", "gemm", "grid"}));
     cmd.add_flag("--drop-dc", dropDc, "Drop the A00 (mean) term, as early notes did; removes energy (docs/fourier.md)");
     cmd.add_option("--fourier-basis", basis, "separable (cosine/sine on a rectangle) or bessel (radial Fourier-Bessel on a disc; Gaussian ghosts)")
         ->check(CLI::IsMember({"separable", "bessel"}));
@@ -51,6 +55,7 @@ fourier::FourierSettings FourierOptions::settings(const GlobalOptions& g) const 
                      : gaussianForm == "as7126" ? fourier::GaussianForm::ErfAS7126
                                                 : fourier::GaussianForm::Periodised;
     s.evaluation = evaluation == "matrix" ? fourier::Evaluation::Matrix : evaluation == "fft" ? fourier::Evaluation::Fft : fourier::Evaluation::Auto;
+    s.accumulation = accumulation == "gemm" ? fourier::Accumulation::Gemm : accumulation == "grid" ? fourier::Accumulation::Grid : fourier::Accumulation::Auto;
     s.dropDc = dropDc;
     s.hybrid = !noHybrid;
     s.basis = basis == "bessel" ? fourier::Basis::Bessel : fourier::Basis::Separable;

@@ -21,6 +21,7 @@ struct FourierOptions {
     std::string period;                 ///< "TX,TY" pixels
     std::string gaussianForm = "periodised";
     std::string evaluation = "auto";
+    std::string accumulation = "auto";  ///< auto, gemm or grid
     bool dropDc = false;
     bool noHybrid = false;
     std::string basis = "separable";

@@ -1,34 +1,18 @@
 #include "fourier/aggregate.h"
 
+#include "fourier/blas_threads.h"
+#include "fourier/gridded.h"
+
 #include <cblas.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <numbers>
 
 namespace ff::fourier {
 
 namespace {
-
-constexpr std::size_t kChunk = 4096;
-
-// OpenBLAS on one thread while it lives: the accumulation runs many small GEMMs side by side on TBB
-// threads, and OpenBLAS's own threads only contend with them (225 vs 135 ms for 100 000 ghosts).
-class SingleThreadedBlas {
-public:
-    SingleThreadedBlas() : previous_(openblas_get_num_threads()) { openblas_set_num_threads(1); }
-    ~SingleThreadedBlas() { openblas_set_num_threads(previous_); }
-    SingleThreadedBlas(const SingleThreadedBlas&) = delete;
-    SingleThreadedBlas& operator=(const SingleThreadedBlas&) = delete;
-
-private:
-    int previous_;
-};
-
-// Rounds a ghost's term count up to a multiple of 8 (a band), at most the plan's count.
-int band(int terms, int limit) { return std::min(limit, 8 * ((std::max(terms, 1) + 7) / 8)); }
 
 // Coefficients g_0..g_{count-1} of one profile. The periodised Gaussian uses the recurrence
 // exp(-c (i+1)^2) = exp(-c i^2) exp(-c (2i + 1)); the other forms evaluate each term.
@@ -77,34 +61,39 @@ Coefficients accumulate(const std::vector<Ghost>& ghosts, const Plan& plan, cons
     Coefficients co = Coefficients::zeros(plan);
     if (co.n == 0 || co.m == 0) return co;
 
-    // Groups of ghosts with the same bands, in ghost order (deterministic).
-    std::map<std::pair<int, int>, std::vector<std::size_t>> groups;
-    for (std::size_t k = 0; k < ghosts.size(); ++k)
-        if (plan.route[k] == Route::Fourier) groups[{band(plan.termsX[k], co.n), band(plan.termsY[k], co.m)}].push_back(k);
-
     const double wx = 2.0 * std::numbers::pi / co.periodX, wy = 2.0 * std::numbers::pi / co.periodY;
-    // One task per (channel, group, chunk of ghosts), run in parallel, each with its own single-threaded
-    // GEMM (a long inner dimension and a small output); the tasks' results are then added in task
-    // order, so the sums do not depend on the thread count.
+    // One task per (group, chunk of ghosts) on a grid (all channels in one pass), or per (channel,
+    // group, chunk) for a GEMM, run in parallel, each with its own grid or single-threaded GEMM (a
+    // long inner dimension and a small output); the tasks' results are then added in task order, so
+    // the sums do not depend on the thread count.
     struct Task {
-        int channel, nb, mb;
-        const std::vector<std::size_t>* members;
+        int channel; // -1: every channel (grid)
+        const AccumulationGroup* group;
         std::size_t first, count;
-        std::vector<float> result; // 2nb x 2mb: [[A, B], [C, D]] of the chunk
+        std::array<std::vector<double>, 3> result; // per channel, 2n x 2m of the group: [[A, B], [C, D]]
     };
     std::vector<Task> tasks;
-    for (int c = 0; c < 3; ++c)
-        for (const auto& [bands, members] : groups)
-            for (std::size_t first = 0; first < members.size(); first += kChunk)
-                tasks.push_back({c, bands.first, bands.second, &members, first, std::min(kChunk, members.size() - first), {}});
+    for (const AccumulationGroup& group : plan.groups)
+        for (std::size_t first = 0; first < group.members.size(); first += kAccumulationChunk) {
+            const std::size_t count = std::min(kAccumulationChunk, group.members.size() - first);
+            if (group.method == Accumulation::Grid)
+                tasks.push_back({-1, &group, first, count, {}});
+            else
+                for (int c = 0; c < 3; ++c) tasks.push_back({c, &group, first, count, {}});
+        }
     const SingleThreadedBlas blasOnOneThread;
     tbb::parallel_for(std::size_t(0), tasks.size(), [&](std::size_t t) {
         Task& task = tasks[t];
-        const int c = task.channel, nb = task.nb, mb = task.mb;
+        const AccumulationGroup& group = *task.group;
+        if (task.channel < 0) {
+            task.result = accumulateGridded(ghosts, group, task.first, task.count, co.periodX, co.periodY);
+            return;
+        }
+        const int c = task.channel, nb = group.n, mb = group.m;
         std::vector<double> coef(static_cast<std::size_t>(std::max(nb, mb))), cs(coef.size()), sn(coef.size());
         std::vector<float> U(task.count * 2 * nb), V(task.count * 2 * mb);
         for (std::size_t r = 0; r < task.count; ++r) {
-            const Ghost& g = ghosts[(*task.members)[task.first + r]];
+            const Ghost& g = ghosts[group.members[task.first + r]];
             const double alpha = g.peak(c);
             profileCoefficients(g.shape, g.widthX[c], co.periodX, settings.gaussianForm, nb, coef.data());
             phases(g.x, wx, nb, cs.data(), sn.data());
@@ -121,18 +110,24 @@ Coefficients accumulate(const std::vector<Ghost>& ghosts, const Plan& plan, cons
                 v[mb + j] = static_cast<float>(coef[j] * sn[j]);
             }
         }
-        task.result.assign(static_cast<std::size_t>(4) * nb * mb, 0.0f);
+        std::vector<float> product(static_cast<std::size_t>(4) * nb * mb, 0.0f);
         cblas_sgemm(CblasRowMajor, CblasTrans, CblasNoTrans, 2 * nb, 2 * mb, static_cast<int>(task.count), 1.0f, U.data(), 2 * nb, V.data(),
-                    2 * mb, 0.0f, task.result.data(), 2 * mb);
+                    2 * mb, 0.0f, product.data(), 2 * mb);
+        task.result[c].assign(product.begin(), product.end());
     });
     // Each chunk's blocks into the full matrices, in float64, in task order.
-    for (const Task& task : tasks)
-        for (int half = 0; half < 2; ++half)
-            for (int i = 0; i < task.nb; ++i)
-                for (int side = 0; side < 2; ++side)
-                    for (int j = 0; j < task.mb; ++j)
-                        co.at(task.channel, half * co.n + i, side * co.m + j) +=
-                            task.result[static_cast<std::size_t>(half * task.nb + i) * 2 * task.mb + side * task.mb + j];
+    for (const Task& task : tasks) {
+        const int nb = task.group->n, mb = task.group->m;
+        for (int c = 0; c < 3; ++c) {
+            if (task.result[c].empty()) continue;
+            for (int half = 0; half < 2; ++half)
+                for (int i = 0; i < nb; ++i)
+                    for (int side = 0; side < 2; ++side)
+                        for (int j = 0; j < mb; ++j)
+                            co.at(c, half * co.n + i, side * co.m + j) +=
+                                task.result[c][static_cast<std::size_t>(half * nb + i) * 2 * mb + side * mb + j];
+        }
+    }
     if (settings.dropDc)
         for (int c = 0; c < 3; ++c) co.at(c, 0, 0) = 0.0;
     return co;

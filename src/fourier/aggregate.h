@@ -7,8 +7,11 @@
 // Precision: each ghost's coefficients and phases are computed in float64 and stored as float32;
 // the products over ghosts are float32 GEMMs (OpenBLAS sgemm) over chunks of at most 4096 ghosts,
 // and the chunks' partial sums are added in float64, so rounding does not grow with the number of
-// ghosts (each GEMM on one OpenBLAS thread, chunks in parallel on TBB). Ghosts are grouped by the terms they keep (Plan::termsX/Y): a group's GEMM fills only the
-// top-left block of A, B, C and D it needs, so large ghosts cost few multiply-adds.
+// ghosts (each GEMM on one OpenBLAS thread, chunks in parallel on TBB).
+// Ghosts are summed by the plan's groups (Plan::groups: shape and kept terms): a group's result fills
+// only the top-left block of A, B, C and D it needs, so large ghosts cost few multiply-adds; a group
+// the plan put on a grid is spread and transformed instead (gridded.h), which costs each ghost its
+// stencil rather than its terms.
 
 #include "fourier/plan.h"
 

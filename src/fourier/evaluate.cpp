@@ -1,12 +1,15 @@
 #include "fourier/evaluate.h"
 
 #include "core/error.h"
+#include "fourier/blas_threads.h"
 #include "fourier/fftw_planner.h"
 
 #include <cblas.h>
 #include <fftw3.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <memory>
@@ -17,23 +20,33 @@ namespace ff::fourier {
 
 namespace {
 
-void evaluateMatrix(const Coefficients& z, FlareImage& image) {
+// Rows of the frame per evaluation task.
+constexpr int kRowBlock = 64;
+
+void evaluateMatrix(const Coefficients& z, FlareImage& image, Write write) {
     const int n = z.n, m = z.m, W = image.width, H = image.height;
     const std::vector<float> X = seriesBasis(n, W, z.periodX), Y = seriesBasis(m, H, z.periodY);
-    std::vector<float> Z(static_cast<std::size_t>(4) * n * m), T(static_cast<std::size_t>(2) * n * H);
-    for (int c = 0; c < 3; ++c) {
-        for (std::size_t i = 0; i < Z.size(); ++i) Z[i] = static_cast<float>(z.z[c][i]);
-        // T (2N x H) = Z (2N x 2M) Y (2M x H); image (H x W) = T^T X (2N x W).
-        cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, 2 * n, H, 2 * m, 1.0f, Z.data(), 2 * m, Y.data(), H, 0.0f, T.data(), H);
-        cblas_sgemm(CblasRowMajor, CblasTrans, CblasNoTrans, H, W, 2 * n, 1.0f, T.data(), H, X.data(), W, 0.0f, image.channel[c].data(), W);
-    }
+    std::array<std::vector<float>, 3> Z;
+    for (int c = 0; c < 3; ++c) Z[c].assign(z.z[c].begin(), z.z[c].end());
+    // Tasks of (channel, block of rows), each with single-threaded GEMMs on its own thread:
+    // T (2N x h) = Z (2N x 2M) Y[:, rows] (2M x h); image[rows] (h x W) = T^T X (2N x W).
+    const int blocks = (H + kRowBlock - 1) / kRowBlock;
+    const SingleThreadedBlas blasOnOneThread;
+    tbb::parallel_for(0, 3 * blocks, [&](int task) {
+        const int c = task / blocks, first = task % blocks * kRowBlock, rows = std::min(kRowBlock, H - first);
+        std::vector<float> T(static_cast<std::size_t>(2) * n * rows);
+        cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, 2 * n, rows, 2 * m, 1.0f, Z[c].data(), 2 * m, Y.data() + first, H, 0.0f,
+                    T.data(), rows);
+        cblas_sgemm(CblasRowMajor, CblasTrans, CblasNoTrans, rows, W, 2 * n, 1.0f, T.data(), rows, X.data(), W, write == Write::Add ? 1.0f : 0.0f,
+                    image.channel[c].data() + static_cast<std::size_t>(first) * W, W);
+    });
 }
 
 struct FftwFree {
     void operator()(void* p) const { fftwf_free(p); }
 };
 
-void evaluateFft(const Coefficients& z, FlareImage& image) {
+void evaluateFft(const Coefficients& z, FlareImage& image, Write write) {
     const int px = static_cast<int>(std::lround(z.periodX)), py = static_cast<int>(std::lround(z.periodY));
     if (std::abs(px - z.periodX) > 1e-9 || std::abs(py - z.periodY) > 1e-9)
         throw Error(ErrorKind::Usage, "the FFT evaluation needs whole-pixel periods");
@@ -90,8 +103,14 @@ void evaluateFft(const Coefficients& z, FlareImage& image) {
             if (px % 2 == 0) add(r, px / 2, 0.5 * (columnNyquist[i] + std::conj(columnNyquist[mirror])));
         }
         fftwf_execute_dft_c2r(plan, dst, out[c].get());
-        for (int y = 0; y < image.height; ++y)
-            std::copy_n(out[c].get() + static_cast<std::size_t>(y) * px, image.width, image.channel[c].data() + static_cast<std::size_t>(y) * image.width);
+        for (int y = 0; y < image.height; ++y) {
+            const float* src = out[c].get() + static_cast<std::size_t>(y) * px;
+            float* row = image.channel[c].data() + static_cast<std::size_t>(y) * image.width;
+            if (write == Write::Add)
+                for (int x = 0; x < image.width; ++x) row[x] += src[x];
+            else
+                std::copy_n(src, image.width, row);
+        }
     });
     std::lock_guard<std::mutex> lock(fftwPlannerMutex());
     fftwf_destroy_plan(plan);
@@ -116,11 +135,14 @@ std::vector<float> seriesBasis(int terms, int pixels, double period) {
     return b;
 }
 
-void evaluate(const Coefficients& z, Evaluation method, FlareImage& image) {
-    for (auto& ch : image.channel) std::fill(ch.begin(), ch.end(), 0.0f);
-    if (z.n == 0 || z.m == 0) return;
-    if (method == Evaluation::Fft) evaluateFft(z, image);
-    else evaluateMatrix(z, image);
+void evaluate(const Coefficients& z, Evaluation method, FlareImage& image, Write write) {
+    if (z.n == 0 || z.m == 0) {
+        if (write == Write::Replace)
+            for (auto& ch : image.channel) std::fill(ch.begin(), ch.end(), 0.0f);
+        return;
+    }
+    if (method == Evaluation::Fft) evaluateFft(z, image, write);
+    else evaluateMatrix(z, image, write);
 }
 
 } // namespace ff::fourier

@@ -16,7 +16,10 @@ namespace ff::fourier {
 /// kappa_n sinc(n w / 2) cos(n w (i + 1/2)), rows terms + n the same with sin (w = 2 pi / period).
 std::vector<float> seriesBasis(int terms, int pixels, double period);
 
-/// Writes (overwrites) the series into image (its size is the frame's). Evaluation::Auto = Matrix.
-void evaluate(const Coefficients& z, Evaluation method, FlareImage& image);
+/// Whether evaluate() replaces the image's values or adds the series to them.
+enum class Write { Replace, Add };
+
+/// Writes the series into image (its size is the frame's). Evaluation::Auto = Matrix.
+void evaluate(const Coefficients& z, Evaluation method, FlareImage& image, Write write = Write::Replace);
 
 } // namespace ff::fourier

@@ -2,6 +2,8 @@
 
 #include "core/text.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -35,6 +37,12 @@ std::string Plan::describe() const {
                     " Fourier, " + std::to_string(direct) + " direct, " + std::to_string(culled) + " culled" +
                     (wide ? ", " + std::to_string(wide) + " on a coarse level" : std::string());
     if (!reason.empty()) s += " (" + reason + ")";
+    std::size_t gridGroups = 0, gridGhosts = 0;
+    for (const AccumulationGroup& g : groups)
+        if (g.method == Accumulation::Grid) ++gridGroups, gridGhosts += g.members.size();
+    if (gridGroups > 0)
+        s += "; accumulated on grids: " + std::to_string(gridGhosts) + " ghosts in " + std::to_string(gridGroups) + " of " +
+             std::to_string(groups.size()) + " groups";
     return s;
 }
 
@@ -71,13 +79,15 @@ Plan choosePlan(const std::vector<Ghost>& ghosts, int W, int H, const FourierSet
     p.termsY.assign(K, 0);
     std::vector<double> needX(K, 0.0), needY(K, 0.0), boxArea(K, 0.0);
     const double cap = s.periodCap * std::max(W, H);
-    for (std::size_t k = 0; k < K; ++k) {
+    // Per-ghost work in parallel (each ghost writes only its own entries); the reductions follow in
+    // ghost order.
+    tbb::parallel_for(std::size_t(0), K, [&](std::size_t k) {
         const Ghost& g = ghosts[k];
         const double ex = g.extentX(), ey = g.extentY();
         const bool empty = g.flux[0] == 0.0 && g.flux[1] == 0.0 && g.flux[2] == 0.0;
         if (empty || g.x + ex < 0.0 || g.x - ex > W || g.y + ey < 0.0 || g.y - ey > H) {
             p.route[k] = Route::Culled;
-            continue;
+            return;
         }
         const double px = padExtent(g, widest(g.widthX), s.error), py = padExtent(g, widest(g.widthY), s.error);
         needX[k] = std::max(std::max(g.x, W - g.x) + px, 2.0 * px);
@@ -86,7 +96,7 @@ Plan choosePlan(const std::vector<Ghost>& ghosts, int W, int H, const FourierSet
         const double limitX = s.fixedPeriodX > 0.0 ? s.fixedPeriodX : cap, limitY = s.fixedPeriodY > 0.0 ? s.fixedPeriodY : cap;
         // A ghost whose copies would reach the frame goes to a coarser level, hybrid or not.
         if (needX[k] > limitX || needY[k] > limitY) p.route[k] = Route::Wide;
-    }
+    });
     // The period: the largest need of the ghosts still on the Fourier route.
     double tx = W, ty = H;
     for (std::size_t k = 0; k < K; ++k)
@@ -106,18 +116,17 @@ Plan choosePlan(const std::vector<Ghost>& ghosts, int W, int H, const FourierSet
         cut[sh] = spectralCutoff(shape, s.error);
         if (s.trimFraction > 0.0) trimCut[sh] = spectralCutoff(shape, s.error * s.trimFraction);
     }
-    int maxN = 0, maxM = 0;
-    for (std::size_t k = 0; k < K; ++k) {
-        if (p.route[k] != Route::Fourier) continue;
+    tbb::parallel_for(std::size_t(0), K, [&](std::size_t k) {
+        if (p.route[k] != Route::Fourier) return;
         const Ghost& g = ghosts[k];
         const int sh = g.shape == Shape::Gaussian ? 0 : 1;
         needN[k] = termsForCutoff(cut[sh], narrowest(g.widthX), p.periodX);
         needM[k] = termsForCutoff(cut[sh], narrowest(g.widthY), p.periodY);
         trimN[k] = s.trimFraction > 0.0 ? termsForCutoff(trimCut[sh], narrowest(g.widthX), p.periodX) : std::numeric_limits<int>::max();
         trimM[k] = s.trimFraction > 0.0 ? termsForCutoff(trimCut[sh], narrowest(g.widthY), p.periodY) : std::numeric_limits<int>::max();
-        maxN = std::max(maxN, needN[k]);
-        maxM = std::max(maxM, needM[k]);
-    }
+    });
+    int maxN = 0, maxM = 0;
+    for (std::size_t k = 0; k < K; ++k) maxN = std::max(maxN, needN[k]), maxM = std::max(maxM, needM[k]);
     auto mFor = [&](int n) { return s.fixedM > 0 ? s.fixedM : n == 0 ? 0 : std::max(1, static_cast<int>(std::ceil(n * p.periodY / p.periodX))); };
     auto cost = [&](int n) {
         const int m = mFor(n);
@@ -165,6 +174,7 @@ Plan choosePlan(const std::vector<Ghost>& ghosts, int W, int H, const FourierSet
         p.culled += p.route[k] == Route::Culled;
         p.wide += p.route[k] == Route::Wide;
     }
+    groupForAccumulation(ghosts, s, p);
     return p;
 }
 

@@ -24,6 +24,12 @@ class Backend; // backend.h
 enum class Evaluation { Auto, Matrix, Fft };
 const char* toString(Evaluation e);
 
+/// How a group of ghosts is summed into the coefficients (aggregate.h): one GEMM of their
+/// per-ghost coefficient vectors (K N M work), or spread onto a sampling grid of the period and
+/// transformed once (gridded.h: K S^2 + G log G work, S the stencil, independent of N and M).
+enum class Accumulation { Auto, Gemm, Grid };
+const char* toString(Accumulation a);
+
 /// Separable cosine/sine series on a rectangle (the default) or the radial Fourier-Bessel series
 /// on a disc (bessel.h).
 enum class Basis { Separable, Bessel };
@@ -42,6 +48,7 @@ struct FourierSettings {
     GaussianForm gaussianForm = GaussianForm::Periodised;
     bool dropDc = false;        ///< zero the A_00 term (removes the mean: off by default, see docs)
     Evaluation evaluation = Evaluation::Auto;
+    Accumulation accumulation = Accumulation::Auto; ///< Auto: per group, the one with less estimated work
     Basis basis = Basis::Separable;
     /// The device that draws the levels (backend.h); null: the CPU.
     std::shared_ptr<Backend> backend;
@@ -51,6 +58,17 @@ struct FourierSettings {
 /// level of their own (a larger period, few terms).
 enum class Route : unsigned char { Fourier, Direct, Culled, Wide };
 
+/// Ghosts of one shape summed together: on a GEMM, those that keep the same terms (bands of 8);
+/// on a grid, those of one band and one width class (quarter octaves), keeping their own terms.
+struct AccumulationGroup {
+    Shape shape = Shape::Gaussian;
+    int n = 0, m = 0;                 ///< terms kept, <= Plan::n, m (GEMM: the band)
+    Accumulation method = Accumulation::Gemm;
+    int gridX = 0, gridY = 0;         ///< Grid: samples per period on each axis
+    double widestX = 0.0, widestY = 0.0; ///< the members' widest profile (any channel), pixels
+    std::vector<std::size_t> members; ///< ghost indices, ascending
+};
+
 struct Plan {
     Basis basis = Basis::Separable;
     double periodX = 0.0, periodY = 0.0; ///< pixels (Bessel: both the disc radius R0)
@@ -59,6 +77,7 @@ struct Plan {
     Evaluation evaluation = Evaluation::Matrix;
     std::vector<Route> route;            ///< per ghost
     std::vector<int> termsX, termsY;     ///< per ghost: terms accumulated (trimmed, <= n, m)
+    std::vector<AccumulationGroup> groups; ///< the Fourier-routed ghosts by the terms they keep
     std::size_t fourier = 0, direct = 0, culled = 0, wide = 0;
     double estimatedGflop = 0.0;
     std::string reason;                  ///< how n and the period were chosen, in words
@@ -69,6 +88,10 @@ struct Plan {
 
 /// The plan for drawing `ghosts` into a width x height frame.
 Plan choosePlan(const std::vector<Ghost>& ghosts, int width, int height, const FourierSettings& settings);
+
+/// Groups the Fourier-routed ghosts of `plan` by shape and kept terms and chooses each group's
+/// accumulation (choosePlan calls it last; accumulation_groups.cpp).
+void groupForAccumulation(const std::vector<Ghost>& ghosts, const FourierSettings& settings, Plan& plan);
 
 /// The next size >= n whose only prime factors are 2, 3 and 5.
 int fftFriendly(int n);

@@ -34,10 +34,7 @@ void renderLevel(const std::vector<Ghost>& ghosts, const Plan& plan, const Fouri
     }
     const Coefficients z = accumulate(ghosts, plan, settings);
     seconds.accumulate += since(t);
-    FlareImage level(image.width, image.height);
-    evaluate(z, plan.evaluation, level);
-    for (int c = 0; c < 3; ++c)
-        for (std::size_t p = 0; p < image.pixels(); ++p) image.channel[c][p] += level.channel[c][p];
+    evaluate(z, plan.evaluation, image, Write::Add);
     seconds.evaluate += since(t);
     std::vector<std::size_t> direct;
     for (std::size_t k = 0; k < ghosts.size(); ++k)
@@ -51,10 +48,10 @@ void renderLevel(const std::vector<Ghost>& ghosts, const Plan& plan, const Fouri
 FourierRender renderFourier(const std::vector<Ghost>& ghosts, int width, int height, const FourierSettings& settings) {
     if (settings.basis == Basis::Bessel) return renderBessel(ghosts, width, height, settings);
     FourierRender r;
+    r.image = FlareImage(width, height);
     auto t = std::chrono::steady_clock::now();
     r.plan = choosePlan(ghosts, width, height, settings);
     r.seconds.plan = since(t);
-    r.image = FlareImage(width, height);
     if (settings.backend) settings.backend->begin(width, height);
     renderLevel(ghosts, r.plan, settings, r.image, r.seconds, t);
     if (r.plan.wide > 0) {
