@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <numbers>
 
@@ -117,6 +118,22 @@ struct FftwFloat {
     void operator()(void* p) const { fftwf_free(p); }
 };
 
+// The r2c plan of a gy x gx grid, made once per size and kept (FFTW's planner is slow next to these
+// small transforms, and frames repeat their sizes); executed on each task's own arrays, which FFTW
+// allows concurrently. Arrays from fftwf_malloc share the planning arrays' alignment.
+fftwf_plan gridTransform(int gx, int gy) {
+    static std::map<std::pair<int, int>, fftwf_plan> plans;
+    std::lock_guard<std::mutex> lock(fftwPlannerMutex());
+    fftwf_plan& plan = plans[{gx, gy}];
+    if (!plan) {
+        const std::size_t cells = static_cast<std::size_t>(gx) * gy, half = static_cast<std::size_t>(gx / 2 + 1) * gy;
+        std::unique_ptr<float, FftwFloat> in(static_cast<float*>(fftwf_malloc(sizeof(float) * cells)));
+        std::unique_ptr<fftwf_complex, FftwFloat> out(static_cast<fftwf_complex*>(fftwf_malloc(sizeof(fftwf_complex) * half)));
+        plan = fftwf_plan_dft_r2c_2d(gy, gx, in.get(), out.get(), FFTW_ESTIMATE);
+    }
+    return plan;
+}
+
 } // namespace
 
 int gridSamples(Shape shape, int terms, double narrowest, double period, double error) {
@@ -186,11 +203,7 @@ std::array<std::vector<double>, 3> accumulateGridded(const std::vector<Ghost>& g
     std::unique_ptr<float, FftwFloat> in(static_cast<float*>(fftwf_malloc(sizeof(float) * cells)));
     std::unique_ptr<fftwf_complex, FftwFloat> out(
         static_cast<fftwf_complex*>(fftwf_malloc(sizeof(fftwf_complex) * static_cast<std::size_t>(hxOut) * gy)));
-    fftwf_plan plan;
-    {
-        std::lock_guard<std::mutex> lock(fftwPlannerMutex());
-        plan = fftwf_plan_dft_r2c_2d(gy, gx, in.get(), out.get(), FFTW_ESTIMATE);
-    }
+    const fftwf_plan plan = gridTransform(gx, gy);
     std::array<std::vector<double>, 3> z;
     for (int c = 0; c < 3; ++c) {
         // Fold the padding onto the period (a stencil longer than the period folds more than once).
@@ -203,12 +216,8 @@ std::array<std::vector<double>, 3> accumulateGridded(const std::vector<Ghost>& g
                 for (std::size_t i = 0; i < length; ++i) dst[i] += src[from + i];
             }
         }
-        fftwf_execute(plan);
+        fftwf_execute_dft_r2c(plan, in.get(), out.get());
         z[c] = coefficientsOfTransform(out.get(), gx, gy, group.n, group.m);
-    }
-    {
-        std::lock_guard<std::mutex> lock(fftwPlannerMutex());
-        fftwf_destroy_plan(plan);
     }
     return z;
 }
