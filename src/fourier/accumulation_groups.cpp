@@ -4,6 +4,8 @@
 #include "fourier/gridded.h"
 #include "fourier/plan.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -82,20 +84,27 @@ void groupForAccumulation(const std::vector<Ghost>& ghosts, const FourierSetting
     const int bandsX = plan.n / 8 + 2, bandsY = plan.m / 8 + 2;
     std::vector<int> slot(static_cast<std::size_t>(2 * bandsX * bandsY), -1);
     std::vector<AccumulationGroup> byBands;
+    // Widths and table keys per ghost in parallel (each ghost writes its own entries), then the
+    // groups' members in ghost order.
     Widths w;
     for (auto* v : {&w.narrowX, &w.narrowY, &w.wideX, &w.wideY}) v->assign(ghosts.size(), 0.0);
-    for (std::size_t k = 0; k < ghosts.size(); ++k) {
-        if (plan.route[k] != Route::Fourier) continue;
+    std::vector<int> key(ghosts.size(), -1);
+    tbb::parallel_for(std::size_t(0), ghosts.size(), [&](std::size_t k) {
+        if (plan.route[k] != Route::Fourier) return;
         w.narrowX[k] = narrowest(ghosts[k].widthX);
         w.narrowY[k] = narrowest(ghosts[k].widthY);
         w.wideX[k] = widest(ghosts[k].widthX);
         w.wideY[k] = widest(ghosts[k].widthY);
         const int nb = band(plan.termsX[k], plan.n), mb = band(plan.termsY[k], plan.m);
         const int shape = ghosts[k].shape == Shape::Gaussian ? 0 : 1;
-        int& s = slot[static_cast<std::size_t>((shape * bandsX + (nb + 7) / 8) * bandsY + (mb + 7) / 8)];
+        key[k] = (shape * bandsX + (nb + 7) / 8) * bandsY + (mb + 7) / 8;
+    });
+    for (std::size_t k = 0; k < ghosts.size(); ++k) {
+        if (key[k] < 0) continue;
+        int& s = slot[static_cast<std::size_t>(key[k])];
         if (s < 0) {
             s = static_cast<int>(byBands.size());
-            byBands.push_back({ghosts[k].shape, nb, mb, Accumulation::Gemm, 0, 0, 0.0, 0.0, {}});
+            byBands.push_back({ghosts[k].shape, band(plan.termsX[k], plan.n), band(plan.termsY[k], plan.m), Accumulation::Gemm, 0, 0, 0.0, 0.0, {}});
         }
         byBands[static_cast<std::size_t>(s)].members.push_back(k);
     }
