@@ -3,11 +3,15 @@
 //    of an evaluation is output bytes / that bandwidth;
 //  - evaluation of given coefficients with everything on the GPU (no read-back), 1920 x 1080 and
 //    3840 x 2160 at N = 64, 128, 256, next to the CPU's matrix evaluation of the same coefficients;
-//  - the whole GL render (accumulation + evaluation + read-back) against the number of ghosts K.
+//  - the whole GL render (accumulation + evaluation + read-back) against the number of ghosts K;
+//  - the hybrid's direct drawing (GlDirect: axis integrals, then their products per pixel) of a few
+//    frame-wide ghosts and of many small ones at 1280 x 720, next to fourier::drawDirect.
 // On a software rasteriser only the 1080p, N = 64 and K <= 1000 cases run (the rest take minutes).
 
+#include "fourier/direct.h"
 #include "fourier/render.h"
 #include "gpu/gl_backend.h"
+#include "gpu/gl_direct.h"
 #include "gpu/gl_evaluator.h"
 
 #include <benchmark/benchmark.h>
@@ -152,6 +156,53 @@ void BM_GlRender(benchmark::State& state) {
     }
 }
 BENCHMARK(BM_GlRender)->RangeMultiplier(10)->Range(100, 100000)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Direct-drawing scenes at 1280 x 720: 0 = 26 frame-wide ghosts (sigma 150-600 px, the wide ghosts of
+// simulate's default plate are of this kind), 1 = 2 000 small ones (sigma 1-6 px), both profiles mixed.
+std::vector<Ghost> directScene(int which) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const int K = which == 0 ? 26 : 2000;
+    const double lo = which == 0 ? 150.0 : 1.0, hi = which == 0 ? 600.0 : 6.0;
+    std::vector<Ghost> g(static_cast<std::size_t>(K));
+    for (std::size_t k = 0; k < g.size(); ++k) {
+        Ghost& q = g[k];
+        q.shape = k % 2 ? Shape::Cos2 : Shape::Gaussian;
+        q.x = u(rng) * 1280;
+        q.y = u(rng) * 720;
+        const double s = lo * std::pow(hi / lo, u(rng)) * (q.shape == Shape::Cos2 ? 2.5 : 1.0);
+        for (int c = 0; c < 3; ++c) {
+            q.widthX[c] = s * (1.0 + 0.05 * c);
+            q.widthY[c] = s * (0.8 + 0.05 * c);
+            q.flux[c] = u(rng);
+        }
+    }
+    return g;
+}
+
+void BM_GlDirect(benchmark::State& state) {
+    ff::gpu::GlBackend* gl = backendFor(state, false);
+    if (!gl) return;
+    const auto g = directScene(static_cast<int>(state.range(0)));
+    std::vector<std::size_t> all(g.size());
+    for (std::size_t k = 0; k < all.size(); ++k) all[k] = k;
+    ff::gpu::GlDirect direct(gl->context());
+    FlareImage image(1280, 720);
+    for (auto _ : state) {
+        direct.draw(g, all, image); // upload, draw, read back
+        benchmark::DoNotOptimize(image.channel[0].data());
+    }
+}
+BENCHMARK(BM_GlDirect)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_CpuDirect(benchmark::State& state) {
+    const auto g = directScene(static_cast<int>(state.range(0)));
+    for (auto _ : state) {
+        const FlareImage image = renderDirect(g, 1280, 720);
+        benchmark::DoNotOptimize(image.channel[0].data());
+    }
+}
+BENCHMARK(BM_CpuDirect)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 } // namespace
 

@@ -17,18 +17,24 @@ namespace {
 // std430 layout of shaders/direct_draw.comp's DirectGhost.
 struct GpuDirectGhost {
     std::array<int, 4> box;
-    float offsetX, offsetY, shape, pad;
+    float offsetX, offsetY, shape;
+    int axes; // index of the first axis integral (direct_axes.comp)
     GpuChannels channels;
 };
 static_assert(sizeof(GpuDirectGhost) == 80);
 
-constexpr int kTile = 16; // the shader's work group is one kTile x kTile tile
+constexpr int kTile = 16;          // direct_draw.comp's work group is one kTile x kTile tile
+constexpr int kAxesGroup = 64;     // direct_axes.comp's work group: one per ghost
+constexpr GLuint kMaxGroups = 65535; // work groups per dispatch dimension every GL 4.5 device allows
+
+int samples(const GpuDirectGhost& g) { return g.box[2] - g.box[0] + 1 + g.box[3] - g.box[1] + 1; }
 
 } // namespace
 
-GlDirect::GlDirect(const GlContext&) {
+GlDirect::GlDirect(const GlContext&, std::size_t batch) : batch_(std::max<std::size_t>(batch, 1)) {
     // A fixed 16 x 16 work group: 256 invocations, within the 1024 every GL 4.5 device allows.
     program_ = std::make_unique<ComputeProgram>("direct_draw.comp", embedded("direct_draw.comp"), kTile * kTile);
+    axes_ = std::make_unique<ComputeProgram>("direct_axes.comp", embedded("direct_axes.comp"), kAxesGroup);
 }
 
 GlDirect::~GlDirect() = default;
@@ -43,19 +49,36 @@ void GlDirect::add(const std::vector<fourier::Ghost>& ghosts, const std::vector<
         const int x0 = std::max(0, static_cast<int>(std::floor(g.x - ex))), x1 = std::min(W - 1, static_cast<int>(std::floor(g.x + ex)));
         const int y0 = std::max(0, static_cast<int>(std::floor(g.y - ey))), y1 = std::min(H - 1, static_cast<int>(std::floor(g.y + ey)));
         if (x1 < x0 || y1 < y0) continue;
-        list.push_back({{x0, y0, x1, y1}, static_cast<float>(x0 - g.x), static_cast<float>(y0 - g.y), gpuShape(g), 0.0f, gpuChannels(g)});
+        list.push_back({{x0, y0, x1, y1}, static_cast<float>(x0 - g.x), static_cast<float>(y0 - g.y), gpuShape(g), 0, gpuChannels(g)});
     }
-    if (list.empty()) return;
-    ghosts_.upload(list.data(), list.size() * sizeof(GpuDirectGhost));
-    program_->use();
-    program_->set("count", static_cast<int>(list.size()));
-    program_->set("width", W);
-    program_->set("height", H);
-    ghosts_.bind(0);
-    image.bind(1);
-    glDispatchCompute(static_cast<GLuint>((W + kTile - 1) / kTile), static_cast<GLuint>((H + kTile - 1) / kTile), 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-    checkGl("direct_draw.comp");
+    // Batches whose axis integrals fit the buffer, in ghost order: the integrals of a batch (one
+    // work group per ghost), then its pixels (one per tile).
+    for (std::size_t begin = 0; begin < list.size();) {
+        std::size_t end = begin, total = 0;
+        while (end < list.size() && (end == begin || total + static_cast<std::size_t>(samples(list[end])) <= batch_)) {
+            list[end].axes = static_cast<int>(total);
+            total += static_cast<std::size_t>(samples(list[end++]));
+        }
+        const auto count = static_cast<GLuint>(end - begin);
+        ghosts_.upload(&list[begin], count * sizeof(GpuDirectGhost));
+        integrals_.upload(nullptr, total * 4 * sizeof(float));
+        ghosts_.bind(0);
+        integrals_.bind(2);
+        axes_->use();
+        axes_->set("count", static_cast<int>(count));
+        glDispatchCompute(std::min(count, kMaxGroups), (count + kMaxGroups - 1) / kMaxGroups, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        checkGl("direct_axes.comp");
+        program_->use();
+        program_->set("count", static_cast<int>(count));
+        program_->set("width", W);
+        program_->set("height", H);
+        image.bind(1);
+        glDispatchCompute(static_cast<GLuint>((W + kTile - 1) / kTile), static_cast<GLuint>((H + kTile - 1) / kTile), 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        checkGl("direct_draw.comp");
+        begin = end;
+    }
 }
 
 void GlDirect::draw(const std::vector<fourier::Ghost>& ghosts, const std::vector<std::size_t>& which, fourier::FlareImage& image) {

@@ -1,6 +1,8 @@
 #pragma once
-// The hybrid path's direct drawing on the GPU (shaders/direct_draw.comp): ghosts too small for the
-// series integrated over every pixel of their footprint, as fourier::drawDirect does on the CPU.
+// The hybrid path's direct drawing on the GPU: ghosts too small for the series integrated over every
+// pixel of their footprint, as fourier::drawDirect does on the CPU — each ghost's per-pixel integrals
+// along x and y once (shaders/direct_axes.comp), then their products per pixel
+// (shaders/direct_draw.comp).
 
 #include "fourier/ghost.h"
 #include "gpu/gl_context.h"
@@ -14,7 +16,10 @@ namespace ff::gpu {
 
 class GlDirect {
 public:
-    explicit GlDirect(const GlContext& context);
+    /// Axis integrals (vec4) per batch of ghosts: 64 MiB; more ghosts are drawn in several batches.
+    static constexpr std::size_t kDefaultBatch = std::size_t(1) << 22;
+
+    explicit GlDirect(const GlContext& context, std::size_t batch = kDefaultBatch);
     ~GlDirect();
 
     /// Adds the ghosts `which` to image (float [3][height][width] on the GPU).
@@ -23,8 +28,9 @@ public:
     void draw(const std::vector<fourier::Ghost>& ghosts, const std::vector<std::size_t>& which, fourier::FlareImage& image);
 
 private:
-    std::unique_ptr<ComputeProgram> program_;
-    Buffer ghosts_, image_;
+    std::unique_ptr<ComputeProgram> program_, axes_;
+    Buffer ghosts_, integrals_, image_;
+    std::size_t batch_;
 };
 
 } // namespace ff::gpu
