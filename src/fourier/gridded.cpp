@@ -118,20 +118,39 @@ struct FftwFloat {
     void operator()(void* p) const { fftwf_free(p); }
 };
 
-// The r2c plan of a gy x gx grid, made once per size and kept (FFTW's planner is slow next to these
+// The r2c plans of the grids, made once per size and kept (FFTW's planner is slow next to these
 // small transforms, and frames repeat their sizes); executed on each task's own arrays, which FFTW
-// allows concurrently. Arrays from fftwf_malloc share the planning arrays' alignment.
-fftwf_plan gridTransform(int gx, int gy) {
-    static std::map<std::pair<int, int>, fftwf_plan> plans;
-    std::lock_guard<std::mutex> lock(fftwPlannerMutex());
-    fftwf_plan& plan = plans[{gx, gy}];
-    if (!plan) {
-        const std::size_t cells = static_cast<std::size_t>(gx) * gy, half = static_cast<std::size_t>(gx / 2 + 1) * gy;
-        std::unique_ptr<float, FftwFloat> in(static_cast<float*>(fftwf_malloc(sizeof(float) * cells)));
-        std::unique_ptr<fftwf_complex, FftwFloat> out(static_cast<fftwf_complex*>(fftwf_malloc(sizeof(fftwf_complex) * half)));
-        plan = fftwf_plan_dft_r2c_2d(gy, gx, in.get(), out.get(), FFTW_ESTIMATE);
+// allows concurrently. Arrays from fftwf_malloc share the planning arrays' alignment. Destroyed at
+// exit; the planner's mutex is made first, so it outlives the cache.
+class GridTransforms {
+public:
+    GridTransforms() : mutex_(fftwPlannerMutex()) {}
+    ~GridTransforms() {
+        for (auto& [size, plan] : plans_) fftwf_destroy_plan(plan);
     }
-    return plan;
+    GridTransforms(const GridTransforms&) = delete;
+    GridTransforms& operator=(const GridTransforms&) = delete;
+
+    fftwf_plan get(int gx, int gy) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        fftwf_plan& plan = plans_[{gx, gy}];
+        if (!plan) {
+            const std::size_t cells = static_cast<std::size_t>(gx) * gy, half = static_cast<std::size_t>(gx / 2 + 1) * gy;
+            std::unique_ptr<float, FftwFloat> in(static_cast<float*>(fftwf_malloc(sizeof(float) * cells)));
+            std::unique_ptr<fftwf_complex, FftwFloat> out(static_cast<fftwf_complex*>(fftwf_malloc(sizeof(fftwf_complex) * half)));
+            plan = fftwf_plan_dft_r2c_2d(gy, gx, in.get(), out.get(), FFTW_ESTIMATE);
+        }
+        return plan;
+    }
+
+private:
+    std::mutex& mutex_;
+    std::map<std::pair<int, int>, fftwf_plan> plans_;
+};
+
+fftwf_plan gridTransform(int gx, int gy) {
+    static GridTransforms transforms;
+    return transforms.get(gx, gy);
 }
 
 } // namespace
