@@ -7,9 +7,9 @@
 // the axis integrals computed once per ghost by direct_axes.comp (a pixel costs a product per
 // overlapping ghost, not four erfc).
 //
-// Tiled: a 16 x 16 work group per tile of the image. The ghosts are read in chunks of 256; each
-// invocation tests one ghost's footprint against the tile, and every invocation of the tile then adds
-// the chunk's overlapping ghosts in their given order (the sum does not depend on scheduling).
+// Tiled: a 16 x 16 work group per tile of the image. The host bins the ghosts by tile (a ghost is
+// listed in every tile its footprint touches, in the given order), so a tile visits only the ghosts
+// that reach it, and each pixel adds them in order (the sum does not depend on scheduling).
 
 layout(local_size_x = 16, local_size_y = 16) in;
 
@@ -27,40 +27,25 @@ layout(std430, binding = 0) readonly buffer Ghosts { DirectGhost ghosts[]; };
 layout(std430, binding = 1) buffer Image { float image[]; }; // [3][H][W], added to
 layout(std430, binding = 2) readonly buffer Integrals { vec4 integral[]; };
 
-uniform int count;
+layout(std430, binding = 3) readonly buffer TileStart { int tileStart[]; };   // per tile, + 1 at the end
+layout(std430, binding = 4) readonly buffer TileGhosts { int tileGhosts[]; }; // ghost indices, tile by tile
+
 uniform int width;
 uniform int height;
-
-const int CHUNK = 256;
-
-shared bool overlaps[CHUNK];
+uniform int tilesX;
 
 void main() {
     const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    const ivec2 tileFirst = ivec2(gl_WorkGroupID.xy) * 16, tileLast = tileFirst + 15;
-    const int local = int(gl_LocalInvocationIndex);
-    vec3 sum = vec3(0.0);
-    for (int base = 0; base < count; base += CHUNK) {
-        // Every invocation reaches the barriers, those outside the image included.
-        const int k = base + local;
-        bool hit = false;
-        if (k < count) {
-            const ivec4 b = ghosts[k].box;
-            hit = b.x <= tileLast.x && b.z >= tileFirst.x && b.y <= tileLast.y && b.w >= tileFirst.y;
-        }
-        overlaps[local] = hit;
-        barrier();
-        const int inChunk = min(CHUNK, count - base);
-        for (int i = 0; i < inChunk; ++i) {
-            if (!overlaps[i]) continue;
-            const DirectGhost g = ghosts[base + i];
-            if (p.x < g.box.x || p.x > g.box.z || p.y < g.box.y || p.y > g.box.w) continue;
-            const int columns = g.box.z - g.box.x + 1;
-            sum += integral[g.axes + p.x - g.box.x].xyz * integral[g.axes + columns + p.y - g.box.y].xyz;
-        }
-        barrier();
-    }
     if (p.x >= width || p.y >= height) return;
+    const int tile = int(gl_WorkGroupID.y) * tilesX + int(gl_WorkGroupID.x);
+    vec3 sum = vec3(0.0);
+    for (int e = tileStart[tile]; e < tileStart[tile + 1]; ++e) {
+        const int k = tileGhosts[e];
+        const ivec4 b = ghosts[k].box;
+        if (p.x < b.x || p.x > b.z || p.y < b.y || p.y > b.w) continue;
+        const int axes = ghosts[k].axes;
+        sum += integral[axes + p.x - b.x].xyz * integral[axes + (b.z - b.x + 1) + p.y - b.y].xyz;
+    }
     const int index = p.y * width + p.x, plane = width * height;
     image[index] += sum.r;
     image[plane + index] += sum.g;

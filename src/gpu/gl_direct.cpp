@@ -51,17 +51,40 @@ void GlDirect::add(const std::vector<fourier::Ghost>& ghosts, const std::vector<
         if (x1 < x0 || y1 < y0) continue;
         list.push_back({{x0, y0, x1, y1}, static_cast<float>(x0 - g.x), static_cast<float>(y0 - g.y), gpuShape(g), 0, gpuChannels(g)});
     }
-    // Batches whose axis integrals fit the buffer, in ghost order: the integrals of a batch (one
-    // work group per ghost), then its pixels (one per tile).
+    // Batches whose axis integrals and tile lists each fit `batch_` entries, in ghost order: the
+    // integrals of a batch (one work group per ghost), then its pixels (one work group per tile,
+    // visiting the ghosts binned to it).
+    const int tilesX = (W + kTile - 1) / kTile, tilesY = (H + kTile - 1) / kTile;
+    const auto tilesOf = [](const GpuDirectGhost& g) {
+        return static_cast<std::size_t>(g.box[2] / kTile - g.box[0] / kTile + 1) * static_cast<std::size_t>(g.box[3] / kTile - g.box[1] / kTile + 1);
+    };
+    std::vector<int> tileStart, tileGhosts;
     for (std::size_t begin = 0; begin < list.size();) {
-        std::size_t end = begin, total = 0;
-        while (end < list.size() && (end == begin || total + static_cast<std::size_t>(samples(list[end])) <= batch_)) {
+        std::size_t end = begin, total = 0, entries = 0;
+        while (end < list.size() &&
+               (end == begin || (total + static_cast<std::size_t>(samples(list[end])) <= batch_ && entries + tilesOf(list[end]) <= batch_))) {
             list[end].axes = static_cast<int>(total);
-            total += static_cast<std::size_t>(samples(list[end++]));
+            total += static_cast<std::size_t>(samples(list[end]));
+            entries += tilesOf(list[end++]);
         }
+        // The tiles' ghost lists (compressed rows: counts, offsets, then the ghosts in order).
+        tileStart.assign(static_cast<std::size_t>(tilesX) * tilesY + 1, 0);
+        for (std::size_t k = begin; k < end; ++k)
+            for (int ty = list[k].box[1] / kTile; ty <= list[k].box[3] / kTile; ++ty)
+                for (int tx = list[k].box[0] / kTile; tx <= list[k].box[2] / kTile; ++tx) ++tileStart[static_cast<std::size_t>(ty * tilesX + tx) + 1];
+        for (std::size_t t = 1; t < tileStart.size(); ++t) tileStart[t] += tileStart[t - 1];
+        tileGhosts.assign(entries, 0);
+        std::vector<int> fill(tileStart.begin(), tileStart.end() - 1);
+        for (std::size_t k = begin; k < end; ++k)
+            for (int ty = list[k].box[1] / kTile; ty <= list[k].box[3] / kTile; ++ty)
+                for (int tx = list[k].box[0] / kTile; tx <= list[k].box[2] / kTile; ++tx)
+                    tileGhosts[static_cast<std::size_t>(fill[static_cast<std::size_t>(ty * tilesX + tx)]++)] = static_cast<int>(k - begin);
+
         const auto count = static_cast<GLuint>(end - begin);
         ghosts_.upload(&list[begin], count * sizeof(GpuDirectGhost));
         integrals_.upload(nullptr, total * 4 * sizeof(float));
+        tileStart_.upload(tileStart.data(), tileStart.size() * sizeof(int));
+        tileGhosts_.upload(tileGhosts.data(), tileGhosts.size() * sizeof(int));
         ghosts_.bind(0);
         integrals_.bind(2);
         axes_->use();
@@ -70,11 +93,13 @@ void GlDirect::add(const std::vector<fourier::Ghost>& ghosts, const std::vector<
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         checkGl("direct_axes.comp");
         program_->use();
-        program_->set("count", static_cast<int>(count));
         program_->set("width", W);
         program_->set("height", H);
+        program_->set("tilesX", tilesX);
         image.bind(1);
-        glDispatchCompute(static_cast<GLuint>((W + kTile - 1) / kTile), static_cast<GLuint>((H + kTile - 1) / kTile), 1);
+        tileStart_.bind(3);
+        tileGhosts_.bind(4);
+        glDispatchCompute(static_cast<GLuint>(tilesX), static_cast<GLuint>(tilesY), 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         checkGl("direct_draw.comp");
         begin = end;
