@@ -157,13 +157,14 @@ void BM_GlRender(benchmark::State& state) {
 }
 BENCHMARK(BM_GlRender)->RangeMultiplier(10)->Range(100, 100000)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// Direct-drawing scenes at 1280 x 720: 0 = 26 frame-wide ghosts (sigma 150-600 px, the wide ghosts of
-// simulate's default plate are of this kind), 1 = 2 000 small ones (sigma 1-6 px), both profiles mixed.
+// Direct-drawing scenes at 1280 x 720, both profiles mixed: 0 = 26 frame-wide ghosts (sigma 150-600
+// px), 1 = 2 000 small ones (sigma 1-6 px), 2 = 104 of sigma 20-96 px (simulate's default plate draws
+// 104 + 26 ghosts directly, of these two kinds).
 std::vector<Ghost> directScene(int which) {
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> u(0.0, 1.0);
-    const int K = which == 0 ? 26 : 2000;
-    const double lo = which == 0 ? 150.0 : 1.0, hi = which == 0 ? 600.0 : 6.0;
+    const int K = which == 0 ? 26 : which == 1 ? 2000 : 104;
+    const double lo = which == 0 ? 150.0 : which == 1 ? 1.0 : 20.0, hi = which == 0 ? 600.0 : which == 1 ? 6.0 : 96.0;
     std::vector<Ghost> g(static_cast<std::size_t>(K));
     for (std::size_t k = 0; k < g.size(); ++k) {
         Ghost& q = g[k];
@@ -193,7 +194,7 @@ void BM_GlDirect(benchmark::State& state) {
         benchmark::DoNotOptimize(image.channel[0].data());
     }
 }
-BENCHMARK(BM_GlDirect)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_GlDirect)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_CpuDirect(benchmark::State& state) {
     const auto g = directScene(static_cast<int>(state.range(0)));
@@ -202,7 +203,7 @@ void BM_CpuDirect(benchmark::State& state) {
         benchmark::DoNotOptimize(image.channel[0].data());
     }
 }
-BENCHMARK(BM_CpuDirect)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_CpuDirect)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 } // namespace
 
