@@ -37,9 +37,6 @@ constexpr double kSpreadFlops = 4.0, kProfileFlops = 20.0, kFftWeight = 5.0;
 
 double gemmFlops(std::size_t count, int n, int m) { return static_cast<double>(count) * (8.0 * n * m + 60.0 * (n + m)); }
 
-double narrowest(const std::array<double, 3>& w) { return std::min({w[0], w[1], w[2]}); }
-double widest(const std::array<double, 3>& w) { return std::max({w[0], w[1], w[2]}); }
-
 // Width class of a ghost on a grid: quarter octaves of its narrowest width per axis. A grid's
 // spacing follows its narrowest member, so each member's stencil is at most 2^(1/4) times the least.
 int quarterOctave(double w) {

@@ -11,8 +11,7 @@ namespace {
 const double kGaussianExtent = std::sqrt(2.0 * std::log(1e8));
 
 double extent(Shape s, const std::array<double, 3>& w) {
-    const double widest = std::max({w[0], w[1], w[2]});
-    return s == Shape::Gaussian ? kGaussianExtent * widest : widest;
+    return s == Shape::Gaussian ? kGaussianExtent * widest(w) : widest(w);
 }
 
 } // namespace

@@ -7,6 +7,7 @@
 
 #include "fourier/coefficients.h"
 
+#include <algorithm>
 #include <array>
 #include <vector>
 
@@ -24,6 +25,10 @@ struct Ghost {
     double extentX() const;
     double extentY() const;
 };
+
+/// The widest and the narrowest of a ghost's per-channel widths on one axis.
+inline double widest(const std::array<double, 3>& w) { return std::max({w[0], w[1], w[2]}); }
+inline double narrowest(const std::array<double, 3>& w) { return std::min({w[0], w[1], w[2]}); }
 
 struct FlareImage {
     int width = 0, height = 0;

@@ -54,9 +54,6 @@ double padExtent(const Ghost& g, double width, double error) {
     return g.shape == Shape::Gaussian ? width * std::sqrt(2.0 * std::log(10.0 / error)) : width;
 }
 
-double widest(const std::array<double, 3>& w) { return std::max({w[0], w[1], w[2]}); }
-double narrowest(const std::array<double, 3>& w) { return std::min({w[0], w[1], w[2]}); }
-
 // Estimated work (3 channels) of each route, in GEMM-equivalent flops. The FFT's nominal
 // 2.5 P log2 P flops of a real inverse transform ran at about a fifth of sgemm's rate
 // (bench_fourier, docs/performance.md): weighted by 5.
