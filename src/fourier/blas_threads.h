@@ -1,8 +1,7 @@
 #pragma once
 // OpenBLAS on one thread while a SingleThreadedBlas lives. ff_fourier runs its GEMMs as TBB tasks,
-// each on the thread that calls it; OpenBLAS's own threads would only contend with TBB's, and they
-// keep spinning for a while after a call, slowing whatever runs next on a small machine (the
-// accumulation of 100 ghosts after an evaluation: 8.5 vs 0.3 ms). Internal to ff_fourier.
+// each on the thread that calls it; OpenBLAS's own threads would only contend with TBB's (and they
+// spin, yielding, for a while after each call). Internal to ff_fourier.
 
 #include <cblas.h>
 
