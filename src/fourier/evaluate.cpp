@@ -42,10 +42,6 @@ void evaluateMatrix(const Coefficients& z, FlareImage& image, Write write) {
     });
 }
 
-struct FftwFree {
-    void operator()(void* p) const { fftwf_free(p); }
-};
-
 void evaluateFft(const Coefficients& z, FlareImage& image, Write write) {
     const int px = static_cast<int>(std::lround(z.periodX)), py = static_cast<int>(std::lround(z.periodY));
     if (std::abs(px - z.periodX) > 1e-9 || std::abs(py - z.periodY) > 1e-9)
@@ -54,11 +50,11 @@ void evaluateFft(const Coefficients& z, FlareImage& image, Write write) {
         throw Error(ErrorKind::Usage, "the FFT evaluation needs periods of at least the frame");
     const int hx = px / 2 + 1;
     const std::size_t inSize = static_cast<std::size_t>(py) * hx, outSize = static_cast<std::size_t>(py) * px;
-    std::array<std::unique_ptr<fftwf_complex, FftwFree>, 3> in;
-    std::array<std::unique_ptr<float, FftwFree>, 3> out;
+    std::array<FftwArray<fftwf_complex>, 3> in;
+    std::array<FftwArray<float>, 3> out;
     for (int c = 0; c < 3; ++c) {
-        in[c].reset(static_cast<fftwf_complex*>(fftwf_malloc(sizeof(fftwf_complex) * inSize)));
-        out[c].reset(static_cast<float*>(fftwf_malloc(sizeof(float) * outSize)));
+        in[c] = fftwArray<fftwf_complex>(inSize);
+        out[c] = fftwArray<float>(outSize);
         if (!in[c] || !out[c]) throw Error(ErrorKind::Runtime, "out of memory for the FFT evaluation");
     }
     fftwf_plan plan;

@@ -1,11 +1,29 @@
 #pragma once
-// FFTW's planner (plan creation and destruction) is not thread-safe; executing an existing plan on new
-// arrays is. Every plan of ff_fourier is made and destroyed under this one lock. Internal.
+// What ff_fourier's FFTW users share. FFTW's planner (plan creation and destruction) is not
+// thread-safe; executing an existing plan on new arrays is: every plan of ff_fourier is made and
+// destroyed under one lock. Arrays come from fftwf_malloc (the alignment plans expect) and are owned
+// by FftwArray. Internal.
 
+#include <fftw3.h>
+
+#include <cstddef>
+#include <memory>
 #include <mutex>
 
 namespace ff::fourier {
 
 std::mutex& fftwPlannerMutex();
+
+struct FftwFree {
+    void operator()(void* p) const { fftwf_free(p); }
+};
+template <typename T>
+using FftwArray = std::unique_ptr<T, FftwFree>;
+
+/// `count` elements from fftwf_malloc (uninitialised; null when out of memory).
+template <typename T>
+FftwArray<T> fftwArray(std::size_t count) {
+    return FftwArray<T>(static_cast<T*>(fftwf_malloc(sizeof(T) * count)));
+}
 
 } // namespace ff::fourier

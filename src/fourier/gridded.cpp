@@ -1,14 +1,12 @@
 #include "fourier/gridded.h"
 
+#include "core/error.h"
 #include "fourier/fftw_planner.h"
-
-#include <fftw3.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
-#include <memory>
 #include <numbers>
 
 namespace ff::fourier {
@@ -114,10 +112,6 @@ GhostStencil sampleGhost(Shape shape, const Ghost& g, double hx, double hy, int 
     return st;
 }
 
-struct FftwFloat {
-    void operator()(void* p) const { fftwf_free(p); }
-};
-
 // The r2c plans of the grids, made once per size and kept (FFTW's planner is slow next to these
 // small transforms, and frames repeat their sizes); executed on each task's own arrays, which FFTW
 // allows concurrently. Arrays from fftwf_malloc share the planning arrays' alignment. Destroyed at
@@ -136,8 +130,8 @@ public:
         fftwf_plan& plan = plans_[{gx, gy}];
         if (!plan) {
             const std::size_t cells = static_cast<std::size_t>(gx) * gy, half = static_cast<std::size_t>(gx / 2 + 1) * gy;
-            std::unique_ptr<float, FftwFloat> in(static_cast<float*>(fftwf_malloc(sizeof(float) * cells)));
-            std::unique_ptr<fftwf_complex, FftwFloat> out(static_cast<fftwf_complex*>(fftwf_malloc(sizeof(fftwf_complex) * half)));
+            const auto in = fftwArray<float>(cells);
+            const auto out = fftwArray<fftwf_complex>(half);
             plan = fftwf_plan_dft_r2c_2d(gy, gx, in.get(), out.get(), FFTW_ESTIMATE);
         }
         return plan;
@@ -219,9 +213,9 @@ std::array<std::vector<double>, 3> accumulateGridded(const std::vector<Ghost>& g
     }
     const std::size_t cells = static_cast<std::size_t>(gx) * gy;
     const int hxOut = gx / 2 + 1;
-    std::unique_ptr<float, FftwFloat> in(static_cast<float*>(fftwf_malloc(sizeof(float) * cells)));
-    std::unique_ptr<fftwf_complex, FftwFloat> out(
-        static_cast<fftwf_complex*>(fftwf_malloc(sizeof(fftwf_complex) * static_cast<std::size_t>(hxOut) * gy)));
+    const auto in = fftwArray<float>(cells);
+    const auto out = fftwArray<fftwf_complex>(static_cast<std::size_t>(hxOut) * gy);
+    if (!in || !out) throw Error(ErrorKind::Runtime, "out of memory for a gridded accumulation");
     const fftwf_plan plan = gridTransform(gx, gy);
     std::array<std::vector<double>, 3> z;
     for (int c = 0; c < 3; ++c) {
