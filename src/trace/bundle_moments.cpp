@@ -2,12 +2,18 @@
 
 namespace ff::trace {
 
+namespace {
+
+// Whether a ray's landing point is within maxRadius of the axis (0: no limit).
+bool landsWithin(const RayResult& r, double maxRadius) {
+    return maxRadius <= 0.0 || r.sensorPoint.x * r.sensorPoint.x + r.sensorPoint.y * r.sensorPoint.y <= maxRadius * maxRadius;
+}
+
+} // namespace
+
 BundleMoments measureSamples(std::span<const RayResult> hits, std::span<const double> areas, double scale, double maxRadius) {
     BundleMoments m;
-    auto counts = [&](const RayResult& r) {
-        return maxRadius <= 0.0 ||
-               r.sensorPoint.x * r.sensorPoint.x + r.sensorPoint.y * r.sensorPoint.y <= maxRadius * maxRadius;
-    };
+    auto counts = [&](const RayResult& r) { return landsWithin(r, maxRadius); };
     double sx = 0.0, sy = 0.0;
     for (std::size_t i = 0; i < hits.size(); ++i) {
         if (areas[i] <= 0.0) continue;
@@ -51,10 +57,7 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
                                     const std::vector<RayResult>& k, int subdivisions, double scale, double maxRadius) {
     // Cells whose centre and corners disagree on whether their light counts: lost or not, and
     // inside maxRadius or not (a wide ghost cut there moves in steps just as one cut by a stop).
-    auto counted = [&](const RayResult& r) {
-        return r.status == optics::RayStatus::Ok &&
-               (maxRadius <= 0.0 || r.sensorPoint.x * r.sensorPoint.x + r.sensorPoint.y * r.sensorPoint.y <= maxRadius * maxRadius);
-    };
+    auto counted = [&](const RayResult& r) { return r.status == optics::RayStatus::Ok && landsWithin(r, maxRadius); };
     const int n = centres.n;
     std::vector<char> edge(c.size(), 0);
     for (int j = 0; j < n; ++j)
@@ -86,10 +89,14 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
         areas.insert(areas.end(), subHits.size(), subArea);
     }
     BundleMoments m = measureSamples(hits, areas, scale, maxRadius);
-    const BundleMoments grid = measureBundle(centres, c, scale, maxRadius);
-    m.launched = grid.launched;
-    m.surviving = grid.surviving;
-    m.blocked = grid.blocked;
+    // The counts are the grid's centre rays'.
+    m.launched = m.surviving = m.blocked = 0;
+    for (std::size_t i = 0; i < c.size(); ++i) {
+        if (!centres.launched[i]) continue;
+        ++m.launched;
+        m.surviving += c[i].status == optics::RayStatus::Ok;
+        m.blocked += c[i].status == optics::RayStatus::Blocked;
+    }
     return m;
 }
 
