@@ -21,7 +21,6 @@ struct GpuSampledGhost {
 };
 static_assert(sizeof(GpuSampledGhost) == 32);
 
-
 // Per-ghost slices kept on the GPU at once: ghosts per dispatch bounded by 64 MiB of slices.
 constexpr std::size_t kSliceBytes = std::size_t(64) << 20;
 
