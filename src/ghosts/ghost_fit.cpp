@@ -11,12 +11,19 @@ namespace ff::ghosts {
 
 const char* toString(Profile p) { return p == Profile::Gaussian ? "gaussian" : "cos2"; }
 
-double profileValue(Profile p, double wr, double wt, double u, double v) {
-    if (p == Profile::Gaussian) return std::exp(-0.5 * (u * u / (wr * wr) + v * v / (wt * wt)));
-    if (std::abs(u) >= wr || std::abs(v) >= wt) return 0.0;
-    const double a = std::cos(0.5 * std::numbers::pi * u / wr), b = std::cos(0.5 * std::numbers::pi * v / wt);
-    return a * a * b * b;
+namespace {
+
+// Unit-peak profile along one axis: the separable factor of profileValue.
+double profileFactor(Profile p, double w, double t) {
+    if (p == Profile::Gaussian) return std::exp(-0.5 * t * t / (w * w));
+    if (std::abs(t) >= w) return 0.0;
+    const double c = std::cos(0.5 * std::numbers::pi * t / w);
+    return c * c;
 }
+
+} // namespace
+
+double profileValue(Profile p, double wr, double wt, double u, double v) { return profileFactor(p, wr, u) * profileFactor(p, wt, v); }
 
 double profileArea(Profile p, double wr, double wt) {
     return p == Profile::Gaussian ? 2.0 * std::numbers::pi * wr * wt : wr * wt;
@@ -31,17 +38,22 @@ struct LocalImage {
 };
 
 // Sum of squared differences between the flux-normalised profile and the image, pixel by pixel
-// (the profile sampled at pixel centres times the pixel area).
+// (the profile sampled at pixel centres times the pixel area). The profile is separable and the
+// image's axes are the radial (rows) and tangential (columns) ones, so it is sampled once per row
+// and once per column.
 double misfit(const LocalImage& img, Profile p, double flux, double wr, double wt) {
     const double a = img.frame.pitchMm * img.frame.pitchMm * flux / profileArea(p, wr, wt);
+    std::vector<double> rows(static_cast<std::size_t>(img.frame.height)), columns(static_cast<std::size_t>(img.frame.width));
+    for (int y = 0; y < img.frame.height; ++y) rows[y] = a * profileFactor(p, wr, img.frame.pixelToSensor(0.0, y + 0.5).y - img.frame.centreYMm);
+    for (int x = 0; x < img.frame.width; ++x) columns[x] = profileFactor(p, wt, img.frame.pixelToSensor(x + 0.5, 0.0).x - img.frame.centreXMm);
     double sum = 0.0;
-    for (int y = 0; y < img.frame.height; ++y)
+    for (int y = 0; y < img.frame.height; ++y) {
+        const double* line = img.flux.data() + static_cast<std::size_t>(y) * img.frame.width;
         for (int x = 0; x < img.frame.width; ++x) {
-            const glm::dvec2 s = img.frame.pixelToSensor(x + 0.5, y + 0.5);
-            const double model = a * profileValue(p, wr, wt, s.y - img.frame.centreYMm, s.x - img.frame.centreXMm);
-            const double d = model - img.flux[static_cast<std::size_t>(y) * img.frame.width + x];
+            const double d = rows[y] * columns[x] - line[x];
             sum += d * d;
         }
+    }
     return sum;
 }
 

@@ -19,7 +19,7 @@
 namespace ff::ghosts {
 
 std::string TableSettings::key() const {
-    std::string k = "table-v1 lambda";
+    std::string k = "table-v2 lambda";
     for (double l : wavelengthsNm) k += " " + text::roundTrip(l);
     k += " sampling " + std::to_string(static_cast<int>(sampling)) + " grid " + std::to_string(grid) + " sensor " +
          std::to_string(static_cast<int>(sensor)) + " coating " + std::to_string(static_cast<int>(coating)) + " max " +
@@ -187,6 +187,10 @@ double midError(const AngleResult& lo, const AngleResult& hi, const AngleResult&
     return worst;
 }
 
+// Intervals are not split below maxAngle / kFinestDivision: below it, what the error still measures is
+// the sampling noise of the entries, not the optics.
+constexpr double kFinestDivision = 512.0;
+
 double defaultMaxAngle(const optics::Lens& lens, const TableSettings& s, double sensorZ) {
     const auto size = lens.sensorMm.value_or(s.sensorSizeMm);
     const double halfDiagonal = 0.5 * std::hypot(size.first, size.second) * 1.05;
@@ -258,13 +262,22 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
     };
     std::vector<double> angles;
     for (int i = 0; i <= 8; ++i) angles.push_back(maxAngle * i / 8.0);
-    builder.setTotalWork(nG * static_cast<std::size_t>(s.maxAngles));
+    const double minStep = maxAngle / kFinestDivision;
+    builder.setTotalWork(nG * static_cast<std::size_t>(std::max(s.maxAngles, 9)));
     std::vector<AngleResult> rows = builder.trace(angles);
     std::vector<Interval> intervals(angles.size() - 1);
     for (;;) {
-        std::vector<std::size_t> todo; // unmeasured intervals, as far as the budget allows
+        // Unmeasured intervals wider than the finest step; when the budget cannot take them all, the
+        // ones whose estimate is worst go first (the rest keep their estimate).
+        std::vector<std::size_t> todo;
         for (std::size_t i = 0; i < intervals.size(); ++i)
-            if (!intervals[i].measured && angles.size() + todo.size() < static_cast<std::size_t>(s.maxAngles)) todo.push_back(i);
+            if (!intervals[i].measured && angles[i + 1] - angles[i] > minStep) todo.push_back(i);
+        const std::size_t room = static_cast<std::size_t>(s.maxAngles) - std::min(angles.size(), static_cast<std::size_t>(s.maxAngles));
+        if (todo.size() > room) {
+            std::stable_sort(todo.begin(), todo.end(), [&](std::size_t a, std::size_t b) { return intervals[a].error > intervals[b].error; });
+            todo.resize(room);
+            std::sort(todo.begin(), todo.end());
+        }
         if (todo.empty()) break;
         std::vector<double> mids;
         for (std::size_t i : todo) mids.push_back(0.5 * (angles[i] + angles[i + 1]));

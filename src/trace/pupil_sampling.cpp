@@ -52,6 +52,32 @@ Bundle gridBundle(const PupilFrame& frame, const Field& field, int n, double cx,
     return b;
 }
 
+namespace {
+
+// Bounding box of the grid points of b whose rays arrive, or an empty box (xMin > xMax).
+struct LitBox {
+    double xMin = 1e300, xMax = -1e300, yMin = 1e300, yMax = -1e300;
+    bool touchesEdge = false; ///< light at a grid point of the outermost ring
+    bool empty() const { return xMin > xMax; }
+};
+
+LitBox litBox(const Bundle& b, const LensAtWavelength& L, const std::vector<PathStep>& steps) {
+    std::vector<RayResult> hits(b.rays.size());
+    traceAnalytic(L, steps, b.rays, hits);
+    LitBox box;
+    for (int j = 0; j < b.n; ++j)
+        for (int i = 0; i < b.n; ++i) {
+            if (hits[static_cast<std::size_t>(j) * b.n + i].status != optics::RayStatus::Ok) continue;
+            const double x = b.x0 + (i + 0.5) * b.cell, y = b.y0 + (j + 0.5) * b.cell;
+            box.xMin = std::min(box.xMin, x), box.xMax = std::max(box.xMax, x);
+            box.yMin = std::min(box.yMin, y), box.yMax = std::max(box.yMax, y);
+            box.touchesEdge = box.touchesEdge || i == 0 || j == 0 || i == b.n - 1 || j == b.n - 1;
+        }
+    return box;
+}
+
+} // namespace
+
 PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
                         const std::vector<PathStep>& steps) {
     if (sampling == Sampling::ParaxialGrid) return {0.0, 0.0, frame.radius, true};
@@ -59,21 +85,28 @@ PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sa
     // Coarse pass over everything that could enter the front surface, traced analytically.
     const double shift = std::abs(std::tan(field.angleRad)) * std::abs(frame.z - frame.startZ);
     const double half = std::max(frame.frontRadius, frame.radius) + shift + frame.radius;
-    constexpr int kCoarse = 96;
+    constexpr int kCoarse = 96, kLocal = 64;
     const Bundle coarse = gridBundle(frame, field, kCoarse, 0.0, 0.0, half, false);
-    std::vector<RayResult> hits(coarse.rays.size());
-    traceAnalytic(L, steps, coarse.rays, hits);
-    double xMin = 1e300, xMax = -1e300, yMin = 1e300, yMax = -1e300;
-    for (int j = 0; j < kCoarse; ++j)
-        for (int i = 0; i < kCoarse; ++i) {
-            const std::size_t k = static_cast<std::size_t>(j) * kCoarse + i;
-            if (hits[k].status != optics::RayStatus::Ok) continue;
-            const double x = coarse.x0 + (i + 0.5) * coarse.cell, y = coarse.y0 + (j + 0.5) * coarse.cell;
-            xMin = std::min(xMin, x), xMax = std::max(xMax, x), yMin = std::min(yMin, y), yMax = std::max(yMax, y);
-        }
-    if (xMin > xMax) return {0.0, 0.0, frame.radius, true}; // nothing gets through: the paraxial pupil
+    const LitBox found = litBox(coarse, L, steps);
+    if (found.empty()) return {0.0, 0.0, frame.radius, true}; // nothing gets through: the paraxial pupil
+    // The coarse points miss the tips of thin regions (two discs barely overlapping), and the box would
+    // jump by a coarse cell, cutting off light, as the field angle moves them across the points. A local
+    // pass over the box (two coarse cells wider on every side, wider still while light reaches its
+    // outermost points) finds the extent at its finer spacing.
+    double cx = 0.5 * (found.xMin + found.xMax), cy = 0.5 * (found.yMin + found.yMax);
+    double h = 0.5 * std::max(found.xMax - found.xMin, found.yMax - found.yMin) + 2.0 * coarse.cell;
+    LitBox box = found;
+    for (int pass = 0; pass < 4; ++pass) {
+        const LitBox local = litBox(gridBundle(frame, field, kLocal, cx, cy, h, false), L, steps);
+        if (local.empty()) break;
+        box = local;
+        if (!local.touchesEdge) break;
+        cx = 0.5 * (local.xMin + local.xMax), cy = 0.5 * (local.yMin + local.yMax);
+        h = 0.5 * std::max(local.xMax - local.xMin, local.yMax - local.yMin) + 4.0 * coarse.cell;
+    }
     // One coarse cell of margin on every side, then a square over the box.
-    return {0.5 * (xMin + xMax), 0.5 * (yMin + yMax), 0.5 * std::max(xMax - xMin, yMax - yMin) + coarse.cell, false};
+    return {0.5 * (box.xMin + box.xMax), 0.5 * (box.yMin + box.yMax), 0.5 * std::max(box.xMax - box.xMin, box.yMax - box.yMin) + coarse.cell,
+            false};
 }
 
 Bundle regionBundle(const PupilFrame& frame, const Field& field, const PupilRegion& r, int n) {

@@ -62,7 +62,8 @@ struct PupilRegion {
 };
 
 /// Where the grid of one path goes, by the chosen sampling. For Reaim, a coarse analytic pass at L's
-/// wavelength; its one-coarse-cell margin also covers the small shift of the pupil with wavelength,
+/// wavelength, then local passes over what it found (until no light reaches their outermost points),
+/// so that the region moves smoothly with the field angle; its one-coarse-cell margin also covers the small shift of the pupil with wavelength,
 /// so one region serves every wavelength of a path.
 PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
                         const std::vector<PathStep>& steps);
