@@ -28,6 +28,8 @@ struct TableOptions {
     int grid = 32;
     std::string sampling = "reaim", sensor = "file", coating = "file";
     double maxAngle = 0.0;
+    int maxAngles = ghosts::TableSettings{}.maxAngles;
+    double tolerance = ghosts::TableSettings{}.interpolationTolerance;
     std::string zoom;
 
     void addTo(CLI::App& cmd);

@@ -187,6 +187,11 @@ double midError(const AngleResult& lo, const AngleResult& hi, const AngleResult&
     return worst;
 }
 
+void requireSymmetric(const optics::Lens& lens) {
+    if (!lens.rotationallySymmetric())
+        throw Error(ErrorKind::Input, SourceLocation{lens.file}, "the lens has anamorphic surfaces; a ghost table needs a rotationally symmetric lens");
+}
+
 // Intervals are not split below maxAngle / kFinestDivision: below it, what the error still measures is
 // the sampling noise of the entries, not the optics.
 constexpr double kFinestDivision = 512.0;
@@ -234,8 +239,7 @@ std::array<std::size_t, 3> GhostTable::rgbChannels() const {
 }
 
 GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, const Progress& progress) {
-    if (!lensIn.rotationallySymmetric())
-        throw Error(ErrorKind::Input, SourceLocation{lensIn.file}, "the lens has anamorphic surfaces; a ghost table needs a rotationally symmetric lens");
+    requireSymmetric(lensIn);
     const auto start = std::chrono::steady_clock::now();
     const optics::Lens lens = trace::withCoating(lensIn, s.coating);
     Builder builder(lens, s, progress);
@@ -268,13 +272,17 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
     std::vector<Interval> intervals(angles.size() - 1);
     for (;;) {
         // Unmeasured intervals wider than the finest step; when the budget cannot take them all, the
-        // ones whose estimate is worst go first (the rest keep their estimate).
+        // ones with the largest estimate x width go first (the rest keep their estimate): a light
+        // falls in an interval in proportion to its width, and an interval astride a kink (a part of
+        // a ghost vignetted away) cannot take the whole budget.
         std::vector<std::size_t> todo;
         for (std::size_t i = 0; i < intervals.size(); ++i)
             if (!intervals[i].measured && angles[i + 1] - angles[i] > minStep) todo.push_back(i);
         const std::size_t room = static_cast<std::size_t>(s.maxAngles) - std::min(angles.size(), static_cast<std::size_t>(s.maxAngles));
         if (todo.size() > room) {
-            std::stable_sort(todo.begin(), todo.end(), [&](std::size_t a, std::size_t b) { return intervals[a].error > intervals[b].error; });
+            std::stable_sort(todo.begin(), todo.end(), [&](std::size_t a, std::size_t b) {
+                return intervals[a].error * (angles[a + 1] - angles[a]) > intervals[b].error * (angles[b + 1] - angles[b]);
+            });
             todo.resize(room);
             std::sort(todo.begin(), todo.end());
         }
@@ -330,6 +338,17 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
     }
     t.buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return t;
+}
+
+std::vector<std::vector<std::vector<TableEntry>>> traceEntries(const optics::Lens& lensIn, const TableSettings& s,
+                                                               const std::vector<double>& anglesDeg) {
+    requireSymmetric(lensIn);
+    const optics::Lens lens = trace::withCoating(lensIn, s.coating);
+    const Progress none;
+    Builder builder(lens, s, none);
+    std::vector<std::vector<std::vector<TableEntry>>> out;
+    for (AngleResult& r : builder.trace(anglesDeg)) out.push_back(std::move(r.ghosts));
+    return out;
 }
 
 } // namespace ff::ghosts

@@ -93,4 +93,10 @@ using Progress = std::function<void(std::size_t, std::size_t)>;
 /// Builds the table (parallel over angles x ghosts). Throws ff::Error (Input) for an anamorphic lens.
 GhostTable buildGhostTable(const optics::Lens& lens, const TableSettings& settings, const Progress& progress = {});
 
+/// What the table would hold at each of the given field angles, traced directly as the builder
+/// traces its entries: [angle][ghost][wavelength], ghosts in the table's order. For checking a
+/// table's interpolation against direct traces.
+std::vector<std::vector<std::vector<TableEntry>>> traceEntries(const optics::Lens& lens, const TableSettings& settings,
+                                                               const std::vector<double>& anglesDeg);
+
 } // namespace ff::ghosts
