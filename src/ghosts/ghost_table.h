@@ -7,8 +7,10 @@
 // max(|centroid|, sigma, 1 % of the sensor half-height), sigma relative to itself, over ghosts carrying
 // at least 1 % of the strongest ghost's flux there) and keeps the mid-angle as a new entry; only intervals above the tolerance are
 // split further, so angles gather where ghosts change fast (vignetting onsets), until every interval
-// passes or the angle budget is spent. The measured errors (median, 95th percentile, worst) are stored
-// with the table; an interval whose halves could not be measured counts with its own error.
+// passes, reaches the finest step (1/512 of the field) or the angle budget is spent; when the budget
+// cannot take every failing interval, those with the largest error x width go first. The measured
+// errors (median, 95th percentile, worst) are stored with the table; an interval whose halves could
+// not be measured counts with its own error.
 //
 // Each entry counts the light landing within twice the sensor's half-diagonal of the axis (grazing
 // rays that land metres away can never reach the frame and would dominate the moments).

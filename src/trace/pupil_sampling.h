@@ -9,9 +9,9 @@
 // Sampling:
 //  - ParaxialGrid: the grid covers the square circumscribing the paraxial entrance pupil, centred on
 //    the axis for every field angle; rays outside the pupil disc are not launched.
-//  - Reaim (default): a coarse pass finds where light actually gets through along the given path
-//    (the real, vignetted pupil of that path at this field angle) and the grid covers that region's
-//    bounding box, so every path gets its full resolution.
+//  - Reaim (default): a coarse pass, refined locally, finds where light actually gets through along
+//    the given path (the real, vignetted pupil of that path at this field angle) and the grid covers
+//    that region's bounding box, so every path gets its full resolution.
 // Every launched ray stands for one grid cell of area cellArea (mm^2 in the pupil plane), so path
 // energies are sums of weight x cellArea and compare across bundles.
 
@@ -63,8 +63,8 @@ struct PupilRegion {
 
 /// Where the grid of one path goes, by the chosen sampling. For Reaim, a coarse analytic pass at L's
 /// wavelength, then local passes over what it found (until no light reaches their outermost points),
-/// so that the region moves smoothly with the field angle; its one-coarse-cell margin also covers the small shift of the pupil with wavelength,
-/// so one region serves every wavelength of a path.
+/// so that the region moves smoothly with the field angle; its one-coarse-cell margin also covers the
+/// small shift of the pupil with wavelength, so one region serves every wavelength of a path.
 PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
                         const std::vector<PathStep>& steps);
 
