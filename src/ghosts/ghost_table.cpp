@@ -192,8 +192,9 @@ void requireSymmetric(const optics::Lens& lens) {
         throw Error(ErrorKind::Input, SourceLocation{lens.file}, "the lens has anamorphic surfaces; a ghost table needs a rotationally symmetric lens");
 }
 
-// Intervals are not split below maxAngle / kFinestDivision: below it, what the error still measures is
-// the sampling noise of the entries, not the optics.
+// Intervals are not split below maxAngle / kFinestDivision. What still fails there is a kink (part of
+// a ghost vignetted away, its spread changing like a square root of the angle), which halving
+// improves by only sqrt(2) each time, or the entries' sampling noise: neither is worth the budget.
 constexpr double kFinestDivision = 512.0;
 
 double defaultMaxAngle(const optics::Lens& lens, const TableSettings& s, double sensorZ) {
@@ -278,7 +279,8 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
         std::vector<std::size_t> todo;
         for (std::size_t i = 0; i < intervals.size(); ++i)
             if (!intervals[i].measured && angles[i + 1] - angles[i] > minStep) todo.push_back(i);
-        const std::size_t room = static_cast<std::size_t>(s.maxAngles) - std::min(angles.size(), static_cast<std::size_t>(s.maxAngles));
+        const std::size_t budget = static_cast<std::size_t>(std::max(s.maxAngles, 0));
+        const std::size_t room = angles.size() < budget ? budget - angles.size() : 0;
         if (todo.size() > room) {
             std::stable_sort(todo.begin(), todo.end(), [&](std::size_t a, std::size_t b) {
                 return intervals[a].error * (angles[a + 1] - angles[a]) > intervals[b].error * (angles[b + 1] - angles[b]);
