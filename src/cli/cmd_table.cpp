@@ -46,10 +46,15 @@ void runTable(const TableCommandOptions& o, const GlobalOptions& g) {
     };
     auto worst = [](const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); };
     // (How long the build took was said by loadTable.)
-    std::fprintf(stderr, "fourierflare: %s ghost table: %zu ghosts x %zu wavelengths x %zu field angles (0..%.2f deg)\n",
-                 cached ? "cached" : "built", t.ghosts.size(), t.wavelengthsNm.size(), t.anglesDeg.size(), t.anglesDeg.back());
-    std::fprintf(stderr, "fourierflare: interpolation error at mid-angles: median %.2f %%, 95th percentile %.2f %%, worst %.2f %%\n",
-                 100.0 * t.interpolationErrorMedian, 100.0 * t.interpolationErrorP95, 100.0 * t.interpolationError);
+    std::size_t fewest = t.anglesDeg.size(), most = 0;
+    for (const auto& gh : t.ghosts) fewest = std::min(fewest, gh.anglesDeg.size()), most = std::max(most, gh.anglesDeg.size());
+    std::fprintf(stderr, "fourierflare: %s ghost table: %zu ghosts x %zu wavelengths, 0..%.2f deg; %zu entries per wavelength, %zu to %zu field angles per ghost (%zu in all)\n",
+                 cached ? "cached" : "built", t.ghosts.size(), t.wavelengthsNm.size(), t.anglesDeg.back(), t.entryCount(), fewest, most, t.anglesDeg.size());
+    std::fprintf(stderr,
+                 "fourierflare: interpolation error at mid-angles: median %.2f %%, 95th percentile %.2f %%, worst %.2f %%; "
+                 "%.2f %% of the field within %.2g %%\n",
+                 100.0 * t.interpolationErrorMedian, 100.0 * t.interpolationErrorP95, 100.0 * t.interpolationError, 100.0 * t.withinTolerance,
+                 100.0 * o.table.tolerance);
     std::fprintf(stderr, "fourierflare: fit error (relative L2): Gaussian median %.3f, worst %.3f; cos2 median %.3f, worst %.3f\n",
                  median(ge), worst(ge), median(ce), worst(ce));
     std::fprintf(stderr, "fourierflare: wrote %s\n", o.output.c_str());

@@ -42,8 +42,9 @@ void TableOptions::addTo(CLI::App& cmd) {
     cmd.add_option("--coating", coating, "Coatings: file, none or mgf2")->check(CLI::IsMember({"file", "none", "mgf2"}));
     cmd.add_option("--max-angle", maxAngle, "Largest field angle of the table in degrees (0: the sensor's half-diagonal plus 5 %)")
         ->check(CLI::Range(0.0, 85.0));
-    cmd.add_option("--max-angles", maxAngles, "Most field angles the table's refinement may trace (more: finer steps where ghosts change fast)")
-        ->check(CLI::Range(9, 4097));
+    cmd.add_option("--max-angles", maxAngles,
+                   "Field angles the table's refinement may trace per ghost, on average (more: finer steps where ghosts change fast)")
+        ->check(CLI::Range(9, 513));
     cmd.add_option("--tolerance", tolerance, "Interpolation error of centroid and spreads the refinement aims at (relative)")
         ->check(CLI::Range(1e-6, 1.0));
     cmd.add_option("--zoom", zoom, "Zoom position (label or 1-based index)");

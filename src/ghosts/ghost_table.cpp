@@ -14,12 +14,13 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <mutex>
 
 namespace ff::ghosts {
 
 std::string TableSettings::key() const {
-    std::string k = "table-v2 lambda";
+    std::string k = "table-v3 lambda";
     for (double l : wavelengthsNm) k += " " + text::roundTrip(l);
     k += " sampling " + std::to_string(static_cast<int>(sampling)) + " grid " + std::to_string(grid) + " sensor " +
          std::to_string(static_cast<int>(sensor)) + " coating " + std::to_string(static_cast<int>(coating)) + " max " +
@@ -58,10 +59,16 @@ TableEntry lerp(const TableEntry& a, const TableEntry& b, double t) {
     return e;
 }
 
-// Everything traced at one field angle: the direct image per wavelength and every ghost's entry.
-struct AngleResult {
-    std::vector<double> directY;                 // [wavelength]
-    std::vector<std::vector<TableEntry>> ghosts; // [ghost][wavelength]
+// The direct image at one field angle: its centroid and its energy (which normalises every ghost's
+// flux there), per wavelength.
+struct DirectResult {
+    std::vector<double> y, energy;
+};
+
+// One ghost at one field angle.
+struct Task {
+    std::size_t ghost = 0;
+    double angleDeg = 0.0;
 };
 
 class Builder {
@@ -84,43 +91,63 @@ public:
     double sensorZ() const { return sensorZ_; }
 
     void setTotalWork(std::size_t total) { total_ = total; }
+    void finish() {
+        if (progress_ && total_ > 0) progress_(total_, total_);
+    }
 
-    std::vector<AngleResult> trace(const std::vector<double>& anglesDeg) {
-        std::vector<AngleResult> out(anglesDeg.size());
-        const std::size_t nW = s_.wavelengthsNm.size(), nG = pairs_.size();
-        // Direct images first: they normalise every ghost's flux.
-        std::vector<std::vector<double>> directEnergy(anglesDeg.size(), std::vector<double>(nW, 0.0));
-        tbb::parallel_for(std::size_t(0), anglesDeg.size(), [&](std::size_t a) {
-            const trace::Field field{degToRad(anglesDeg[a]), 0.0};
+    /// The direct image at an angle traced by trace() (or traceDirect()).
+    const DirectResult& direct(double angleDeg) const { return direct_.at(angleDeg); }
+    const std::map<double, DirectResult>& directs() const { return direct_; }
+
+    /// Direct images at every angle not yet traced.
+    void traceDirect(const std::vector<double>& anglesDeg) {
+        std::vector<double> todo;
+        for (double a : anglesDeg)
+            if (!direct_.count(a)) todo.push_back(a);
+        std::sort(todo.begin(), todo.end());
+        todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
+        const std::size_t nW = s_.wavelengthsNm.size();
+        std::vector<DirectResult> out(todo.size(), DirectResult{std::vector<double>(nW), std::vector<double>(nW)});
+        tbb::parallel_for(std::size_t(0), todo.size(), [&](std::size_t a) {
+            const trace::Field field{degToRad(todo[a]), 0.0};
             const trace::PupilRegion region = trace::pupilRegion(frame_, field, s_.sampling, geometry_, directSteps_);
             const trace::Bundle b = trace::regionBundle(frame_, field, region, s_.grid);
             const trace::Bundle corners = trace::cornerBundle(frame_, field, b);
-            out[a].directY.assign(nW, 0.0);
-            out[a].ghosts.assign(nG, std::vector<TableEntry>(nW));
             for (std::size_t w = 0; w < nW; ++w) {
                 std::vector<trace::RayResult> hits(b.rays.size()), k(corners.rays.size());
                 tracer_.trace(atLambda_[w], directSteps_, b.rays, hits);
                 tracer_.trace(atLambda_[w], directSteps_, corners.rays, k);
                 const trace::BundleMoments m = measure(w, directSteps_, field, b, hits, k, 1.0, 0.0);
-                directEnergy[a][w] = m.energy;
-                out[a].directY[w] = m.centroidY;
+                out[a].energy[w] = m.energy;
+                out[a].y[w] = m.centroidY;
             }
         });
-        tbb::parallel_for(std::size_t(0), anglesDeg.size() * nG, [&](std::size_t task) {
-            const std::size_t a = task / nG, g = task % nG;
-            const trace::Field field{degToRad(anglesDeg[a]), 0.0};
+        for (std::size_t a = 0; a < todo.size(); ++a) direct_.emplace(todo[a], std::move(out[a]));
+    }
+
+    /// Every task's entry, [task][wavelength] (direct images traced first where missing).
+    std::vector<std::vector<TableEntry>> trace(const std::vector<Task>& tasks) {
+        std::vector<double> angles;
+        for (const Task& t : tasks) angles.push_back(t.angleDeg);
+        traceDirect(angles);
+        const std::size_t nW = s_.wavelengthsNm.size();
+        std::vector<std::vector<TableEntry>> out(tasks.size(), std::vector<TableEntry>(nW));
+        tbb::parallel_for(std::size_t(0), tasks.size(), [&](std::size_t task) {
+            const std::size_t g = tasks[task].ghost;
+            const DirectResult& d = direct_.at(tasks[task].angleDeg);
+            const trace::Field field{degToRad(tasks[task].angleDeg), 0.0};
             const trace::PupilRegion region = trace::pupilRegion(frame_, field, s_.sampling, geometry_, steps_[g]);
             const trace::Bundle centres = trace::regionBundle(frame_, field, region, s_.grid);
             const trace::Bundle corners = trace::cornerBundle(frame_, field, centres);
             for (std::size_t w = 0; w < nW; ++w) {
-                if (directEnergy[a][w] <= 0.0) continue;
+                if (d.energy[w] <= 0.0) continue;
                 std::vector<trace::RayResult> c(centres.rays.size()), k(corners.rays.size());
                 tracer_.trace(atLambda_[w], steps_[g], centres.rays, c);
                 tracer_.trace(atLambda_[w], steps_[g], corners.rays, k);
-                const double scale = 1.0 / directEnergy[a][w];
+                const double scale = 1.0 / d.energy[w];
                 const trace::BundleMoments m = measure(w, steps_[g], field, centres, c, k, scale, fitOptions_.maxRadiusMm);
                 const GhostFit f = fitGhost(centres, c, k, scale, fitOptions_, &m);
-                TableEntry& e = out[a].ghosts[g][w];
+                TableEntry& e = out[task][w];
                 e.centroidY = f.centroidY;
                 e.sigmaR = f.sigmaR;
                 e.sigmaT = f.sigmaT;
@@ -147,7 +174,7 @@ private:
         const std::size_t d = ++done_;
         if (!progress_) return;
         std::lock_guard<std::mutex> lock(mutex_);
-        progress_(d, std::max(total_, d));
+        progress_(std::min(d, total_), std::max(total_, d));
     }
 
     const optics::Lens& lens_;
@@ -162,29 +189,50 @@ private:
     std::vector<std::vector<trace::PathStep>> steps_;
     std::vector<trace::PathStep> directSteps_;
     FitOptions fitOptions_;
+    std::map<double, DirectResult> direct_;
     std::atomic<std::size_t> done_{0};
     std::size_t total_ = 0;
     std::mutex mutex_;
 };
 
-// Relative interpolation error at one mid-angle (see the header): the largest over the ghosts that
-// carry at least 1 % of the strongest ghost's flux there, over all wavelengths. floorMm keeps the
-// centroid's scale from vanishing for tightly focused ghosts near the axis.
-double midError(const AngleResult& lo, const AngleResult& hi, const AngleResult& mid, std::size_t nW, double floorMm) {
-    double worst = 0.0;
-    for (std::size_t w = 0; w < nW; ++w) {
-        double strongest = 0.0;
-        for (const auto& g : mid.ghosts) strongest = std::max(strongest, g[w].flux);
-        for (std::size_t g = 0; g < mid.ghosts.size(); ++g) {
-            const TableEntry& t = mid.ghosts[g][w];
-            if (t.flux < 0.01 * strongest || t.sigmaR <= 0.0 || lo.ghosts[g][w].flux <= 0.0 || hi.ghosts[g][w].flux <= 0.0) continue;
-            const TableEntry i = lerp(lo.ghosts[g][w], hi.ghosts[g][w], 0.5);
-            worst = std::max(worst, std::abs(i.centroidY - t.centroidY) / std::max({std::abs(t.centroidY), t.sigmaR, floorMm}));
-            worst = std::max(worst, std::abs(i.sigmaR - t.sigmaR) / t.sigmaR);
-            if (t.sigmaT > 0.0) worst = std::max(worst, std::abs(i.sigmaT - t.sigmaT) / t.sigmaT);
-        }
+// A ghost's angles while the table is refined: its traced entries and the intervals between them.
+// Each interval is either measured (the error of interpolating at its mid-angle) or waiting to be,
+// with its parent's error kept as the estimate should the budget run out first.
+struct Interval {
+    bool measured = false;
+    bool relevant = false; ///< the ghost carried >= 1 % of the strongest ghost's flux at the mid-angle
+    double error = 0.0;    ///< measured error, or the parent's while not measured
+};
+
+struct GhostNodes {
+    std::vector<double> angles;
+    std::vector<std::vector<TableEntry>> rows; ///< [angle][wavelength]
+    std::vector<Interval> intervals;
+
+    double fluxAt(std::size_t w, double a) const {
+        const auto [i, t] = locate(angles, a);
+        return angles.size() < 2 ? rows[0][w].flux : lerp(rows[i][w].flux, rows[i + 1][w].flux, t);
     }
-    return worst;
+};
+
+// Relative error of interpolating one ghost at a mid-angle (see the header), the worst over the
+// wavelengths at which it carries at least 1 % of the strongest ghost's flux there. floorMm keeps
+// the centroid's scale from vanishing for tightly focused ghosts near the axis. Returns the error
+// and whether any wavelength counted.
+std::pair<double, bool> midError(const std::vector<TableEntry>& lo, const std::vector<TableEntry>& hi, const std::vector<TableEntry>& mid,
+                                 const std::vector<double>& strongest, double floorMm) {
+    double worst = 0.0;
+    bool relevant = false;
+    for (std::size_t w = 0; w < mid.size(); ++w) {
+        const TableEntry& t = mid[w];
+        if (t.flux < 0.01 * strongest[w] || t.sigmaR <= 0.0 || lo[w].flux <= 0.0 || hi[w].flux <= 0.0) continue;
+        relevant = true;
+        const TableEntry i = lerp(lo[w], hi[w], 0.5);
+        worst = std::max(worst, std::abs(i.centroidY - t.centroidY) / std::max({std::abs(t.centroidY), t.sigmaR, floorMm}));
+        worst = std::max(worst, std::abs(i.sigmaR - t.sigmaR) / t.sigmaR);
+        if (t.sigmaT > 0.0) worst = std::max(worst, std::abs(i.sigmaT - t.sigmaT) / t.sigmaT);
+    }
+    return {worst, relevant};
 }
 
 void requireSymmetric(const optics::Lens& lens) {
@@ -211,9 +259,10 @@ double defaultMaxAngle(const optics::Lens& lens, const TableSettings& s, double 
 } // namespace
 
 TableEntry GhostTable::at(std::size_t ghost, std::size_t w, double a) const {
-    const auto [i, t] = locate(anglesDeg, a);
-    const auto& row = ghosts[ghost].entries[w];
-    return anglesDeg.size() < 2 ? row[0] : lerp(row[i], row[i + 1], t);
+    const TableGhost& g = ghosts[ghost];
+    const auto [i, t] = locate(g.anglesDeg, a);
+    const auto& row = g.entries[w];
+    return g.anglesDeg.size() < 2 ? row[0] : lerp(row[i], row[i + 1], t);
 }
 
 double GhostTable::directAt(std::size_t w, double a) const {
@@ -222,8 +271,9 @@ double GhostTable::directAt(std::size_t w, double a) const {
 }
 
 double GhostTable::magnification(std::size_t ghost, std::size_t w, double a) const {
-    // On the axis both heights vanish: use the first non-zero angle.
-    const double angle = (anglesDeg.size() > 1 && a < anglesDeg[1]) ? std::max(a, anglesDeg[1]) : a;
+    // On the axis both heights vanish: use the ghost's first non-zero angle.
+    const std::vector<double>& own = ghosts[ghost].anglesDeg;
+    const double angle = (own.size() > 1 && a < own[1]) ? std::max(a, own[1]) : a;
     const double d = directAt(w, angle);
     return d != 0.0 ? at(ghost, w, angle).centroidY / d : 0.0;
 }
@@ -237,6 +287,12 @@ std::size_t GhostTable::nearestWavelength(double lambda) const {
 
 std::array<std::size_t, 3> GhostTable::rgbChannels() const {
     return {nearestWavelength(650.0), nearestWavelength(550.0), nearestWavelength(450.0)};
+}
+
+std::size_t GhostTable::entryCount() const {
+    std::size_t n = 0;
+    for (const TableGhost& g : ghosts) n += g.anglesDeg.size();
+    return n;
 }
 
 GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, const Progress& progress) {
@@ -257,85 +313,127 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
     t.wavelengthsNm = s.wavelengthsNm;
     const double maxAngle = s.maxAngleDeg > 0.0 ? s.maxAngleDeg : defaultMaxAngle(lens, s, t.sensorZ);
     const std::size_t nW = s.wavelengthsNm.size(), nG = builder.pairs().size();
+    const double minStep = maxAngle / kFinestDivision, floorMm = 0.01 * 0.5 * t.sensorSizeMm.second;
 
-    // Nodes: angles with their traced rows. Each interval between neighbours is either measured
-    // (the error of interpolating at its mid-angle) or waiting to be measured, with its parent's
-    // measured error kept as the estimate should the angle budget run out first.
-    struct Interval {
-        bool measured = false;
-        double error = 0.0; ///< measured error, or the parent's while not measured
-    };
-    std::vector<double> angles;
-    for (int i = 0; i <= 8; ++i) angles.push_back(maxAngle * i / 8.0);
-    const double minStep = maxAngle / kFinestDivision;
-    builder.setTotalWork(nG * static_cast<std::size_t>(std::max(s.maxAngles, 9)));
-    std::vector<AngleResult> rows = builder.trace(angles);
-    std::vector<Interval> intervals(angles.size() - 1);
-    for (;;) {
-        // Unmeasured intervals wider than the finest step; when the budget cannot take them all, the
-        // ones with the largest estimate x width go first (the rest keep their estimate): a light
-        // falls in an interval in proportion to its width, and an interval astride a kink (a part of
-        // a ghost vignetted away) cannot take the whole budget.
-        std::vector<std::size_t> todo;
-        for (std::size_t i = 0; i < intervals.size(); ++i)
-            if (!intervals[i].measured && angles[i + 1] - angles[i] > minStep) todo.push_back(i);
-        const std::size_t budget = static_cast<std::size_t>(std::max(s.maxAngles, 0));
-        const std::size_t room = angles.size() < budget ? budget - angles.size() : 0;
-        if (todo.size() > room) {
-            std::stable_sort(todo.begin(), todo.end(), [&](std::size_t a, std::size_t b) {
-                return intervals[a].error * (angles[a + 1] - angles[a]) > intervals[b].error * (angles[b + 1] - angles[b]);
-            });
-            todo.resize(room);
-            std::sort(todo.begin(), todo.end());
+    // Every ghost starts on the same 9 uniform angles; each then refines its own intervals. The
+    // budget counts traced entries: maxAngles per ghost on average.
+    const std::size_t budget = static_cast<std::size_t>(std::max(s.maxAngles, 9)) * nG;
+    builder.setTotalWork(budget);
+    std::vector<GhostNodes> nodes(nG);
+    {
+        std::vector<Task> tasks;
+        for (std::size_t g = 0; g < nG; ++g)
+            for (int i = 0; i <= 8; ++i) tasks.push_back({g, maxAngle * i / 8.0});
+        std::vector<std::vector<TableEntry>> rows = builder.trace(tasks);
+        for (std::size_t k = 0; k < tasks.size(); ++k) {
+            GhostNodes& n = nodes[tasks[k].ghost];
+            n.angles.push_back(tasks[k].angleDeg);
+            n.rows.push_back(std::move(rows[k]));
         }
-        if (todo.empty()) break;
-        std::vector<double> mids;
-        for (std::size_t i : todo) mids.push_back(0.5 * (angles[i] + angles[i + 1]));
-        std::vector<AngleResult> midRows = builder.trace(mids);
-        // Every mid-angle becomes a node. A passing interval leaves two halves that keep its error; a
-        // failing one leaves two halves to be measured.
-        std::vector<double> newAngles;
-        std::vector<AngleResult> newRows;
-        std::vector<Interval> newIntervals;
-        std::size_t next = 0;
-        for (std::size_t i = 0; i < angles.size(); ++i) {
-            newAngles.push_back(angles[i]);
-            newRows.push_back(std::move(rows[i]));
-            if (i + 1 == angles.size()) break;
-            if (next < todo.size() && todo[next] == i) {
-                const double e = midError(newRows.back(), rows[i + 1], midRows[next], nW, 0.01 * 0.5 * t.sensorSizeMm.second);
-                const Interval half{e <= s.interpolationTolerance, e};
-                newIntervals.push_back(half);
-                newAngles.push_back(mids[next]);
-                newRows.push_back(std::move(midRows[next]));
-                newIntervals.push_back(half);
-                ++next;
-            } else {
-                newIntervals.push_back(intervals[i]);
+        for (GhostNodes& n : nodes) n.intervals.assign(n.angles.size() - 1, Interval{});
+    }
+    std::size_t spent = 9 * nG;
+    for (;;) {
+        // Unmeasured intervals wider than the finest step, of any ghost; when the budget cannot take
+        // them all, the ones with the largest estimate x width go first (the rest keep their
+        // estimate): a light falls in an interval in proportion to its width, and an interval astride
+        // a kink (a part of a ghost vignetted away) cannot take the whole budget.
+        struct Todo {
+            std::size_t ghost, interval;
+            double priority;
+        };
+        std::vector<Todo> todo;
+        for (std::size_t g = 0; g < nG; ++g) {
+            const GhostNodes& n = nodes[g];
+            for (std::size_t i = 0; i < n.intervals.size(); ++i) {
+                const double width = n.angles[i + 1] - n.angles[i];
+                if (!n.intervals[i].measured && width > minStep) todo.push_back({g, i, n.intervals[i].error * width});
             }
         }
-        angles = std::move(newAngles);
-        rows = std::move(newRows);
-        intervals = std::move(newIntervals);
-        if (angles.size() >= static_cast<std::size_t>(s.maxAngles)) break;
+        const std::size_t room = budget > spent ? budget - spent : 0;
+        if (todo.size() > room) {
+            std::stable_sort(todo.begin(), todo.end(), [](const Todo& a, const Todo& b) { return a.priority > b.priority; });
+            todo.resize(room);
+            std::sort(todo.begin(), todo.end(), [](const Todo& a, const Todo& b) {
+                return a.ghost != b.ghost ? a.ghost < b.ghost : a.interval < b.interval;
+            });
+        }
+        if (todo.empty()) break;
+        std::vector<Task> tasks;
+        for (const Todo& d : todo) {
+            const GhostNodes& n = nodes[d.ghost];
+            tasks.push_back({d.ghost, 0.5 * (n.angles[d.interval] + n.angles[d.interval + 1])});
+        }
+        std::vector<std::vector<TableEntry>> midRows = builder.trace(tasks);
+        spent += tasks.size();
+
+        // The strongest ghost's flux at each mid-angle and wavelength: traced where this round
+        // traced it, interpolated from the ghost's entries elsewhere.
+        std::map<double, std::vector<double>> strongest;
+        for (const Task& task : tasks) strongest.emplace(task.angleDeg, std::vector<double>(nW, 0.0));
+        for (auto& [angle, flux] : strongest)
+            for (const GhostNodes& n : nodes)
+                for (std::size_t w = 0; w < nW; ++w) flux[w] = std::max(flux[w], n.fluxAt(w, angle));
+        for (std::size_t k = 0; k < tasks.size(); ++k)
+            for (std::size_t w = 0; w < nW; ++w) strongest[tasks[k].angleDeg][w] = std::max(strongest[tasks[k].angleDeg][w], midRows[k][w].flux);
+
+        // Every mid-angle becomes an entry of its ghost. A passing interval leaves two halves that
+        // keep its error; a failing one leaves two halves to be measured.
+        for (std::size_t k = 0; k < todo.size();) {
+            const std::size_t g = todo[k].ghost;
+            GhostNodes& n = nodes[g];
+            GhostNodes next;
+            for (std::size_t i = 0; i < n.angles.size(); ++i) {
+                next.angles.push_back(n.angles[i]);
+                next.rows.push_back(std::move(n.rows[i]));
+                if (i + 1 == n.angles.size()) break;
+                if (k < todo.size() && todo[k].ghost == g && todo[k].interval == i) {
+                    const auto [e, relevant] = midError(next.rows.back(), n.rows[i + 1], midRows[k], strongest[tasks[k].angleDeg], floorMm);
+                    const Interval half{e <= s.interpolationTolerance, relevant, e};
+                    next.intervals.push_back(half);
+                    next.angles.push_back(tasks[k].angleDeg);
+                    next.rows.push_back(std::move(midRows[k]));
+                    next.intervals.push_back(half);
+                    ++k;
+                } else {
+                    next.intervals.push_back(n.intervals[i]);
+                }
+            }
+            n = std::move(next);
+        }
     }
+    builder.finish();
+
+    // The errors of the final intervals of ghosts that counted there.
     std::vector<double> errors;
-    for (const Interval& i : intervals) errors.push_back(i.error);
+    double field = 0.0, fieldWithin = 0.0;
+    for (const GhostNodes& n : nodes)
+        for (std::size_t i = 0; i < n.intervals.size(); ++i) {
+            if (!n.intervals[i].relevant) continue;
+            errors.push_back(n.intervals[i].error);
+            const double width = n.angles[i + 1] - n.angles[i];
+            field += width;
+            if (n.intervals[i].error <= s.interpolationTolerance) fieldWithin += width;
+        }
+    t.withinTolerance = field > 0.0 ? fieldWithin / field : 1.0;
     std::sort(errors.begin(), errors.end());
     t.interpolationError = errors.empty() ? 0.0 : errors.back();
     t.interpolationErrorMedian = errors.empty() ? 0.0 : errors[errors.size() / 2];
     t.interpolationErrorP95 = errors.empty() ? 0.0 : errors[std::min(errors.size() - 1, static_cast<std::size_t>(0.95 * double(errors.size())))];
 
-    t.anglesDeg = angles;
-    t.directY.assign(nW, std::vector<double>(angles.size()));
-    for (std::size_t a = 0; a < angles.size(); ++a)
-        for (std::size_t w = 0; w < nW; ++w) t.directY[w][a] = rows[a].directY[w];
+    // The direct image at every angle any ghost uses.
+    t.directY.assign(nW, {});
+    for (const auto& [angle, d] : builder.directs()) {
+        t.anglesDeg.push_back(angle);
+        for (std::size_t w = 0; w < nW; ++w) t.directY[w].push_back(d.y[w]);
+    }
     for (std::size_t g = 0; g < nG; ++g) {
         TableGhost tg;
         tg.pair = builder.pairs()[g];
-        tg.entries.assign(nW, std::vector<TableEntry>(angles.size()));
-        for (std::size_t a = 0; a < angles.size(); ++a)
-            for (std::size_t w = 0; w < nW; ++w) tg.entries[w][a] = rows[a].ghosts[g][w];
+        tg.anglesDeg = nodes[g].angles;
+        tg.entries.assign(nW, std::vector<TableEntry>(tg.anglesDeg.size()));
+        for (std::size_t a = 0; a < tg.anglesDeg.size(); ++a)
+            for (std::size_t w = 0; w < nW; ++w) tg.entries[w][a] = nodes[g].rows[a][w];
         t.ghosts.push_back(std::move(tg));
     }
     t.buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -348,8 +446,13 @@ std::vector<std::vector<std::vector<TableEntry>>> traceEntries(const optics::Len
     const optics::Lens lens = trace::withCoating(lensIn, s.coating);
     const Progress none;
     Builder builder(lens, s, none);
-    std::vector<std::vector<std::vector<TableEntry>>> out;
-    for (AngleResult& r : builder.trace(anglesDeg)) out.push_back(std::move(r.ghosts));
+    const std::size_t nG = builder.pairs().size();
+    std::vector<Task> tasks;
+    for (double a : anglesDeg)
+        for (std::size_t g = 0; g < nG; ++g) tasks.push_back({g, a});
+    std::vector<std::vector<TableEntry>> rows = builder.trace(tasks);
+    std::vector<std::vector<std::vector<TableEntry>>> out(anglesDeg.size());
+    for (std::size_t k = 0; k < tasks.size(); ++k) out[k / nG].push_back(std::move(rows[k]));
     return out;
 }
 

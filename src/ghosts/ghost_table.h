@@ -2,15 +2,17 @@
 // The ghost table of a lens: every two-bounce ghost fitted (ghost_fit.h) per wavelength over field
 // angles 0..thetaMax, so that a light anywhere in the frame costs a lookup, not a trace.
 //
-// Field angles start on 9 uniform steps. The builder then measures, for each interval, the error of
-// linear interpolation at its mid-angle against a direct trace (centroid relative to
-// max(|centroid|, sigma, 1 % of the sensor half-height), sigma relative to itself, over ghosts carrying
-// at least 1 % of the strongest ghost's flux there) and keeps the mid-angle as a new entry; only intervals above the tolerance are
-// split further, so angles gather where ghosts change fast (vignetting onsets), until every interval
-// passes, reaches the finest step (1/512 of the field) or the angle budget is spent; when the budget
-// cannot take every failing interval, those with the largest error x width go first. The measured
-// errors (median, 95th percentile, worst) are stored with the table; an interval whose halves could
-// not be measured counts with its own error.
+// Every ghost starts on 9 uniform field angles and then refines its own: the builder measures, for
+// each of a ghost's intervals, the error of linear interpolation at its mid-angle against a direct
+// trace (centroid relative to max(|centroid|, sigma, 1 % of the sensor half-height), sigma relative to
+// itself, at wavelengths where the ghost carries at least 1 % of the strongest ghost's flux there)
+// and keeps the mid-angle as a new entry of that ghost; only intervals above the tolerance are split
+// further, so a ghost's angles gather where it changes fast (its vignetting onsets), until every
+// interval passes, reaches the finest step (1/512 of the field) or the budget (maxAngles entries per
+// ghost on average) is spent; when the budget cannot take every failing interval, those with the
+// largest error x width go first, whichever ghost they belong to. The measured errors (median, 95th
+// percentile, worst over the final intervals of ghosts that counted there) are stored with the table;
+// an interval whose halves could not be measured counts with its own error.
 //
 // Each entry counts the light landing within twice the sensor's half-diagonal of the axis (grazing
 // rays that land metres away can never reach the frame and would dominate the moments).
@@ -37,7 +39,7 @@ struct TableSettings {
     trace::CoatingChoice coating = trace::CoatingChoice::File;
     double maxAngleDeg = 0.0;            ///< 0: the field of the sensor's half-diagonal plus 5 %
     double interpolationTolerance = 0.005;
-    int maxAngles = 49;
+    int maxAngles = 49; ///< the refinement's budget: traced entries per ghost, on average
     /// Cells on a vignetting edge are re-traced on this many sub-cells per side for the moments (1: off):
     /// without it the moments move in steps as edges cross grid cells, and that noise, not the optics,
     /// would set the interpolation error.
@@ -58,41 +60,47 @@ struct TableEntry {
 
 struct TableGhost {
     trace::GhostPair pair;
+    std::vector<double> anglesDeg;                ///< this ghost's field angles, increasing, from 0
     std::vector<std::vector<TableEntry>> entries; ///< [wavelength][angle]
 };
 
 struct GhostTable {
-    int schemaVersion = 1;
+    int schemaVersion = 2;
     std::string lensName, lensFile, lensHash, settingsKey;
     double efl = 0.0, sensorZ = 0.0;
     std::pair<double, double> sensorSizeMm;
     int apertureBlades = 0;
     double bladeRotationDeg = 0.0;
     std::vector<double> wavelengthsNm;
-    std::vector<double> anglesDeg;                 ///< increasing, from 0
+    std::vector<double> anglesDeg;                 ///< every ghost's angles together, increasing, from 0
     std::vector<std::vector<double>> directY;      ///< [wavelength][angle] direct image centroid, mm
     std::vector<TableGhost> ghosts;
     /// Measured at the last refinement's mid-angles (before they joined the table, so an upper
     /// estimate for the final table): median, 95th percentile and largest relative error.
     double interpolationError = 0.0, interpolationErrorMedian = 0.0, interpolationErrorP95 = 0.0;
+    /// The share of those intervals' field (their angular widths summed) within the tolerance: the
+    /// chance that a light, placed at random, meets a ghost that interpolates within it.
+    double withinTolerance = 1.0;
     double buildSeconds = 0.0;
 
-    /// Linear interpolation of a ghost's entry at angleDeg (clamped to the table's range).
+    /// Linear interpolation of a ghost's entry at angleDeg between its own angles (clamped to them).
     TableEntry at(std::size_t ghost, std::size_t wavelength, double angleDeg) const;
     /// Direct image height at angleDeg, interpolated.
     double directAt(std::size_t wavelength, double angleDeg) const;
-    /// Magnification m = ghost centroid / direct image height (the first non-zero angle's on axis).
+    /// Magnification m = ghost centroid / direct image height (on the axis, at the ghost's first non-zero angle).
     double magnification(std::size_t ghost, std::size_t wavelength, double angleDeg) const;
     /// Index of the table wavelength nearest to lambdaNm.
     std::size_t nearestWavelength(double lambdaNm) const;
     /// The wavelengths standing for R, G, B: those nearest to 650, 550 and 450 nm.
     std::array<std::size_t, 3> rgbChannels() const;
+    /// Traced entries per wavelength: the sum of the ghosts' angle counts.
+    std::size_t entryCount() const;
 };
 
 /// Called with (done, total) work units while building; may be empty.
 using Progress = std::function<void(std::size_t, std::size_t)>;
 
-/// Builds the table (parallel over angles x ghosts). Throws ff::Error (Input) for an anamorphic lens.
+/// Builds the table (parallel over ghosts x angles). Throws ff::Error (Input) for an anamorphic lens.
 GhostTable buildGhostTable(const optics::Lens& lens, const TableSettings& settings, const Progress& progress = {});
 
 /// What the table would hold at each of the given field angles, traced directly as the builder

@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
+
 namespace ff::ghosts {
 
 using nlohmann::json;
@@ -26,6 +28,16 @@ std::vector<double> numbers(const json& j, const char* key, std::size_t expected
     return a.get<std::vector<double>>();
 }
 
+// Field angles: at least one, finite, increasing from 0.
+std::vector<double> angles(const json& j, const std::string& source) {
+    const auto a = j.at("field_angles_deg").get<std::vector<double>>();
+    if (a.empty() || a.front() != 0.0) throw Error(ErrorKind::Input, SourceLocation{source}, "ghost table field angles do not start at 0");
+    for (std::size_t i = 1; i < a.size(); ++i)
+        if (!(a[i] > a[i - 1]) || !std::isfinite(a[i]))
+            throw Error(ErrorKind::Input, SourceLocation{source}, "ghost table field angles are not increasing");
+    return a;
+}
+
 } // namespace
 
 std::string tableToJson(const GhostTable& t) {
@@ -42,7 +54,8 @@ std::string tableToJson(const GhostTable& t) {
     j["wavelengths_nm"] = t.wavelengthsNm;
     j["field_angles_deg"] = t.anglesDeg;
     j["direct_image_height_mm"] = t.directY;
-    j["interpolation_error"] = {{"max", t.interpolationError}, {"median", t.interpolationErrorMedian}, {"p95", t.interpolationErrorP95}};
+    j["interpolation_error"] = {{"max", t.interpolationError}, {"median", t.interpolationErrorMedian}, {"p95", t.interpolationErrorP95},
+                                   {"field_within_tolerance", t.withinTolerance}};
     j["build_seconds"] = t.buildSeconds;
     json ghosts = json::array();
     for (std::size_t g = 0; g < t.ghosts.size(); ++g) {
@@ -51,7 +64,7 @@ std::string tableToJson(const GhostTable& t) {
         for (std::size_t w = 0; w < tg.entries.size(); ++w) {
             const auto& row = tg.entries[w];
             json m = json::array();
-            for (double a : t.anglesDeg) m.push_back(t.magnification(g, w, a));
+            for (double a : tg.anglesDeg) m.push_back(t.magnification(g, w, a));
             per.push_back({{"centroid_mm", series(row, [](const TableEntry& e) { return e.centroidY; })},
                            {"magnification", m},
                            {"sigma_radial_mm", series(row, [](const TableEntry& e) { return e.sigmaR; })},
@@ -72,6 +85,7 @@ std::string tableToJson(const GhostTable& t) {
         ghosts.push_back({{"id", "g_" + std::to_string(tg.pair.first + 1) + "_" + std::to_string(tg.pair.second + 1)},
                           {"label", tg.pair.label()},
                           {"surfaces", {tg.pair.first + 1, tg.pair.second + 1}},
+                          {"field_angles_deg", tg.anglesDeg},
                           {"wavelengths", per}});
     }
     j["ghosts"] = ghosts;
@@ -90,7 +104,7 @@ GhostTable tableFromJson(const std::string& text, const std::string& source) {
         if (j.value("schema", "") != kSchema) throw Error(ErrorKind::Input, where, "not a FourierFlare ghost table (schema)");
         GhostTable t;
         t.schemaVersion = j.at("schema_version").get<int>();
-        if (t.schemaVersion != 1) throw Error(ErrorKind::Input, where, "ghost table schema version " + std::to_string(t.schemaVersion) + " is not supported");
+        if (t.schemaVersion != GhostTable{}.schemaVersion) throw Error(ErrorKind::Input, where, "ghost table schema version " + std::to_string(t.schemaVersion) + " is not supported");
         const json& lens = j.at("lens");
         t.lensName = lens.at("name").get<std::string>();
         t.lensFile = lens.at("file").get<std::string>();
@@ -102,22 +116,25 @@ GhostTable tableFromJson(const std::string& text, const std::string& source) {
         t.sensorZ = j.at("sensor").at("z_mm").get<double>();
         t.sensorSizeMm = {j.at("sensor").at("width_mm").get<double>(), j.at("sensor").at("height_mm").get<double>()};
         t.wavelengthsNm = j.at("wavelengths_nm").get<std::vector<double>>();
-        t.anglesDeg = j.at("field_angles_deg").get<std::vector<double>>();
+        t.anglesDeg = angles(j, source);
         t.interpolationError = j.at("interpolation_error").at("max").get<double>();
         t.interpolationErrorMedian = j.at("interpolation_error").at("median").get<double>();
         t.interpolationErrorP95 = j.at("interpolation_error").at("p95").get<double>();
+        t.withinTolerance = j.at("interpolation_error").at("field_within_tolerance").get<double>();
         t.buildSeconds = j.at("build_seconds").get<double>();
-        const std::size_t nA = t.anglesDeg.size(), nW = t.wavelengthsNm.size();
-        if (nA == 0 || nW == 0) throw Error(ErrorKind::Input, where, "ghost table without angles or wavelengths");
+        const std::size_t nW = t.wavelengthsNm.size();
+        if (nW == 0) throw Error(ErrorKind::Input, where, "ghost table without wavelengths");
         t.directY = j.at("direct_image_height_mm").get<std::vector<std::vector<double>>>();
         if (t.directY.size() != nW) throw Error(ErrorKind::Input, where, "ghost table direct image heights do not match its wavelengths");
         for (const auto& row : t.directY)
-            if (row.size() != nA) throw Error(ErrorKind::Input, where, "ghost table direct image heights do not match its angles");
+            if (row.size() != t.anglesDeg.size()) throw Error(ErrorKind::Input, where, "ghost table direct image heights do not match its angles");
         for (const json& g : j.at("ghosts")) {
             TableGhost tg;
             const auto s = g.at("surfaces").get<std::vector<std::size_t>>();
             if (s.size() != 2 || s[0] < 1 || s[1] < 1) throw Error(ErrorKind::Input, where, "ghost table entry with bad surfaces");
             tg.pair = {s[0] - 1, s[1] - 1};
+            tg.anglesDeg = angles(g, source);
+            const std::size_t nA = tg.anglesDeg.size();
             const json& per = g.at("wavelengths");
             if (per.size() != nW) throw Error(ErrorKind::Input, where, "ghost table entry does not match its wavelengths");
             for (const json& w : per) {
