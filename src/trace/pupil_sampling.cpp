@@ -58,6 +58,7 @@ namespace {
 struct LitBox {
     double xMin = 1e300, xMax = -1e300, yMin = 1e300, yMax = -1e300;
     bool touchesEdge = false; ///< light at a grid point of the outermost ring
+    double litArea = 0.0;     ///< lit points x cell area
     bool empty() const { return xMin > xMax; }
 };
 
@@ -72,6 +73,7 @@ LitBox litBox(const Bundle& b, const LensAtWavelength& L, const std::vector<Path
             box.xMin = std::min(box.xMin, x), box.xMax = std::max(box.xMax, x);
             box.yMin = std::min(box.yMin, y), box.yMax = std::max(box.yMax, y);
             box.touchesEdge = box.touchesEdge || i == 0 || j == 0 || i == b.n - 1 || j == b.n - 1;
+            box.litArea += b.cell * b.cell;
         }
     return box;
 }
@@ -105,8 +107,8 @@ PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sa
         h = 0.5 * std::max(local.xMax - local.xMin, local.yMax - local.yMin) + 4.0 * coarse.cell;
     }
     // One coarse cell of margin on every side, then a square over the box.
-    return {0.5 * (box.xMin + box.xMax), 0.5 * (box.yMin + box.yMax), 0.5 * std::max(box.xMax - box.xMin, box.yMax - box.yMin) + coarse.cell,
-            false};
+    const double side = std::max(box.xMax - box.xMin, box.yMax - box.yMin) + 2.0 * coarse.cell;
+    return {0.5 * (box.xMin + box.xMax), 0.5 * (box.yMin + box.yMax), 0.5 * side, false, std::min(1.0, box.litArea / (side * side))};
 }
 
 Bundle regionBundle(const PupilFrame& frame, const Field& field, const PupilRegion& r, int n) {

@@ -59,6 +59,9 @@ Bundle gridBundle(const PupilFrame& frame, const Field& field, int n, double cx,
 struct PupilRegion {
     double cx = 0.0, cy = 0.0, half = 0.0;
     bool discOnly = false; ///< launch only inside the paraxial pupil disc (paraxial-grid sampling)
+    /// Share of the square the path's light passes (estimated on the finest analytic pass; 1 where
+    /// not searched): a thin sliver of light needs a finer grid than a disc to be resolved.
+    double litFraction = 1.0;
 };
 
 /// Where the grid of one path goes, by the chosen sampling. For Reaim, a coarse analytic pass at L's
