@@ -33,18 +33,33 @@ void runTable(const TableCommandOptions& o, const GlobalOptions& g) {
     writeFileAtomic(o.output, ghosts::tableToJson(t));
 
     if (g.quiet) return;
-    // Fit quality over every ghost, wavelength and angle with flux (median and worst).
-    std::vector<double> ge, ce;
-    for (const auto& gh : t.ghosts)
+    // Fit quality over every ghost, wavelength and angle with flux (median and worst). A ghost's
+    // angles gather where it changes fast, so each entry weighs as much of the field as it stands
+    // for (half of each neighbouring interval) and the median is the field's, not the entries'.
+    std::vector<std::pair<double, double>> ge, ce; // (error, weight)
+    for (const auto& gh : t.ghosts) {
+        const auto& a = gh.anglesDeg;
         for (const auto& row : gh.entries)
-            for (const auto& e : row)
-                if (e.flux > 0.0) ge.push_back(e.gaussian.error), ce.push_back(e.cos2.error);
-    auto median = [](std::vector<double> v) {
+            for (std::size_t i = 0; i < row.size(); ++i) {
+                if (row[i].flux <= 0.0) continue;
+                const double weight = 0.5 * (a[std::min(i + 1, a.size() - 1)] - a[i == 0 ? 0 : i - 1]);
+                ge.emplace_back(row[i].gaussian.error, weight), ce.emplace_back(row[i].cos2.error, weight);
+            }
+    }
+    auto median = [](std::vector<std::pair<double, double>> v) {
         if (v.empty()) return 0.0;
-        std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
-        return v[v.size() / 2];
+        std::sort(v.begin(), v.end());
+        double total = 0.0, below = 0.0;
+        for (const auto& e : v) total += e.second;
+        for (const auto& e : v)
+            if ((below += e.second) >= 0.5 * total) return e.first;
+        return v.back().first;
     };
-    auto worst = [](const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); };
+    auto worst = [](const std::vector<std::pair<double, double>>& v) {
+        double w = 0.0;
+        for (const auto& e : v) w = std::max(w, e.first);
+        return w;
+    };
     // (How long the build took was said by loadTable.)
     std::size_t fewest = t.anglesDeg.size(), most = 0;
     for (const auto& gh : t.ghosts) fewest = std::min(fewest, gh.anglesDeg.size()), most = std::max(most, gh.anglesDeg.size());
@@ -55,7 +70,7 @@ void runTable(const TableCommandOptions& o, const GlobalOptions& g) {
                  "%.2f %% of the field within %.2g %%\n",
                  100.0 * t.interpolationErrorMedian, 100.0 * t.interpolationErrorP95, 100.0 * t.interpolationError, 100.0 * t.withinTolerance,
                  100.0 * o.table.tolerance);
-    std::fprintf(stderr, "fourierflare: fit error (relative L2): Gaussian median %.3f, worst %.3f; cos2 median %.3f, worst %.3f\n",
+    std::fprintf(stderr, "fourierflare: fit error (relative L2) over the field: Gaussian median %.3f, worst %.3f; cos2 median %.3f, worst %.3f\n",
                  median(ge), worst(ge), median(ce), worst(ce));
     std::fprintf(stderr, "fourierflare: wrote %s\n", o.output.c_str());
 }

@@ -20,7 +20,7 @@
 namespace ff::ghosts {
 
 std::string TableSettings::key() const {
-    std::string k = "table-v4 lambda";
+    std::string k = "table-v5 lambda";
     for (double l : wavelengthsNm) k += " " + text::roundTrip(l);
     k += " sampling " + std::to_string(static_cast<int>(sampling)) + " grid " + std::to_string(grid) + " sensor " +
          std::to_string(static_cast<int>(sensor)) + " coating " + std::to_string(static_cast<int>(coating)) + " max " +
@@ -47,7 +47,20 @@ ProfileFit lerp(const ProfileFit& a, const ProfileFit& b, double t) {
     return {lerp(a.widthR, b.widthR, t), lerp(a.widthT, b.widthT, t), lerp(a.peak, b.peak, t), lerp(a.error, b.error, t)};
 }
 
+// Where the ghost is dark at one end of the interval (it is switched on or off within it), its shape
+// is the lit end's and only its light fades: interpolating its centroid and widths towards those of
+// no light would shrink it onto the axis.
 TableEntry lerp(const TableEntry& a, const TableEntry& b, double t) {
+    if ((a.flux <= 0.0) != (b.flux <= 0.0)) {
+        const bool fromB = a.flux <= 0.0;
+        TableEntry e = fromB ? b : a;
+        const double fade = fromB ? t : 1.0 - t;
+        e.flux *= fade;
+        e.gaussian.peak *= fade;
+        e.cos2.peak *= fade;
+        e.surviving = lerp(a.surviving, b.surviving, t);
+        return e;
+    }
     TableEntry e;
     e.centroidY = lerp(a.centroidY, b.centroidY, t);
     e.sigmaR = lerp(a.sigmaR, b.sigmaR, t);
@@ -95,8 +108,7 @@ public:
         if (progress_ && total_ > 0) progress_(total_, total_);
     }
 
-    /// The direct image at an angle traced by trace() (or traceDirect()).
-    const DirectResult& direct(double angleDeg) const { return direct_.at(angleDeg); }
+    /// The direct image at every angle traced so far.
     const std::map<double, DirectResult>& directs() const { return direct_; }
 
     /// Direct images at every angle not yet traced.
@@ -235,7 +247,7 @@ std::pair<double, bool> midError(const std::vector<TableEntry>& lo, const std::v
     bool relevant = false;
     for (std::size_t w = 0; w < mid.size(); ++w) {
         const TableEntry& t = mid[w];
-        if (t.flux < 0.01 * strongest[w] || t.sigmaR <= 0.0 || lo[w].flux <= 0.0 || hi[w].flux <= 0.0) continue;
+        if (t.flux < 0.01 * strongest[w] || t.sigmaR <= 0.0) continue;
         relevant = true;
         const TableEntry i = lerp(lo[w], hi[w], 0.5);
         worst = std::max(worst, std::abs(i.centroidY - t.centroidY) / std::max({std::abs(t.centroidY), t.sigmaR, floorMm}));

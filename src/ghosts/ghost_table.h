@@ -84,6 +84,8 @@ struct GhostTable {
     double buildSeconds = 0.0;
 
     /// Linear interpolation of a ghost's entry at angleDeg between its own angles (clamped to them).
+    /// Where the ghost is dark at one end of the interval, it keeps the lit end's shape (centroid,
+    /// widths) and only its flux (and peaks) fade linearly to zero.
     TableEntry at(std::size_t ghost, std::size_t wavelength, double angleDeg) const;
     /// Direct image height at angleDeg, interpolated.
     double directAt(std::size_t wavelength, double angleDeg) const;

@@ -74,6 +74,46 @@ TEST(GhostTable, CoversEveryGhostAndInterpolatesThroughItsEntries) {
         }
 }
 
+// A ghost switched on between two angles: between them it keeps the lit end's position and size
+// and only its light fades (interpolating towards the dark end's zeros would pull it onto the axis
+// and shrink it).
+TEST(GhostTable, AGhostSwitchedOnWithinAnIntervalKeepsItsShape) {
+    GhostTable t;
+    t.wavelengthsNm = {550.0};
+    t.anglesDeg = {0.0, 10.0, 20.0};
+    t.directY = {{0.0, 8.8, 18.2}};
+    TableGhost g;
+    g.anglesDeg = t.anglesDeg;
+    TableEntry lit;
+    lit.centroidY = 12.0;
+    lit.sigmaR = 2.0;
+    lit.sigmaT = 3.0;
+    lit.flux = 1e-4;
+    lit.surviving = 0.4;
+    lit.gaussian = {2.1, 3.1, 1e-4 / profileArea(Profile::Gaussian, 2.1, 3.1), 0.3};
+    lit.cos2 = {5.5, 8.2, 1e-4 / profileArea(Profile::Cos2, 5.5, 8.2), 0.2};
+    TableEntry nearAxis = lit;
+    nearAxis.flux = 2e-4;
+    nearAxis.centroidY = 4.0;
+    g.entries = {{nearAxis, lit, TableEntry{}}}; // dark at 20 deg
+    t.ghosts.push_back(g);
+
+    const TableEntry e = t.at(0, 0, 17.5); // a quarter of the way from the dark end
+    EXPECT_EQ(e.centroidY, 12.0);
+    EXPECT_EQ(e.sigmaR, 2.0);
+    EXPECT_EQ(e.gaussian.widthT, 3.1);
+    EXPECT_EQ(e.cos2.widthR, 5.5);
+    EXPECT_DOUBLE_EQ(e.flux, 0.25e-4);
+    EXPECT_DOUBLE_EQ(e.surviving, 0.1); // 0.4 faded linearly too
+    // The profile still carries exactly the ghost's (faded) flux.
+    EXPECT_NEAR(e.gaussian.peak * profileArea(Profile::Gaussian, e.gaussian.widthR, e.gaussian.widthT), e.flux, 1e-12 * e.flux);
+    EXPECT_NEAR(e.cos2.peak * profileArea(Profile::Cos2, e.cos2.widthR, e.cos2.widthT), e.flux, 1e-12 * e.flux);
+    EXPECT_DOUBLE_EQ(t.magnification(0, 0, 17.5), 12.0 / (8.8 + 0.75 * (18.2 - 8.8)));
+    // Between two lit entries, plain linear interpolation.
+    EXPECT_DOUBLE_EQ(t.at(0, 0, 5.0).centroidY, 8.0);
+    EXPECT_DOUBLE_EQ(t.at(0, 0, 5.0).flux, 1.5e-4);
+}
+
 TEST(GhostTable, JsonRoundTripKeepsEverything) {
     const GhostTable& t = smallTable();
     const GhostTable u = tableFromJson(tableToJson(t), "t.json");
