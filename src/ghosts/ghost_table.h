@@ -8,7 +8,7 @@
 // itself, at wavelengths where the ghost carries at least 1 % of the strongest ghost's flux there)
 // and keeps the mid-angle as a new entry of that ghost; only intervals above the tolerance are split
 // further, so a ghost's angles gather where it changes fast (its vignetting onsets), until every
-// interval passes, reaches the finest step (1/512 of the field) or the budget (maxAngles entries per
+// interval passes, reaches the finest step (1/8192 of the field) or the budget (maxAngles entries per
 // ghost on average) is spent; when the budget cannot take every failing interval, those with the
 // largest error x width go first, whichever ghost they belong to. The measured errors (median, 95th
 // percentile, worst over the final intervals of ghosts that counted there) are stored with the table;
