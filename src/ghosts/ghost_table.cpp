@@ -104,8 +104,9 @@ public:
     double sensorZ() const { return sensorZ_; }
 
     void setTotalWork(std::size_t total) { total_ = total; }
+    /// The refinement may stop before its budget: the work is then all done.
     void finish() {
-        if (progress_ && total_ > 0) progress_(total_, total_);
+        if (progress_ && done_ > 0) progress_(done_, done_);
     }
 
     /// The direct image at every angle traced so far.
