@@ -196,13 +196,19 @@ LensScene::LensScene(EmbreeDevice& device, const LensAtWavelength& L) {
         surfaces_.push_back(std::move(p));
     }
 
-    iris_ = std::make_unique<IrisPrim>();
-    iris_->z = L.vertexZ[L.stop];
-    iris_->outerRadius = 2.0 * largest;
-    iris_->iris = L.iris;
-    RTCGeometry irisGeom = newUserGeometry(device, iris_.get(), irisBounds, intersectN<IrisPrim, irisHitT>, occludedN<IrisPrim, irisHitT>);
-    rtcAttachGeometryByID(scene_, irisGeom, id++);
-    rtcReleaseGeometry(irisGeom);
+    // The iris plane, where the stop is a flat surface of its own. A stop on a curved surface (the
+    // Cooke triplet's rear surface of its flint) is that surface's clear aperture, clipped by the
+    // blade polygon at the hit point (SurfacePrim::inside): a plane at its vertex would cut through
+    // the glass near the rim and block light that passes.
+    if (lens.surfaces[L.stop].isFlat()) {
+        iris_ = std::make_unique<IrisPrim>();
+        iris_->z = L.vertexZ[L.stop];
+        iris_->outerRadius = 2.0 * largest;
+        iris_->iris = L.iris;
+        RTCGeometry irisGeom = newUserGeometry(device, iris_.get(), irisBounds, intersectN<IrisPrim, irisHitT>, occludedN<IrisPrim, irisHitT>);
+        rtcAttachGeometryByID(scene_, irisGeom, id++);
+        rtcReleaseGeometry(irisGeom);
+    }
 
     // Barrel: a tube between the rims of consecutive surfaces with clear apertures.
     for (std::size_t s = 0; s + 1 < surfaceCount_; ++s) {

@@ -1,7 +1,8 @@
 #pragma once
 // The Embree scene of a lens: every optical surface as a user geometry with exact analytic
 // intersection (never tessellated) clipped to its clear aperture; the iris as a plane in the stop's
-// vertex plane that is solid outside the blade polygon; the barrel as a cylinder between consecutive
+// vertex plane that is solid outside the blade polygon, where the stop is flat (a stop on a curved
+// surface is that surface, clipped by the blade polygon at the hit point); the barrel as a cylinder between consecutive
 // surfaces, radius the larger of their clear apertures. Geometry IDs: surface k has ID k; the iris
 // and barrel pieces follow.
 //
