@@ -20,7 +20,7 @@
 namespace ff::ghosts {
 
 std::string TableSettings::key() const {
-    std::string k = "table-v6 lambda";
+    std::string k = "table-v7 lambda";
     for (double l : wavelengthsNm) k += " " + text::roundTrip(l);
     k += " sampling " + std::to_string(static_cast<int>(sampling)) + " grid " + std::to_string(grid) + " sensor " +
          std::to_string(static_cast<int>(sensor)) + " coating " + std::to_string(static_cast<int>(coating)) + " max " +
@@ -175,13 +175,16 @@ public:
     }
 
 private:
-    // The table's grid, doubled (at most twice) while less than kMinLit of the region is lit: a
-    // sliver of light (a ghost nearly vignetted away) would otherwise fall between a handful of rays,
-    // and its moments would move in steps as the field angle moves it across them.
+    // The table's grid, doubled while it under-samples the light: while less than kMinLit of the region
+    // is lit (a ghost nearly vignetted away falls between a handful of rays; at most twice), and while
+    // its cells are wider than half the lit shape's mean width (a thin band or ring of light slips
+    // between the rays where the edge refinement cannot see it; at most three times). Either way the
+    // moments would move in steps as the field angle moves the light across the rays.
     int gridFor(const trace::PupilRegion& r) const {
         constexpr double kMinLit = 0.1;
         int n = s_.grid;
         for (double lit = r.litFraction; lit < kMinLit && n < 4 * s_.grid; lit *= 4.0) n *= 2;
+        while (r.meanWidth > 0.0 && n < 8 * s_.grid && 2.0 * r.half / n > 0.5 * r.meanWidth) n *= 2;
         return n;
     }
 

@@ -131,11 +131,11 @@ void EmbreeTracer::trace(const LensAtWavelength& L, const std::vector<PathStep>&
 }
 
 void traceAnalytic(const LensAtWavelength& L, const std::vector<PathStep>& steps, std::span<const optics::Ray> rays,
-                   std::span<RayResult> out) {
+                   std::span<RayResult> out, Weighting weighting) {
     if (out.size() != rays.size()) throwRuntimeError("traceAnalytic: output size differs from the ray count");
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 128), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t i = r.begin(); i < r.end(); ++i) {
-            const SequentialResult s = traceSequential(L, steps, rays[i]);
+            const SequentialResult s = traceSequential(L, steps, rays[i], weighting);
             RayResult& res = out[i];
             res.status = s.status;
             res.lostAtStep = s.lostAtStep;

@@ -38,8 +38,8 @@ private:
 };
 
 /// The same bundle through the analytic sequential tracer (no Embree), TBB-parallel: the reference,
-/// and the baseline of the benchmarks.
+/// and the baseline of the benchmarks. Weighting::None leaves every weight at 1 (fates and paths only).
 void traceAnalytic(const LensAtWavelength& L, const std::vector<PathStep>& steps, std::span<const optics::Ray> rays,
-                   std::span<RayResult> out);
+                   std::span<RayResult> out, Weighting weighting = Weighting::Fresnel);
 
 } // namespace ff::trace

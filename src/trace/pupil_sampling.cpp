@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace ff::trace {
 
@@ -59,22 +60,31 @@ struct LitBox {
     double xMin = 1e300, xMax = -1e300, yMin = 1e300, yMax = -1e300;
     bool touchesEdge = false; ///< light at a grid point of the outermost ring
     double litArea = 0.0;     ///< lit points x cell area
+    double perimeter = 0.0;   ///< length of the lit shape's boundary, from lit-unlit neighbour pairs
     bool empty() const { return xMin > xMax; }
 };
 
 LitBox litBox(const Bundle& b, const LensAtWavelength& L, const std::vector<PathStep>& steps) {
     std::vector<RayResult> hits(b.rays.size());
-    traceAnalytic(L, steps, b.rays, hits);
+    traceAnalytic(L, steps, b.rays, hits, Weighting::None); // where light gets through, not how much
+    const auto lit = [&](int i, int j) {
+        return i >= 0 && j >= 0 && i < b.n && j < b.n && hits[static_cast<std::size_t>(j) * b.n + i].status == optics::RayStatus::Ok;
+    };
     LitBox box;
+    int pairs = 0;
     for (int j = 0; j < b.n; ++j)
         for (int i = 0; i < b.n; ++i) {
-            if (hits[static_cast<std::size_t>(j) * b.n + i].status != optics::RayStatus::Ok) continue;
+            if (!lit(i, j)) continue;
             const double x = b.x0 + (i + 0.5) * b.cell, y = b.y0 + (j + 0.5) * b.cell;
             box.xMin = std::min(box.xMin, x), box.xMax = std::max(box.xMax, x);
             box.yMin = std::min(box.yMin, y), box.yMax = std::max(box.yMax, y);
             box.touchesEdge = box.touchesEdge || i == 0 || j == 0 || i == b.n - 1 || j == b.n - 1;
             box.litArea += b.cell * b.cell;
+            pairs += !lit(i - 1, j) + !lit(i + 1, j) + !lit(i, j - 1) + !lit(i, j + 1);
         }
+    // A boundary of length P crosses the lines between neighbouring points 4 P / (pi cell) times,
+    // averaged over its directions.
+    box.perimeter = 0.25 * std::numbers::pi * pairs * b.cell;
     return box;
 }
 
@@ -87,16 +97,21 @@ PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sa
     // Coarse pass over everything that could enter the front surface, traced analytically.
     const double shift = std::abs(std::tan(field.angleRad)) * std::abs(frame.z - frame.startZ);
     const double half = std::max(frame.frontRadius, frame.radius) + shift + frame.radius;
-    constexpr int kCoarse = 96, kLocal = 64;
-    const Bundle coarse = gridBundle(frame, field, kCoarse, 0.0, 0.0, half, false);
-    const LitBox found = litBox(coarse, L, steps);
+    // The margins below are in cells of a 96 x 96 pass over it. The pass itself is denser where the
+    // paraxial pupil is small against that square (a retrofocus wide angle's front opening dwarfs its
+    // pupil): its spacing is at most an eighth of the pupil's radius, the scale of a ghost's own pupil,
+    // or it steps over whole patches of light, or thin rings of it, at some field angles and not others.
+    constexpr int kNominal = 96, kMaxCoarse = 512, kLocal = 64;
+    const double cell = 2.0 * half / kNominal;
+    const int nCoarse = std::clamp(static_cast<int>(std::ceil(16.0 * half / frame.radius)), kNominal, kMaxCoarse);
+    const LitBox found = litBox(gridBundle(frame, field, nCoarse, 0.0, 0.0, half, false), L, steps);
     if (found.empty()) return {0.0, 0.0, frame.radius, true}; // nothing gets through: the paraxial pupil
     // The coarse points miss the tips of thin regions (two discs barely overlapping), and the box would
     // jump by a coarse cell, cutting off light, as the field angle moves them across the points. A local
-    // pass over the box (two coarse cells wider on every side, wider still while light reaches its
-    // outermost points) finds the extent at its finer spacing.
+    // pass over the box (two cells wider on every side, wider still while light reaches its outermost
+    // points) finds the extent at its finer spacing.
     double cx = 0.5 * (found.xMin + found.xMax), cy = 0.5 * (found.yMin + found.yMax);
-    double h = 0.5 * std::max(found.xMax - found.xMin, found.yMax - found.yMin) + 2.0 * coarse.cell;
+    double h = 0.5 * std::max(found.xMax - found.xMin, found.yMax - found.yMin) + 2.0 * cell;
     LitBox box = found;
     for (int pass = 0; pass < 4; ++pass) {
         const LitBox local = litBox(gridBundle(frame, field, kLocal, cx, cy, h, false), L, steps);
@@ -104,11 +119,12 @@ PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sa
         box = local;
         if (!local.touchesEdge) break;
         cx = 0.5 * (local.xMin + local.xMax), cy = 0.5 * (local.yMin + local.yMax);
-        h = 0.5 * std::max(local.xMax - local.xMin, local.yMax - local.yMin) + 4.0 * coarse.cell;
+        h = 0.5 * std::max(local.xMax - local.xMin, local.yMax - local.yMin) + 4.0 * cell;
     }
-    // One coarse cell of margin on every side, then a square over the box.
-    const double side = std::max(box.xMax - box.xMin, box.yMax - box.yMin) + 2.0 * coarse.cell;
-    return {0.5 * (box.xMin + box.xMax), 0.5 * (box.yMin + box.yMax), 0.5 * side, false, std::min(1.0, box.litArea / (side * side))};
+    // One cell of margin on every side, then a square over the box.
+    const double side = std::max(box.xMax - box.xMin, box.yMax - box.yMin) + 2.0 * cell;
+    return {0.5 * (box.xMin + box.xMax), 0.5 * (box.yMin + box.yMax), 0.5 * side, false, std::min(1.0, box.litArea / (side * side)),
+            2.0 * box.litArea / box.perimeter};
 }
 
 Bundle regionBundle(const PupilFrame& frame, const Field& field, const PupilRegion& r, int n) {

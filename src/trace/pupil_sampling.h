@@ -62,12 +62,18 @@ struct PupilRegion {
     /// Share of the square the path's light passes (estimated on the finest analytic pass; 1 where
     /// not searched): a thin sliver of light needs a finer grid than a disc to be resolved.
     double litFraction = 1.0;
+    /// The lit shape's mean width, 2 x area / perimeter (mm; a disc's is its radius, a thin band's its
+    /// width), on the same pass; 0 where not searched. Once a grid's cells are wider than about half
+    /// of it, whole stretches of a thin band fall between their rays.
+    double meanWidth = 0.0;
 };
 
 /// Where the grid of one path goes, by the chosen sampling. For Reaim, a coarse analytic pass at L's
-/// wavelength, then local passes over what it found (until no light reaches their outermost points),
-/// so that the region moves smoothly with the field angle; its one-coarse-cell margin also covers the
-/// small shift of the pupil with wavelength, so one region serves every wavelength of a path.
+/// wavelength (points at most an eighth of the pupil radius apart, so that small patches and thin rings
+/// of light are not stepped over), then local passes over what it found (until no light reaches their
+/// outermost points), so that the region moves smoothly with the field angle; its margin (1/96 of the
+/// coarse square) also covers the small shift of the pupil with wavelength, so one region serves every
+/// wavelength of a path.
 PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
                         const std::vector<PathStep>& steps);
 

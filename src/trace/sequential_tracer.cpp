@@ -37,18 +37,21 @@ bool LensAtWavelength::insideAperture(std::size_t s, const glm::dvec3& p) const 
 }
 
 RayStatus applyStep(const LensAtWavelength& L, const PathStep& step, const optics::SurfaceHit& hit, optics::Ray& ray,
-                    double& weight) {
+                    double& weight, Weighting weighting) {
     const std::size_t s = step.surface;
     // Media on the incident and far side depend on the travel direction.
     const bool forward = ray.dir.z > 0.0;
     const double n1 = forward ? L.nBefore[s] : L.nAfter[s];
     const double n2 = forward ? L.nAfter[s] : L.nBefore[s];
-    const double cosI = std::min(1.0, std::abs(glm::dot(ray.dir, hit.normal)));
-    // The coating sits on the glass (higher-index) side: met in spec order from the other side.
-    const auto& layers = n1 < n2 ? L.layersFromLow[s] : L.layersFromHigh[s];
-    const double R = (n1 == n2) ? 0.0 : optics::filmReflectance(n1, layers, n2, cosI, L.lambdaNm);
+    double R = 0.0;
+    if (weighting == Weighting::Fresnel && n1 != n2) {
+        const double cosI = std::min(1.0, std::abs(glm::dot(ray.dir, hit.normal)));
+        // The coating sits on the glass (higher-index) side: met in spec order from the other side.
+        const auto& layers = n1 < n2 ? L.layersFromLow[s] : L.layersFromHigh[s];
+        R = optics::filmReflectance(n1, layers, n2, cosI, L.lambdaNm);
+    }
     if (step.reflect) {
-        weight *= R;
+        if (weighting == Weighting::Fresnel) weight *= R;
         ray = {hit.point, optics::reflect(ray.dir, hit.normal)};
         return RayStatus::Ok;
     }
@@ -66,7 +69,7 @@ bool toSensor(const LensAtWavelength& L, optics::Ray& ray) {
     return true;
 }
 
-SequentialResult traceSequential(const LensAtWavelength& L, const std::vector<PathStep>& steps, optics::Ray ray) {
+SequentialResult traceSequential(const LensAtWavelength& L, const std::vector<PathStep>& steps, optics::Ray ray, Weighting weighting) {
     SequentialResult out;
     double weight = 1.0;
     for (std::size_t k = 0; k < steps.size(); ++k) {
@@ -75,7 +78,7 @@ SequentialResult traceSequential(const LensAtWavelength& L, const std::vector<Pa
         auto hit = optics::intersectSurface(L.lens->surfaces[s], L.vertexZ[s], ray, kMinStep);
         if (!hit) status = RayStatus::Missed;
         else if (!L.insideAperture(s, hit->point)) status = RayStatus::Clipped;
-        else status = applyStep(L, steps[k], *hit, ray, weight);
+        else status = applyStep(L, steps[k], *hit, ray, weight, weighting);
         if (status != RayStatus::Ok) {
             out.status = status;
             out.lostAtStep = k;

@@ -42,11 +42,15 @@ struct LensAtWavelength {
     bool insideAperture(std::size_t s, const glm::dvec3& p) const;
 };
 
+/// What a trace computes: the ray's fate and path with its Fresnel / coating weight, or the fate and
+/// path alone (weights left at 1), for searches that only ask where light gets through.
+enum class Weighting { Fresnel, None };
+
 /// Applies one path step at an already found hit on its surface: refraction with weight 1 - R, or
 /// reflection with weight R (exact Fresnel / thin film at the hit's incidence angle). Returns Ok, or
 /// TotalInternalReflection when a crossing is impossible. Shared by every tracer.
 optics::RayStatus applyStep(const LensAtWavelength& L, const PathStep& step, const optics::SurfaceHit& hit,
-                            optics::Ray& ray, double& weight);
+                            optics::Ray& ray, double& weight, Weighting weighting = Weighting::Fresnel);
 
 /// Carries a ray after the last step to the sensor plane; false if it travels away from it.
 bool toSensor(const LensAtWavelength& L, optics::Ray& ray);
@@ -61,6 +65,7 @@ struct SequentialResult {
     double weight = 0.0;          ///< product of the Fresnel/coating factors (0 when lost)
 };
 
-SequentialResult traceSequential(const LensAtWavelength& lens, const std::vector<PathStep>& steps, optics::Ray ray);
+SequentialResult traceSequential(const LensAtWavelength& lens, const std::vector<PathStep>& steps, optics::Ray ray,
+                                 Weighting weighting = Weighting::Fresnel);
 
 } // namespace ff::trace

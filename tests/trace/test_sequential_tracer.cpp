@@ -8,6 +8,7 @@
 #include "trace/ghost_path.h"
 #include "trace/sequential_tracer.h"
 
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -146,4 +147,30 @@ TEST(SequentialTracer, UncoatedCookeGhostEnergyMatchesTheReferenceMagnitude) {
     const double ratio = ghosts / direct;
     std::printf("uncoated Cooke triplet: ghost / direct energy at 550 nm = %.3f %%\n", 100.0 * ratio);
     EXPECT_NEAR(100.0 * ratio, 2.3, 0.15);
+}
+
+// Without weights a trace takes the same path to the same fate (Fresnel factors never steer a ray):
+// every ray of every Cooke ghost on a tilted grid ends where the weighted trace ends, with weight 1.
+TEST(SequentialTracer, UnweightedTracesFollowTheSamePaths) {
+    const optics::Lens lens = optics::loadLens(test::lensPath("cooke-triplet-50mm-f5.lens"));
+    const LensAtWavelength L(lens, 550.0);
+    const glm::dvec3 dir = glm::normalize(glm::dvec3(0.0, 0.25, 1.0));
+    int arriving = 0;
+    for (const GhostPair& g : enumerateGhosts(lens)) {
+        const auto steps = pathSteps(lens, g);
+        for (int a = 0; a < 16; ++a)
+            for (int b = 0; b < 16; ++b) {
+                const Ray in{{-12.0 + 1.5 * a, -12.0 + 1.5 * b, -1.0}, dir};
+                const SequentialResult w = traceSequential(L, steps, in);
+                const SequentialResult u = traceSequential(L, steps, in, Weighting::None);
+                ASSERT_EQ(u.status, w.status) << g.label();
+                EXPECT_EQ(u.lostAtStep, w.lostAtStep);
+                EXPECT_EQ(u.ray.origin, w.ray.origin);
+                if (w.status != RayStatus::Ok) continue;
+                EXPECT_EQ(u.weight, 1.0);
+                EXPECT_LT(w.weight, 0.1); // two reflections
+                ++arriving;
+            }
+    }
+    EXPECT_GT(arriving, 100);
 }
