@@ -175,16 +175,17 @@ public:
     }
 
 private:
-    // The table's grid, doubled while it under-samples the light: while less than kMinLit of the region
-    // is lit (a ghost nearly vignetted away falls between a handful of rays; at most twice), and while
-    // its cells are wider than half the lit shape's mean width (a thin band or ring of light slips
-    // between the rays where the edge refinement cannot see it; at most three times). Either way the
-    // moments would move in steps as the field angle moves the light across the rays.
+    // The table's grid, refined where it would under-sample the light: doubled (at most twice) while
+    // less than kMinLit of the region is lit (a ghost nearly vignetted away falls between a handful of
+    // rays), and 8x where more than kMaxThin of the region search's lit points are one point thick
+    // (a band or ring of light narrower than that pass's spacing, which a grid as coarse lets slip
+    // between its rays, and the edge sub-grids with it). Either way the moments would move in steps
+    // as the field angle moves the light across the rays.
     int gridFor(const trace::PupilRegion& r) const {
-        constexpr double kMinLit = 0.1;
+        constexpr double kMinLit = 0.1, kMaxThin = 0.05;
+        if (r.thinShare > kMaxThin) return 8 * s_.grid;
         int n = s_.grid;
         for (double lit = r.litFraction; lit < kMinLit && n < 4 * s_.grid; lit *= 4.0) n *= 2;
-        while (r.meanWidth > 0.0 && n < 8 * s_.grid && 2.0 * r.half / n > 0.5 * r.meanWidth) n *= 2;
         return n;
     }
 

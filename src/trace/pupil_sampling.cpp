@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 namespace ff::trace {
 
@@ -60,7 +59,7 @@ struct LitBox {
     double xMin = 1e300, xMax = -1e300, yMin = 1e300, yMax = -1e300;
     bool touchesEdge = false; ///< light at a grid point of the outermost ring
     double litArea = 0.0;     ///< lit points x cell area
-    double perimeter = 0.0;   ///< length of the lit shape's boundary, from lit-unlit neighbour pairs
+    int litPoints = 0, thinPoints = 0; ///< lit points; those with no lit neighbour on either side along x or along y
     bool empty() const { return xMin > xMax; }
 };
 
@@ -71,7 +70,6 @@ LitBox litBox(const Bundle& b, const LensAtWavelength& L, const std::vector<Path
         return i >= 0 && j >= 0 && i < b.n && j < b.n && hits[static_cast<std::size_t>(j) * b.n + i].status == optics::RayStatus::Ok;
     };
     LitBox box;
-    int pairs = 0;
     for (int j = 0; j < b.n; ++j)
         for (int i = 0; i < b.n; ++i) {
             if (!lit(i, j)) continue;
@@ -80,11 +78,9 @@ LitBox litBox(const Bundle& b, const LensAtWavelength& L, const std::vector<Path
             box.yMin = std::min(box.yMin, y), box.yMax = std::max(box.yMax, y);
             box.touchesEdge = box.touchesEdge || i == 0 || j == 0 || i == b.n - 1 || j == b.n - 1;
             box.litArea += b.cell * b.cell;
-            pairs += !lit(i - 1, j) + !lit(i + 1, j) + !lit(i, j - 1) + !lit(i, j + 1);
+            ++box.litPoints;
+            box.thinPoints += (!lit(i - 1, j) && !lit(i + 1, j)) || (!lit(i, j - 1) && !lit(i, j + 1));
         }
-    // A boundary of length P crosses the lines between neighbouring points 4 P / (pi cell) times,
-    // averaged over its directions.
-    box.perimeter = 0.25 * std::numbers::pi * pairs * b.cell;
     return box;
 }
 
@@ -124,7 +120,7 @@ PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sa
     // One cell of margin on every side, then a square over the box.
     const double side = std::max(box.xMax - box.xMin, box.yMax - box.yMin) + 2.0 * cell;
     return {0.5 * (box.xMin + box.xMax), 0.5 * (box.yMin + box.yMax), 0.5 * side, false, std::min(1.0, box.litArea / (side * side)),
-            2.0 * box.litArea / box.perimeter};
+            double(box.thinPoints) / box.litPoints};
 }
 
 Bundle regionBundle(const PupilFrame& frame, const Field& field, const PupilRegion& r, int n) {

@@ -62,10 +62,10 @@ struct PupilRegion {
     /// Share of the square the path's light passes (estimated on the finest analytic pass; 1 where
     /// not searched): a thin sliver of light needs a finer grid than a disc to be resolved.
     double litFraction = 1.0;
-    /// The lit shape's mean width, 2 x area / perimeter (mm; a disc's is its radius, a thin band's its
-    /// width), on the same pass; 0 where not searched. Once a grid's cells are wider than about half
-    /// of it, whole stretches of a thin band fall between their rays.
-    double meanWidth = 0.0;
+    /// Share of that pass's lit points with no lit neighbour on either side along x or along y: light
+    /// at most one point thick there (thin bands and rings, the tips of slivers), which a grid of the
+    /// same spacing lets slip between its rays; 0 where not searched.
+    double thinShare = 0.0;
 };
 
 /// Where the grid of one path goes, by the chosen sampling. For Reaim, a coarse analytic pass at L's
