@@ -2,8 +2,8 @@
 // The Embree scene of a lens: every optical surface as a user geometry with exact analytic
 // intersection (never tessellated) clipped to its clear aperture; the iris as a plane in the stop's
 // vertex plane that is solid outside the blade polygon, where the stop is flat (a stop on a curved
-// surface is that surface, clipped by the blade polygon at the hit point); the barrel as a cylinder between consecutive
-// surfaces, radius the larger of their clear apertures. Geometry IDs: surface k has ID k; the iris
+// surface is that surface, clipped by the blade polygon at the hit point); the barrel as a cylinder
+// between consecutive surfaces, radius the larger of their clear apertures. Geometry IDs: surface k has ID k; the iris
 // and barrel pieces follow.
 //
 // Precision: Embree traverses with float rays, but the callbacks intersect the double-precision ray

@@ -77,22 +77,26 @@ LitBox litBox(const Bundle& b, const LensAtWavelength& L, const std::vector<Path
             box.xMin = std::min(box.xMin, x), box.xMax = std::max(box.xMax, x);
             box.yMin = std::min(box.yMin, y), box.yMax = std::max(box.yMax, y);
             box.touchesEdge = box.touchesEdge || i == 0 || j == 0 || i == b.n - 1 || j == b.n - 1;
-            box.litArea += b.cell * b.cell;
             ++box.litPoints;
             box.thinPoints += (!lit(i - 1, j) && !lit(i + 1, j)) || (!lit(i, j - 1) && !lit(i, j + 1));
         }
+    box.litArea = box.litPoints * b.cell * b.cell;
     return box;
 }
 
 } // namespace
+
+double searchHalfSize(const PupilFrame& frame, const Field& field) {
+    const double shift = std::abs(std::tan(field.angleRad)) * std::abs(frame.z - frame.startZ);
+    return std::max(frame.frontRadius, frame.radius) + shift + frame.radius;
+}
 
 PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
                         const std::vector<PathStep>& steps) {
     if (sampling == Sampling::ParaxialGrid) return {0.0, 0.0, frame.radius, true};
 
     // Coarse pass over everything that could enter the front surface, traced analytically.
-    const double shift = std::abs(std::tan(field.angleRad)) * std::abs(frame.z - frame.startZ);
-    const double half = std::max(frame.frontRadius, frame.radius) + shift + frame.radius;
+    const double half = searchHalfSize(frame, field);
     // The margins below are in cells of a 96 x 96 pass over it. The pass itself is denser where the
     // paraxial pupil is small against that square (a retrofocus wide angle's front opening dwarfs its
     // pupil): its spacing is at most an eighth of the pupil's radius, the scale of a ghost's own pupil,

@@ -68,6 +68,10 @@ struct PupilRegion {
     double thinShare = 0.0;
 };
 
+/// Half side of the square, centred on the axis, that the region search starts from: everything that
+/// could enter the front surface at this field.
+double searchHalfSize(const PupilFrame& frame, const Field& field);
+
 /// Where the grid of one path goes, by the chosen sampling. For Reaim, a coarse analytic pass at L's
 /// wavelength (points at most an eighth of the pupil radius apart, so that small patches and thin rings
 /// of light are not stepped over), then local passes over what it found (until no light reaches their

@@ -68,10 +68,8 @@ TEST(PupilRegion, HoldsEveryPointWhoseRayArrives) {
             const auto& steps = paths.at(label);
             const Field field{degToRad(angle), 0.0};
             const PupilRegion region = pupilRegion(s.pupil, field, Sampling::Reaim, s.L, steps);
-            // The search's first square: everything that could enter the front surface.
-            const double shift = std::tan(field.angleRad) * std::abs(s.pupil.z - s.pupil.startZ);
-            const double half = std::max(s.pupil.frontRadius, s.pupil.radius) + shift + s.pupil.radius;
-            const Bundle b = gridBundle(s.pupil, field, 768, 0.0, 0.0, half, false);
+            // Over the search's first square: everything that could enter the front surface.
+            const Bundle b = gridBundle(s.pupil, field, 768, 0.0, 0.0, searchHalfSize(s.pupil, field), false);
             std::vector<RayResult> hits(b.rays.size());
             traceAnalytic(s.L, steps, b.rays, hits);
             int lit = 0, outside = 0;
