@@ -20,7 +20,7 @@
 namespace ff::ghosts {
 
 std::string TableSettings::key() const {
-    std::string k = "table-v7 lambda";
+    std::string k = "table-v8 lambda";
     for (double l : wavelengthsNm) k += " " + text::roundTrip(l);
     k += " sampling " + std::to_string(static_cast<int>(sampling)) + " grid " + std::to_string(grid) + " sensor " +
          std::to_string(static_cast<int>(sensor)) + " coating " + std::to_string(static_cast<int>(coating)) + " max " +
@@ -149,7 +149,7 @@ public:
             const std::size_t g = tasks[task].ghost;
             const DirectResult& d = direct_.at(tasks[task].angleDeg);
             const trace::Field field{degToRad(tasks[task].angleDeg), 0.0};
-            const trace::PupilRegion region = trace::pupilRegion(frame_, field, s_.sampling, geometry_, steps_[g]);
+            const trace::PupilRegion region = trace::pupilRegion(frame_, field, s_.sampling, geometry_, steps_[g], fitOptions_.maxRadiusMm);
             const trace::Bundle centres = trace::regionBundle(frame_, field, region, gridFor(region));
             const trace::Bundle corners = trace::cornerBundle(frame_, field, centres);
             for (std::size_t w = 0; w < nW; ++w) {

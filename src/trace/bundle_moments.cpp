@@ -1,5 +1,9 @@
 #include "trace/bundle_moments.h"
 
+#include <algorithm>
+#include <array>
+#include <cmath>
+
 namespace ff::trace {
 
 namespace {
@@ -57,14 +61,54 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
                                     const std::vector<RayResult>& k, int subdivisions, double scale, double maxRadius) {
     // Cells whose centre and corners disagree on whether their light counts: lost or not, and
     // inside maxRadius or not (a wide ghost cut there moves in steps just as one cut by a stop).
+    // Where the counting circle passes within a cell's image of one of its landing points, the cell
+    // is resolved too: it may straddle the circle while all five rays land on one side of it, as at
+    // the tips of a sliver of light between the circle and the ghost's own edge, which carry much of
+    // the sliver's tangential spread.
     auto counted = [&](const RayResult& r) { return r.status == optics::RayStatus::Ok && landsWithin(r, maxRadius); };
     const int n = centres.n;
+    auto cellRays = [&](int i, int j) {
+        const std::size_t corner = static_cast<std::size_t>(j) * (n + 1) + i;
+        return std::array<const RayResult*, 5>{&c[static_cast<std::size_t>(j) * n + i], &k[corner], &k[corner + 1], &k[corner + n + 1],
+                                               &k[corner + n + 2]};
+    };
+    // The diameter of a cell's image on the sensor (its arriving rays' landing points), 0 with fewer than two.
+    auto imageSize = [](const std::array<const RayResult*, 5>& rays) {
+        double d2 = 0.0;
+        for (std::size_t a = 0; a < rays.size(); ++a)
+            for (std::size_t b = a + 1; b < rays.size(); ++b)
+                if (rays[a]->status == optics::RayStatus::Ok && rays[b]->status == optics::RayStatus::Ok) {
+                    const double dx = rays[a]->sensorPoint.x - rays[b]->sensorPoint.x, dy = rays[a]->sensorPoint.y - rays[b]->sensorPoint.y;
+                    d2 = std::max(d2, dx * dx + dy * dy);
+                }
+        return std::sqrt(d2);
+    };
+    // A cell with one arriving ray takes the bundle's median cell image.
+    double typicalSize = 0.0;
+    if (maxRadius > 0.0) {
+        std::vector<double> sizes;
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i)
+                if (const double d = imageSize(cellRays(i, j)); d > 0.0) sizes.push_back(d);
+        if (!sizes.empty()) {
+            std::nth_element(sizes.begin(), sizes.begin() + static_cast<std::ptrdiff_t>(sizes.size() / 2), sizes.end());
+            typicalSize = sizes[sizes.size() / 2];
+        }
+    }
     std::vector<char> edge(c.size(), 0);
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
-            const std::size_t cell = static_cast<std::size_t>(j) * n + i, corner = static_cast<std::size_t>(j) * (n + 1) + i;
-            const int in = counted(c[cell]) + counted(k[corner]) + counted(k[corner + 1]) + counted(k[corner + n + 1]) + counted(k[corner + n + 2]);
-            edge[cell] = in > 0 && in < 5;
+            const auto rays = cellRays(i, j);
+            int in = 0;
+            for (const RayResult* r : rays) in += counted(*r);
+            bool straddles = in > 0 && in < 5;
+            if (!straddles && maxRadius > 0.0) {
+                const double d = imageSize(rays), reach = d > 0.0 ? d : typicalSize;
+                for (const RayResult* r : rays)
+                    straddles = straddles || (r->status == optics::RayStatus::Ok &&
+                                              std::abs(std::hypot(r->sensorPoint.x, r->sensorPoint.y) - maxRadius) <= reach);
+            }
+            edge[static_cast<std::size_t>(j) * n + i] = straddles;
         }
     std::vector<RayResult> hits;
     std::vector<double> areas;

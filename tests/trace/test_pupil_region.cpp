@@ -86,6 +86,48 @@ TEST(PupilRegion, HoldsEveryPointWhoseRayArrives) {
     EXPECT_GE(checked, 20);
 }
 
+// With a counting radius the region holds the light that lands within it, and its lit fraction is that
+// light's share of its square. The telephoto's R7->R5 at 9.9 deg lands 41-68 mm from the axis; only a
+// sliver of it (the pupil's lower edge) lands within the 43.27 mm the ghost table counts, and a grid
+// over the whole ghost's light would put one or two rows across it.
+TEST(PupilRegion, WithACountingRadiusHoldsTheLightLandingWithinIt) {
+    const LensBench s("telephoto-127mm-f5.6.lens");
+    std::vector<PathStep> steps;
+    for (const GhostPair& g : enumerateGhosts(s.lens))
+        if (g.label() == "R7\u2192R5") steps = pathSteps(s.lens, g);
+    ASSERT_FALSE(steps.empty());
+    const auto within = [](const RayResult& r) {
+        return r.status == optics::RayStatus::Ok && std::hypot(r.sensorPoint.x, r.sensorPoint.y) <= test::kMaxRadius;
+    };
+    for (double angle : {9.88, 9.9, 9.92}) {
+        const Field field{degToRad(angle), 0.0};
+        const PupilRegion all = pupilRegion(s.pupil, field, Sampling::Reaim, s.L, steps);
+        const PupilRegion region = pupilRegion(s.pupil, field, Sampling::Reaim, s.L, steps, test::kMaxRadius);
+        const Bundle wide = gridBundle(s.pupil, field, 768, 0.0, 0.0, searchHalfSize(s.pupil, field), false);
+        std::vector<RayResult> hits(wide.rays.size());
+        traceAnalytic(s.L, steps, wide.rays, hits);
+        int counted = 0, outside = 0;
+        for (int j = 0; j < wide.n; ++j)
+            for (int i = 0; i < wide.n; ++i) {
+                if (!within(hits[static_cast<std::size_t>(j) * wide.n + i])) continue;
+                const double x = wide.x0 + (i + 0.5) * wide.cell, y = wide.y0 + (j + 0.5) * wide.cell;
+                ++counted;
+                outside += std::abs(x - region.cx) > region.half || std::abs(y - region.cy) > region.half;
+            }
+        ASSERT_GT(counted, 0);
+        EXPECT_EQ(outside, 0) << angle << " deg: " << outside << " of " << counted << " points landing within the radius outside";
+        const Bundle b = regionBundle(s.pupil, field, region, 256);
+        std::vector<RayResult> own(b.rays.size());
+        traceAnalytic(s.L, steps, b.rays, own);
+        const double share = double(std::count_if(own.begin(), own.end(), within)) / double(own.size());
+        EXPECT_NEAR(region.litFraction, share, 0.01) << angle << " deg";
+        EXPECT_LT(share, 0.25 * all.litFraction) << angle << " deg";
+        std::printf("%.2f deg: %.3f of the region lands within the radius (the search says %.3f); %.3f of the region without the "
+                    "radius arrives\n",
+                    angle, share, region.litFraction, all.litFraction);
+    }
+}
+
 namespace {
 
 // Where rays through (x, 0) of the pupil plane start arriving or stop, scanning x across [-half, half]
