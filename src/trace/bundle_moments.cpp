@@ -61,10 +61,12 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
                                     const std::vector<RayResult>& k, int subdivisions, double scale, double maxRadius) {
     // Cells whose centre and corners disagree on whether their light counts: lost or not, and
     // inside maxRadius or not (a wide ghost cut there moves in steps just as one cut by a stop).
-    // Where the counting circle passes within a cell's image of one of its landing points, the cell
-    // is resolved too: it may straddle the circle while all five rays land on one side of it, as at
-    // the tips of a sliver of light between the circle and the ghost's own edge, which carry much of
-    // the sliver's tangential spread.
+    // A cell on the ghost's own edge (some of its rays lost) is resolved too where the counting circle
+    // passes within the cell's image of one of its landing points: there a sliver of light between the
+    // edge and the circle can narrow to a tip between the rays, all of whose arriving rays land beyond
+    // the circle, and the tips carry much of the sliver's tangential spread. (Cells all of whose rays
+    // arrive are left to the centre-and-corners test, which catches the circle once it reaches one of
+    // their rays, having cut off no more than a corner between them.)
     auto counted = [&](const RayResult& r) { return r.status == optics::RayStatus::Ok && landsWithin(r, maxRadius); };
     const int n = centres.n;
     auto cellRays = [&](int i, int j) {
@@ -99,10 +101,10 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
             const auto rays = cellRays(i, j);
-            int in = 0;
-            for (const RayResult* r : rays) in += counted(*r);
+            int in = 0, arriving = 0;
+            for (const RayResult* r : rays) in += counted(*r), arriving += r->status == optics::RayStatus::Ok;
             bool straddles = in > 0 && in < 5;
-            if (!straddles && maxRadius > 0.0) {
+            if (!straddles && maxRadius > 0.0 && arriving > 0 && arriving < 5) {
                 const double d = imageSize(rays), reach = d > 0.0 ? d : typicalSize;
                 for (const RayResult* r : rays)
                     straddles = straddles || (r->status == optics::RayStatus::Ok &&
