@@ -58,28 +58,24 @@ namespace {
 struct LitBox {
     double xMin = 1e300, xMax = -1e300, yMin = 1e300, yMax = -1e300;
     bool touchesEdge = false; ///< light at a grid point of the outermost ring
-    double litArea = 0.0;     ///< counted lit points x cell area
+    double litArea = 0.0;     ///< lit points x cell area
     int litPoints = 0, thinPoints = 0; ///< lit points; those with no lit neighbour on either side along x or along y
     bool empty() const { return xMin > xMax; }
 };
 
-// A point is lit where its ray arrives within keepRadius of the axis, and counts towards the lit area
-// where it arrives within countRadius (0: anywhere).
-LitBox litBox(const Bundle& b, const LensAtWavelength& L, const std::vector<PathStep>& steps, double keepRadius, double countRadius) {
+// A point is lit where its ray arrives within maxRadius of the axis (0: anywhere).
+LitBox litBox(const Bundle& b, const LensAtWavelength& L, const std::vector<PathStep>& steps, double maxRadius) {
     std::vector<RayResult> hits(b.rays.size());
     traceAnalytic(L, steps, b.rays, hits, Weighting::None); // where light gets through, not how much
-    const auto arrives = [&](int i, int j, double radius) {
+    const auto lit = [&](int i, int j) {
         if (i < 0 || j < 0 || i >= b.n || j >= b.n) return false;
         const RayResult& r = hits[static_cast<std::size_t>(j) * b.n + i];
-        return r.status == optics::RayStatus::Ok && (radius <= 0.0 || std::hypot(r.sensorPoint.x, r.sensorPoint.y) <= radius);
+        return r.status == optics::RayStatus::Ok && (maxRadius <= 0.0 || std::hypot(r.sensorPoint.x, r.sensorPoint.y) <= maxRadius);
     };
-    const auto lit = [&](int i, int j) { return arrives(i, j, keepRadius); };
     LitBox box;
-    int counted = 0;
     for (int j = 0; j < b.n; ++j)
         for (int i = 0; i < b.n; ++i) {
             if (!lit(i, j)) continue;
-            counted += arrives(i, j, countRadius);
             const double x = b.x0 + (i + 0.5) * b.cell, y = b.y0 + (j + 0.5) * b.cell;
             box.xMin = std::min(box.xMin, x), box.xMax = std::max(box.xMax, x);
             box.yMin = std::min(box.yMin, y), box.yMax = std::max(box.yMax, y);
@@ -87,7 +83,7 @@ LitBox litBox(const Bundle& b, const LensAtWavelength& L, const std::vector<Path
             ++box.litPoints;
             box.thinPoints += (!lit(i - 1, j) && !lit(i + 1, j)) || (!lit(i, j - 1) && !lit(i, j + 1));
         }
-    box.litArea = counted * b.cell * b.cell;
+    box.litArea = box.litPoints * b.cell * b.cell;
     return box;
 }
 
@@ -101,10 +97,6 @@ double searchHalfSize(const PupilFrame& frame, const Field& field) {
 PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
                         const std::vector<PathStep>& steps, double maxRadiusMm) {
     if (sampling == Sampling::ParaxialGrid) return {0.0, 0.0, frame.radius, true};
-    // The search traces one wavelength; lateral colour moves the others' landing points by up to a few
-    // per cent of their height, so light a little beyond the radius is kept in the region, but only
-    // light within it counts towards the lit fraction (which sets how fine the grid over it must be).
-    const double keep = maxRadiusMm > 0.0 ? 1.05 * maxRadiusMm : 0.0;
 
     // Coarse pass over everything that could enter the front surface, traced analytically.
     const double half = searchHalfSize(frame, field);
@@ -115,7 +107,7 @@ PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sa
     constexpr int kNominal = 96, kMaxCoarse = 512, kLocal = 64;
     const double cell = 2.0 * half / kNominal;
     const int nCoarse = std::clamp(static_cast<int>(std::ceil(16.0 * half / frame.radius)), kNominal, kMaxCoarse);
-    const LitBox found = litBox(gridBundle(frame, field, nCoarse, 0.0, 0.0, half, false), L, steps, keep, maxRadiusMm);
+    const LitBox found = litBox(gridBundle(frame, field, nCoarse, 0.0, 0.0, half, false), L, steps, maxRadiusMm);
     if (found.empty()) return {0.0, 0.0, frame.radius, true}; // nothing gets through: the paraxial pupil
     // The coarse points miss the tips of thin regions (two discs barely overlapping), and the box would
     // jump by a coarse cell, cutting off light, as the field angle moves them across the points. A local
@@ -125,7 +117,7 @@ PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sa
     double h = 0.5 * std::max(found.xMax - found.xMin, found.yMax - found.yMin) + 2.0 * cell;
     LitBox box = found;
     for (int pass = 0; pass < 4; ++pass) {
-        const LitBox local = litBox(gridBundle(frame, field, kLocal, cx, cy, h, false), L, steps, keep, maxRadiusMm);
+        const LitBox local = litBox(gridBundle(frame, field, kLocal, cx, cy, h, false), L, steps, maxRadiusMm);
         if (local.empty()) break;
         box = local;
         if (!local.touchesEdge) break;

@@ -77,8 +77,9 @@ double searchHalfSize(const PupilFrame& frame, const Field& field);
 /// of light are not stepped over), then local passes over what it found (until no light reaches their
 /// outermost points), so that the region moves smoothly with the field angle; its margin (1/96 of the
 /// coarse square) also covers the small shift of the pupil with wavelength, so one region serves every
-/// wavelength of a path. With maxRadiusMm > 0 only light landing within (a little beyond) that radius
-/// of the axis counts as found: where the rest of a ghost is not measured, its grid need not cover it.
+/// wavelength of a path (where the lit shape itself changes with the wavelength, search at each). With
+/// maxRadiusMm > 0 only light landing within that radius of the axis counts as found: where the rest
+/// of a ghost is not measured, its grid need not cover it.
 PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
                         const std::vector<PathStep>& steps, double maxRadiusMm = 0.0);
 

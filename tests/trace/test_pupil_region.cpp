@@ -128,6 +128,42 @@ TEST(PupilRegion, WithACountingRadiusHoldsTheLightLandingWithinIt) {
     }
 }
 
+// A ghost's lit pupil can change shape with the wavelength, not only shift: the double Gauss 50 mm's
+// R3->R1 at 22.28-22.40 deg passes a crescent and, 8 mm below it, a patch about 5 x 3 mm at 650 nm
+// (12 % of the ghost's flux at 22.28 deg) that is gone at the d line. A region searched at 650 nm holds
+// every point of a 768 x 768 pass whose 650 nm ray arrives within the counting radius; the region
+// searched at the d line, which the ghost table once used for every wavelength, holds none of the patch.
+TEST(PupilRegion, SearchedAtItsOwnWavelengthHoldsLightThatOthersLack) {
+    const LensBench s("double-gauss-50mm-f2.lens");
+    const LensAtWavelength red(s.lens, 650.0, s.sensorZ), d(s.lens, lines::d, s.sensorZ);
+    std::vector<PathStep> steps;
+    for (const GhostPair& g : enumerateGhosts(s.lens))
+        if (g.label() == "R3\u2192R1") steps = pathSteps(s.lens, g);
+    ASSERT_FALSE(steps.empty());
+    for (double angle : {22.28, 22.33, 22.38}) {
+        const Field field{degToRad(angle), 0.0};
+        const PupilRegion own = pupilRegion(s.pupil, field, Sampling::Reaim, red, steps, test::kMaxRadius);
+        const PupilRegion atD = pupilRegion(s.pupil, field, Sampling::Reaim, d, steps, test::kMaxRadius);
+        const Bundle b = gridBundle(s.pupil, field, 768, 0.0, 0.0, searchHalfSize(s.pupil, field), false);
+        std::vector<RayResult> hits(b.rays.size());
+        traceAnalytic(red, steps, b.rays, hits);
+        int lit = 0, outsideOwn = 0, outsideD = 0;
+        for (int j = 0; j < b.n; ++j)
+            for (int i = 0; i < b.n; ++i) {
+                const RayResult& r = hits[static_cast<std::size_t>(j) * b.n + i];
+                if (r.status != optics::RayStatus::Ok || std::hypot(r.sensorPoint.x, r.sensorPoint.y) > test::kMaxRadius) continue;
+                const double x = b.x0 + (i + 0.5) * b.cell, y = b.y0 + (j + 0.5) * b.cell;
+                ++lit;
+                outsideOwn += std::abs(x - own.cx) > own.half || std::abs(y - own.cy) > own.half;
+                outsideD += std::abs(x - atD.cx) > atD.half || std::abs(y - atD.cy) > atD.half;
+            }
+        EXPECT_EQ(outsideOwn, 0) << angle << " deg: " << outsideOwn << " of " << lit << " points lit at 650 nm outside its region";
+        EXPECT_GT(outsideD, lit / 50) << angle << " deg: the d line's region should miss the 650 nm patch";
+        std::printf("%.2f deg: %d points lit at 650 nm; outside the 650 nm region %d, outside the d line's %d\n", angle, lit, outsideOwn,
+                    outsideD);
+    }
+}
+
 namespace {
 
 // Where rays through (x, 0) of the pupil plane start arriving or stop, scanning x across [-half, half]
