@@ -59,8 +59,9 @@ Bundle gridBundle(const PupilFrame& frame, const Field& field, int n, double cx,
 struct PupilRegion {
     double cx = 0.0, cy = 0.0, half = 0.0;
     bool discOnly = false; ///< launch only inside the paraxial pupil disc (paraxial-grid sampling)
-    /// Share of the square the path's light passes (estimated on the finest analytic pass; 1 where
-    /// not searched): a thin sliver of light needs a finer grid than a disc to be resolved.
+    /// Share of the square the path's light passes (landing within the search's radius, if given;
+    /// estimated on the finest analytic pass; 1 where not searched): a thin sliver of light needs a
+    /// finer grid than a disc to be resolved.
     double litFraction = 1.0;
     /// Share of that pass's lit points with no lit neighbour on either side along x or along y: light
     /// at most one point thick there (thin bands and rings, the tips of slivers), which a grid of the

@@ -62,7 +62,7 @@ TEST(BundleMoments, ResolvedEdgesMatchAFineGrid) {
 // part of the cell lands within it: before such cells were resolved that grid's tangential spread
 // fell 8 % between 9.900 and 9.905 deg (the 1024 grid's 0.7 %) and was 7.2 % off at worst, now 2.6 %.
 // Over the region of the light landing within the radius (what the ghost table uses) the sliver
-// spans more of the square, and 32 and 64 grids follow it to 0.6 % and 0.4 %.
+// spans more of the square, and 32 and 64 grids follow it to 0.4 % and 0.2 %.
 TEST(BundleMoments, ResolvedSliverAtTheCountingRadiusMatchesAFineGrid) {
     const LensBench s("telephoto-127mm-f5.6.lens");
     std::vector<PathStep> steps;
