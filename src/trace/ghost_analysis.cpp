@@ -68,15 +68,21 @@ GhostReport analyzeGhosts(const optics::Lens& lensIn, const GhostAnalysisOptions
     const LensAtWavelength geometry(lens, lines::d, report.sensorZ);
     const EmbreeTracer tracer(geometry);
 
-    // Each path's pupil region, found once (at the d line) for all wavelengths. Paths are independent
-    // and stored by index, so the report does not depend on the number of threads.
+    // Each path's pupil region, found once for all wavelengths (over the regions at the shortest and
+    // the longest). Paths are independent and stored by index, so the report does not depend on the
+    // number of threads.
+    std::vector<LensAtWavelength> ends;
+    if (!o.wavelengthsNm.empty()) {
+        const auto [shortest, longest] = std::minmax_element(o.wavelengthsNm.begin(), o.wavelengthsNm.end());
+        ends = {LensAtWavelength(lens, *shortest, report.sensorZ), LensAtWavelength(lens, *longest, report.sensorZ)};
+    }
     std::vector<std::optional<GhostPair>> paths = {std::nullopt};
     for (const GhostPair& g : ghosts) paths.push_back(g);
     std::vector<std::vector<PathStep>> steps(paths.size());
     std::vector<PupilRegion> regions(paths.size());
     tbb::parallel_for(std::size_t(0), paths.size(), [&](std::size_t p) {
         steps[p] = pathSteps(lens, paths[p]);
-        regions[p] = pupilRegion(frame, o.field, o.sampling, geometry, steps[p]);
+        regions[p] = bandRegion(frame, o.field, o.sampling, ends, steps[p]);
     });
 
     for (double lambda : o.wavelengthsNm) {

@@ -130,6 +130,22 @@ PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sa
             double(box.thinPoints) / box.litPoints};
 }
 
+PupilRegion bandRegion(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> ends,
+                       const std::vector<PathStep>& steps, double maxRadiusMm) {
+    double xMin = 1e300, xMax = -1e300, yMin = 1e300, yMax = -1e300, litArea = 0.0, thin = 0.0;
+    for (const LensAtWavelength& L : ends) {
+        const PupilRegion r = pupilRegion(frame, field, sampling, L, steps, maxRadiusMm);
+        if (r.discOnly) continue; // paraxial sampling, or no light found at this wavelength
+        xMin = std::min(xMin, r.cx - r.half), xMax = std::max(xMax, r.cx + r.half);
+        yMin = std::min(yMin, r.cy - r.half), yMax = std::max(yMax, r.cy + r.half);
+        litArea = std::max(litArea, r.litFraction * 4.0 * r.half * r.half);
+        thin = std::max(thin, r.thinShare);
+    }
+    if (xMin > xMax) return {0.0, 0.0, frame.radius, true};
+    const double half = 0.5 * std::max(xMax - xMin, yMax - yMin);
+    return {0.5 * (xMin + xMax), 0.5 * (yMin + yMax), half, false, std::min(1.0, litArea / (4.0 * half * half)), thin};
+}
+
 Bundle regionBundle(const PupilFrame& frame, const Field& field, const PupilRegion& r, int n) {
     return gridBundle(frame, field, n, r.cx, r.cy, r.half, r.discOnly);
 }

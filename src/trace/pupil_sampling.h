@@ -17,6 +17,7 @@
 
 #include "trace/embree_tracer.h"
 
+#include <span>
 #include <vector>
 
 namespace ff::trace {
@@ -83,6 +84,14 @@ double searchHalfSize(const PupilFrame& frame, const Field& field);
 /// of a ghost is not measured, its grid need not cover it.
 PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
                         const std::vector<PathStep>& steps, double maxRadiusMm = 0.0);
+
+/// One region for a band of wavelengths, for callers that trace all of them on the same grid: the
+/// square over the regions searched at the band's shortest and longest wavelengths (first and last
+/// of `ends`). A lit pupil can change shape with the wavelength, not only shift, and the indices,
+/// which move its edges, change monotonically across a band; its lit fraction is the larger lit
+/// area's share of that square, its thin share the larger one.
+PupilRegion bandRegion(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> ends,
+                       const std::vector<PathStep>& steps, double maxRadiusMm = 0.0);
 
 /// The n x n bundle over a region.
 Bundle regionBundle(const PupilFrame& frame, const Field& field, const PupilRegion& region, int n);

@@ -107,14 +107,17 @@ TracedFlare renderTracedFlare(const optics::Lens& lensIn, const TracedFlareOptio
 
     // One flux image per wavelength, rendered in parallel; each is filled in a fixed order, so the
     // result does not depend on the number of threads.
-    // Each path's pupil region, found once (at the d line) for all wavelengths.
+    // Each path's pupil region, found once for all wavelengths: over the regions at the shortest and
+    // the longest.
+    const auto [shortest, longest] = std::minmax_element(out.wavelengthsNm.begin(), out.wavelengthsNm.end());
+    const LensAtWavelength ends[] = {LensAtWavelength(lens, *shortest, sensorZ), LensAtWavelength(lens, *longest, sensorZ)};
     std::vector<std::vector<PathStep>> ghostSteps;
     std::vector<PupilRegion> regions;
     const auto directSteps = pathSteps(lens, std::nullopt);
-    const PupilRegion directRegion = pupilRegion(pupil, o.field, o.sampling, geometry, directSteps);
+    const PupilRegion directRegion = bandRegion(pupil, o.field, o.sampling, ends, directSteps);
     for (const GhostPair& g : ghosts) {
         ghostSteps.push_back(pathSteps(lens, g));
-        regions.push_back(pupilRegion(pupil, o.field, o.sampling, geometry, ghostSteps.back()));
+        regions.push_back(bandRegion(pupil, o.field, o.sampling, ends, ghostSteps.back()));
     }
 
     std::vector<std::vector<double>> layers(out.wavelengthsNm.size());

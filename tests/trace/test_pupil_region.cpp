@@ -17,6 +17,44 @@ using namespace ff;
 using namespace ff::trace;
 using test::LensBench;
 
+namespace {
+
+// Points of a 768 x 768 analytic pass over the whole square the region search starts from (everything
+// that could enter the front surface) whose rays arrive at L's wavelength, within maxRadius of the axis
+// when it is > 0: how many, and how many of them lie outside each of the given regions.
+struct Coverage {
+    int lit = 0;
+    std::vector<int> outside;
+};
+
+Coverage coverage(const LensBench& s, const LensAtWavelength& L, const std::vector<PathStep>& steps, const Field& field,
+                  std::initializer_list<PupilRegion> regions, double maxRadius = 0.0) {
+    const Bundle b = gridBundle(s.pupil, field, 768, 0.0, 0.0, searchHalfSize(s.pupil, field), false);
+    std::vector<RayResult> hits(b.rays.size());
+    traceAnalytic(L, steps, b.rays, hits);
+    Coverage c;
+    c.outside.assign(regions.size(), 0);
+    for (int j = 0; j < b.n; ++j)
+        for (int i = 0; i < b.n; ++i) {
+            const RayResult& r = hits[static_cast<std::size_t>(j) * b.n + i];
+            if (r.status != optics::RayStatus::Ok || (maxRadius > 0.0 && std::hypot(r.sensorPoint.x, r.sensorPoint.y) > maxRadius)) continue;
+            const double x = b.x0 + (i + 0.5) * b.cell, y = b.y0 + (j + 0.5) * b.cell;
+            ++c.lit;
+            std::size_t k = 0;
+            for (const PupilRegion& region : regions)
+                c.outside[k++] += std::abs(x - region.cx) > region.half || std::abs(y - region.cy) > region.half;
+        }
+    return c;
+}
+
+std::vector<PathStep> stepsOf(const optics::Lens& lens, const std::string& label) {
+    for (const GhostPair& g : enumerateGhosts(lens))
+        if (g.label() == label) return pathSteps(lens, g);
+    return {};
+}
+
+} // namespace
+
 // The region's lit fraction (estimated on its 64 x 64 analytic pass) is the share of its square whose
 // rays arrive, counted here on a 256 x 256 grid by the same analytic tracer, for every ghost of the
 // Cooke triplet at 0, 14 and 24 deg and of the double Gauss 50 mm at 24.6 deg: discs, vignetted
@@ -68,20 +106,9 @@ TEST(PupilRegion, HoldsEveryPointWhoseRayArrives) {
             const auto& steps = paths.at(label);
             const Field field{degToRad(angle), 0.0};
             const PupilRegion region = pupilRegion(s.pupil, field, Sampling::Reaim, s.L, steps);
-            // Over the search's first square: everything that could enter the front surface.
-            const Bundle b = gridBundle(s.pupil, field, 768, 0.0, 0.0, searchHalfSize(s.pupil, field), false);
-            std::vector<RayResult> hits(b.rays.size());
-            traceAnalytic(s.L, steps, b.rays, hits);
-            int lit = 0, outside = 0;
-            for (int j = 0; j < b.n; ++j)
-                for (int i = 0; i < b.n; ++i) {
-                    if (hits[static_cast<std::size_t>(j) * b.n + i].status != optics::RayStatus::Ok) continue;
-                    const double x = b.x0 + (i + 0.5) * b.cell, y = b.y0 + (j + 0.5) * b.cell;
-                    ++lit;
-                    outside += std::abs(x - region.cx) > region.half || std::abs(y - region.cy) > region.half;
-                }
-            EXPECT_EQ(outside, 0) << label << " at " << angle << " deg: " << outside << " of " << lit << " arriving points outside";
-            checked += lit > 0;
+            const Coverage c = coverage(s, s.L, steps, field, {region});
+            EXPECT_EQ(c.outside[0], 0) << label << " at " << angle << " deg: " << c.outside[0] << " of " << c.lit << " arriving points outside";
+            checked += c.lit > 0;
         }
     EXPECT_GE(checked, 20);
 }
@@ -92,9 +119,7 @@ TEST(PupilRegion, HoldsEveryPointWhoseRayArrives) {
 // over the whole ghost's light would put one or two rows across it.
 TEST(PupilRegion, WithACountingRadiusHoldsTheLightLandingWithinIt) {
     const LensBench s("telephoto-127mm-f5.6.lens");
-    std::vector<PathStep> steps;
-    for (const GhostPair& g : enumerateGhosts(s.lens))
-        if (g.label() == "R7\u2192R5") steps = pathSteps(s.lens, g);
+    const std::vector<PathStep> steps = stepsOf(s.lens, "R7\u2192R5");
     ASSERT_FALSE(steps.empty());
     const auto within = [](const RayResult& r) {
         return r.status == optics::RayStatus::Ok && std::hypot(r.sensorPoint.x, r.sensorPoint.y) <= test::kMaxRadius;
@@ -103,19 +128,9 @@ TEST(PupilRegion, WithACountingRadiusHoldsTheLightLandingWithinIt) {
         const Field field{degToRad(angle), 0.0};
         const PupilRegion all = pupilRegion(s.pupil, field, Sampling::Reaim, s.L, steps);
         const PupilRegion region = pupilRegion(s.pupil, field, Sampling::Reaim, s.L, steps, test::kMaxRadius);
-        const Bundle wide = gridBundle(s.pupil, field, 768, 0.0, 0.0, searchHalfSize(s.pupil, field), false);
-        std::vector<RayResult> hits(wide.rays.size());
-        traceAnalytic(s.L, steps, wide.rays, hits);
-        int counted = 0, outside = 0;
-        for (int j = 0; j < wide.n; ++j)
-            for (int i = 0; i < wide.n; ++i) {
-                if (!within(hits[static_cast<std::size_t>(j) * wide.n + i])) continue;
-                const double x = wide.x0 + (i + 0.5) * wide.cell, y = wide.y0 + (j + 0.5) * wide.cell;
-                ++counted;
-                outside += std::abs(x - region.cx) > region.half || std::abs(y - region.cy) > region.half;
-            }
-        ASSERT_GT(counted, 0);
-        EXPECT_EQ(outside, 0) << angle << " deg: " << outside << " of " << counted << " points landing within the radius outside";
+        const Coverage c = coverage(s, s.L, steps, field, {region}, test::kMaxRadius);
+        ASSERT_GT(c.lit, 0);
+        EXPECT_EQ(c.outside[0], 0) << angle << " deg: " << c.outside[0] << " of " << c.lit << " points landing within the radius outside";
         const Bundle b = regionBundle(s.pupil, field, region, 256);
         std::vector<RayResult> own(b.rays.size());
         traceAnalytic(s.L, steps, b.rays, own);
@@ -136,31 +151,36 @@ TEST(PupilRegion, WithACountingRadiusHoldsTheLightLandingWithinIt) {
 TEST(PupilRegion, SearchedAtItsOwnWavelengthHoldsLightThatOthersLack) {
     const LensBench s("double-gauss-50mm-f2.lens");
     const LensAtWavelength red(s.lens, 650.0, s.sensorZ), d(s.lens, lines::d, s.sensorZ);
-    std::vector<PathStep> steps;
-    for (const GhostPair& g : enumerateGhosts(s.lens))
-        if (g.label() == "R3\u2192R1") steps = pathSteps(s.lens, g);
+    const std::vector<PathStep> steps = stepsOf(s.lens, "R3\u2192R1");
     ASSERT_FALSE(steps.empty());
     for (double angle : {22.28, 22.33, 22.38}) {
         const Field field{degToRad(angle), 0.0};
         const PupilRegion own = pupilRegion(s.pupil, field, Sampling::Reaim, red, steps, test::kMaxRadius);
         const PupilRegion atD = pupilRegion(s.pupil, field, Sampling::Reaim, d, steps, test::kMaxRadius);
-        const Bundle b = gridBundle(s.pupil, field, 768, 0.0, 0.0, searchHalfSize(s.pupil, field), false);
-        std::vector<RayResult> hits(b.rays.size());
-        traceAnalytic(red, steps, b.rays, hits);
-        int lit = 0, outsideOwn = 0, outsideD = 0;
-        for (int j = 0; j < b.n; ++j)
-            for (int i = 0; i < b.n; ++i) {
-                const RayResult& r = hits[static_cast<std::size_t>(j) * b.n + i];
-                if (r.status != optics::RayStatus::Ok || std::hypot(r.sensorPoint.x, r.sensorPoint.y) > test::kMaxRadius) continue;
-                const double x = b.x0 + (i + 0.5) * b.cell, y = b.y0 + (j + 0.5) * b.cell;
-                ++lit;
-                outsideOwn += std::abs(x - own.cx) > own.half || std::abs(y - own.cy) > own.half;
-                outsideD += std::abs(x - atD.cx) > atD.half || std::abs(y - atD.cy) > atD.half;
-            }
-        EXPECT_EQ(outsideOwn, 0) << angle << " deg: " << outsideOwn << " of " << lit << " points lit at 650 nm outside its region";
-        EXPECT_GT(outsideD, lit / 50) << angle << " deg: the d line's region should miss the 650 nm patch";
-        std::printf("%.2f deg: %d points lit at 650 nm; outside the 650 nm region %d, outside the d line's %d\n", angle, lit, outsideOwn,
-                    outsideD);
+        const Coverage c = coverage(s, red, steps, field, {own, atD}, test::kMaxRadius);
+        EXPECT_EQ(c.outside[0], 0) << angle << " deg: " << c.outside[0] << " of " << c.lit << " points lit at 650 nm outside its region";
+        EXPECT_GT(c.outside[1], c.lit / 50) << angle << " deg: the d line's region should miss the 650 nm patch";
+        std::printf("%.2f deg: %d points lit at 650 nm; outside the 650 nm region %d, outside the d line's %d\n", angle, c.lit,
+                    c.outside[0], c.outside[1]);
+    }
+}
+
+// The traced renderer and the ghost report trace every wavelength on one region per path, the square
+// over the regions found at the shortest and longest of them. On the same ghost and angles, that of
+// 450 and 650 nm holds every point lit at 450, 550 and 650 nm.
+TEST(PupilRegion, BandRegionHoldsTheLightOfEveryWavelengthInTheBand) {
+    const LensBench s("double-gauss-50mm-f2.lens");
+    const LensAtWavelength ends[] = {LensAtWavelength(s.lens, 450.0, s.sensorZ), LensAtWavelength(s.lens, 650.0, s.sensorZ)};
+    const std::vector<PathStep> steps = stepsOf(s.lens, "R3\u2192R1");
+    ASSERT_FALSE(steps.empty());
+    for (double angle : {22.28, 22.33, 22.38}) {
+        const Field field{degToRad(angle), 0.0};
+        const PupilRegion band = bandRegion(s.pupil, field, Sampling::Reaim, ends, steps);
+        for (const LensAtWavelength* L : {&ends[0], &s.L, &ends[1]}) {
+            const Coverage c = coverage(s, *L, steps, field, {band});
+            ASSERT_GT(c.lit, 0);
+            EXPECT_EQ(c.outside[0], 0) << angle << " deg, " << L->lambdaNm << " nm: " << c.outside[0] << " of " << c.lit << " lit points outside";
+        }
     }
 }
 
@@ -196,9 +216,7 @@ TEST(PupilRegion, ThinShareIsTheShareOfLightNarrowerThanItsPoints) {
     const Field axis{0.0, 0.0};
     const PupilRegion disc = pupilRegion(wide.pupil, axis, Sampling::Reaim, wide.L, pathSteps(wide.lens, std::nullopt));
     EXPECT_LT(disc.thinShare, 0.01);
-    std::vector<PathStep> ring;
-    for (const GhostPair& g : enumerateGhosts(wide.lens))
-        if (g.label() == "R4\u2192R2") ring = pathSteps(wide.lens, g);
+    const std::vector<PathStep> ring = stepsOf(wide.lens, "R4\u2192R2");
     const PupilRegion region = pupilRegion(wide.pupil, axis, Sampling::Reaim, wide.L, ring);
     const std::vector<double> e = edgesAlongX(wide, ring, axis, region.half);
     ASSERT_EQ(e.size(), 6u);
