@@ -133,8 +133,9 @@ PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sa
 PupilRegion bandRegion(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> ends,
                        const std::vector<PathStep>& steps, double maxRadiusMm) {
     double xMin = 1e300, xMax = -1e300, yMin = 1e300, yMax = -1e300, litArea = 0.0, thin = 0.0;
-    for (const LensAtWavelength& L : ends) {
-        const PupilRegion r = pupilRegion(frame, field, sampling, L, steps, maxRadiusMm);
+    for (std::size_t e = 0; e < ends.size(); ++e) {
+        if (e > 0 && ends[e].lambdaNm == ends[0].lambdaNm) continue; // a band of one wavelength: one search
+        const PupilRegion r = pupilRegion(frame, field, sampling, ends[e], steps, maxRadiusMm);
         if (r.discOnly) continue; // paraxial sampling, or no light found at this wavelength
         xMin = std::min(xMin, r.cx - r.half), xMax = std::max(xMax, r.cx + r.half);
         yMin = std::min(yMin, r.cy - r.half), yMax = std::max(yMax, r.cy + r.half);
