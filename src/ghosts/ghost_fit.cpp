@@ -98,8 +98,20 @@ ProfileFit fitProfile(const LocalImage& img, Profile p, double flux, double star
 
 GhostFit fitGhost(const trace::Bundle& b, const std::vector<trace::RayResult>& c, const std::vector<trace::RayResult>& k,
                   double scale, const FitOptions& o, const trace::BundleMoments* moments) {
+    const BundlePart part{&b, &c, &k};
+    return fitGhost(std::span<const BundlePart>(&part, 1), scale, o, moments);
+}
+
+GhostFit fitGhost(std::span<const BundlePart> parts, double scale, const FitOptions& o, const trace::BundleMoments* moments) {
     GhostFit fit;
-    const trace::BundleMoments m = moments ? *moments : trace::measureBundle(b, c, scale, o.maxRadiusMm);
+    trace::BundleMoments m;
+    if (moments) {
+        m = *moments;
+    } else {
+        std::vector<trace::BundleMoments> each;
+        for (const BundlePart& p : parts) each.push_back(trace::measureBundle(*p.centres, *p.centreHits, scale, o.maxRadiusMm));
+        m = trace::combineMoments(each);
+    }
     fit.survivingFraction = m.launched ? double(m.surviving) / double(m.launched) : 0.0;
     if (m.energy <= 0.0) return fit;
     const double e = m.energy;
@@ -109,13 +121,6 @@ GhostFit fitGhost(const trace::Bundle& b, const std::vector<trace::RayResult>& c
     fit.sigmaT = std::sqrt(m.mxx);
     fit.sigmaR = std::sqrt(m.myy);
     fit.covRT = m.mxy;
-    // The rays drawn into the fit image are the ones that counted (see FitOptions::maxRadiusMm).
-    std::vector<trace::RayResult> cc = c;
-    if (o.maxRadiusMm > 0.0)
-        for (auto& r : cc)
-            if (r.status == optics::RayStatus::Ok &&
-                r.sensorPoint.x * r.sensorPoint.x + r.sensorPoint.y * r.sensorPoint.y > o.maxRadiusMm * o.maxRadiusMm)
-                r.status = optics::RayStatus::Missed;
 
     // The traced image around the centroid; spreads below 1 micron are treated as 1 micron.
     const double sR = std::max(fit.sigmaR, 1e-3), sT = std::max(fit.sigmaT, 1e-3);
@@ -123,7 +128,16 @@ GhostFit fitGhost(const trace::Bundle& b, const std::vector<trace::RayResult>& c
     img.frame = {o.imageSize, o.imageSize, 2.0 * o.extentSigmas * std::max(sR, sT) / o.imageSize, fit.centroidX, fit.centroidY};
     img.flux.assign(static_cast<std::size_t>(o.imageSize) * o.imageSize, 0.0);
     trace::RasterStats stats;
-    trace::rasterizeCells(b, cc, k, scale, img.frame, img.flux, stats);
+    for (const BundlePart& p : parts) {
+        // The rays drawn into the fit image are the ones that counted (see FitOptions::maxRadiusMm).
+        std::vector<trace::RayResult> cc = *p.centreHits;
+        if (o.maxRadiusMm > 0.0)
+            for (auto& r : cc)
+                if (r.status == optics::RayStatus::Ok &&
+                    r.sensorPoint.x * r.sensorPoint.x + r.sensorPoint.y * r.sensorPoint.y > o.maxRadiusMm * o.maxRadiusMm)
+                    r.status = optics::RayStatus::Missed;
+        trace::rasterizeCells(*p.centres, cc, *p.cornerHits, scale, img.frame, img.flux, stats);
+    }
     double norm2 = 0.0;
     for (double v : img.flux) norm2 += v * v;
 

@@ -13,6 +13,7 @@
 #include "trace/embree_tracer.h"
 #include "trace/pupil_sampling.h"
 
+#include <span>
 #include <vector>
 
 namespace ff::ghosts {
@@ -54,6 +55,20 @@ struct FitOptions {
 /// (e.g. trace::measureBundleResolved, with the same scale and radius); else the grid's are used.
 GhostFit fitGhost(const trace::Bundle& centres, const std::vector<trace::RayResult>& centreHits,
                   const std::vector<trace::RayResult>& cornerHits, double energyScale, const FitOptions& options = {},
+                  const trace::BundleMoments* moments = nullptr);
+
+/// One traced part of a ghost's pupil (trace::pupilParts): its grid and the hits of its centre and
+/// corner rays.
+struct BundlePart {
+    const trace::Bundle* centres = nullptr;
+    const std::vector<trace::RayResult>* centreHits = nullptr;
+    const std::vector<trace::RayResult>* cornerHits = nullptr;
+};
+
+/// Fits a ghost traced in parts, each on its own grid (their squares of the pupil plane disjoint):
+/// flux and moments are those of all the parts together (trace::combineMoments, unless `moments` is
+/// given), and every part is drawn into the image the profiles are fitted to.
+GhostFit fitGhost(std::span<const BundlePart> parts, double energyScale, const FitOptions& options = {},
                   const trace::BundleMoments* moments = nullptr);
 
 } // namespace ff::ghosts

@@ -20,7 +20,7 @@
 namespace ff::ghosts {
 
 std::string TableSettings::key() const {
-    std::string k = "table-v9 lambda";
+    std::string k = "table-v10 lambda";
     for (double l : wavelengthsNm) k += " " + text::roundTrip(l);
     k += " sampling " + std::to_string(static_cast<int>(sampling)) + " grid " + std::to_string(grid) + " sensor " +
          std::to_string(static_cast<int>(sensor)) + " coating " + std::to_string(static_cast<int>(coating)) + " max " +
@@ -76,6 +76,12 @@ TableEntry lerp(const TableEntry& a, const TableEntry& b, double t) {
 // flux there), per wavelength.
 struct DirectResult {
     std::vector<double> y, energy;
+};
+
+// One part of a ghost's pupil, traced: its centre and corner rays.
+struct PartTrace {
+    trace::Bundle centres, corners;
+    std::vector<trace::RayResult> c, k;
 };
 
 // One ghost at one field angle.
@@ -153,16 +159,26 @@ public:
                 if (d.energy[w] <= 0.0) continue;
                 // Each wavelength's own region: a ghost's lit pupil can change shape with the
                 // wavelength, not only shift (the double Gauss 50 mm's R3->R1 at 22.28-22.40 deg passes
-                // a 5 x 3 mm patch at 650 nm that is gone at the d line).
-                const trace::PupilRegion region = trace::pupilRegion(frame_, field, s_.sampling, atLambda_[w], steps_[g], fitOptions_.maxRadiusMm);
-                const trace::Bundle centres = trace::regionBundle(frame_, field, region, gridFor(region));
-                const trace::Bundle corners = trace::cornerBundle(frame_, field, centres);
-                std::vector<trace::RayResult> c(centres.rays.size()), k(corners.rays.size());
-                tracer_.trace(atLambda_[w], steps_[g], centres.rays, c);
-                tracer_.trace(atLambda_[w], steps_[g], corners.rays, k);
+                // a 5 x 3 mm patch at 650 nm that is gone at the d line). Where the light falls in
+                // pieces far apart, each piece gets a grid at its own scale (trace::pupilParts).
+                const auto regions = trace::pupilParts(frame_, field, s_.sampling, atLambda_[w], steps_[g], fitOptions_.maxRadiusMm);
                 const double scale = 1.0 / d.energy[w];
-                const trace::BundleMoments m = measure(w, steps_[g], field, centres, c, k, scale, fitOptions_.maxRadiusMm);
-                const GhostFit f = fitGhost(centres, c, k, scale, fitOptions_, &m);
+                std::vector<PartTrace> parts(regions.size());
+                std::vector<trace::BundleMoments> moments;
+                std::vector<BundlePart> views;
+                for (std::size_t p = 0; p < regions.size(); ++p) {
+                    PartTrace& t = parts[p];
+                    t.centres = trace::regionBundle(frame_, field, regions[p], gridFor(regions[p]));
+                    t.corners = trace::cornerBundle(frame_, field, t.centres);
+                    t.c.resize(t.centres.rays.size());
+                    t.k.resize(t.corners.rays.size());
+                    tracer_.trace(atLambda_[w], steps_[g], t.centres.rays, t.c);
+                    tracer_.trace(atLambda_[w], steps_[g], t.corners.rays, t.k);
+                    moments.push_back(measure(w, steps_[g], field, t.centres, t.c, t.k, scale, fitOptions_.maxRadiusMm));
+                    views.push_back({&t.centres, &t.c, &t.k});
+                }
+                const trace::BundleMoments m = trace::combineMoments(moments);
+                const GhostFit f = fitGhost(views, scale, fitOptions_, &m);
                 TableEntry& e = out[task][w];
                 e.centroidY = f.centroidY;
                 e.sigmaR = f.sigmaR;
@@ -473,18 +489,27 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
 }
 
 std::vector<std::vector<std::vector<TableEntry>>> traceEntries(const optics::Lens& lensIn, const TableSettings& s,
-                                                               const std::vector<double>& anglesDeg) {
+                                                               const std::vector<double>& anglesDeg,
+                                                               const std::vector<std::string>& onlyGhosts) {
     requireSymmetric(lensIn);
     const optics::Lens lens = trace::withCoating(lensIn, s.coating);
     const Progress none;
     Builder builder(lens, s, none);
-    const std::size_t nG = builder.pairs().size();
+    std::vector<std::size_t> ghosts;
+    for (std::size_t g = 0; g < builder.pairs().size(); ++g)
+        if (onlyGhosts.empty()) ghosts.push_back(g);
+    for (const std::string& label : onlyGhosts) {
+        const auto& pairs = builder.pairs();
+        const auto it = std::find_if(pairs.begin(), pairs.end(), [&](const trace::GhostPair& p) { return p.label() == label; });
+        if (it == pairs.end()) throw Error(ErrorKind::Input, SourceLocation{lens.file}, "the lens has no ghost " + label);
+        ghosts.push_back(static_cast<std::size_t>(it - pairs.begin()));
+    }
     std::vector<Task> tasks;
     for (double a : anglesDeg)
-        for (std::size_t g = 0; g < nG; ++g) tasks.push_back({g, a});
+        for (std::size_t g : ghosts) tasks.push_back({g, a});
     std::vector<std::vector<TableEntry>> rows = builder.trace(tasks);
     std::vector<std::vector<std::vector<TableEntry>>> out(anglesDeg.size());
-    for (std::size_t k = 0; k < tasks.size(); ++k) out[k / nG].push_back(std::move(rows[k]));
+    for (std::size_t k = 0; k < tasks.size(); ++k) out[k / ghosts.size()].push_back(std::move(rows[k]));
     return out;
 }
 

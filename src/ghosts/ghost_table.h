@@ -106,9 +106,11 @@ using Progress = std::function<void(std::size_t, std::size_t)>;
 GhostTable buildGhostTable(const optics::Lens& lens, const TableSettings& settings, const Progress& progress = {});
 
 /// What the table would hold at each of the given field angles, traced directly as the builder
-/// traces its entries: [angle][ghost][wavelength], ghosts in the table's order. For checking a
-/// table's interpolation against direct traces.
+/// traces its entries: [angle][ghost][wavelength], ghosts in the table's order, or only those whose
+/// labels are given, in that order (an unknown label is an error). For checking a table's
+/// interpolation against direct traces.
 std::vector<std::vector<std::vector<TableEntry>>> traceEntries(const optics::Lens& lens, const TableSettings& settings,
-                                                               const std::vector<double>& anglesDeg);
+                                                               const std::vector<double>& anglesDeg,
+                                                               const std::vector<std::string>& onlyGhosts = {});
 
 } // namespace ff::ghosts

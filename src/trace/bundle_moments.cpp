@@ -56,6 +56,26 @@ BundleMoments measureBundle(const Bundle& b, const std::vector<RayResult>& hits,
     return measureSamples(hits, areas, scale, maxRadius);
 }
 
+BundleMoments combineMoments(std::span<const BundleMoments> parts) {
+    BundleMoments m;
+    double sx = 0.0, sy = 0.0;
+    for (const BundleMoments& p : parts) {
+        m.launched += p.launched, m.surviving += p.surviving, m.blocked += p.blocked;
+        m.energy += p.energy;
+        sx += p.energy * p.centroidX, sy += p.energy * p.centroidY;
+    }
+    if (m.energy <= 0.0) return m;
+    m.centroidX = sx / m.energy, m.centroidY = sy / m.energy;
+    for (const BundleMoments& p : parts) {
+        const double dx = p.centroidX - m.centroidX, dy = p.centroidY - m.centroidY;
+        m.mxx += p.energy * (p.mxx + dx * dx);
+        m.myy += p.energy * (p.myy + dy * dy);
+        m.mxy += p.energy * (p.mxy + dx * dy);
+    }
+    m.mxx /= m.energy, m.myy /= m.energy, m.mxy /= m.energy;
+    return m;
+}
+
 BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWavelength& L, const std::vector<PathStep>& steps,
                                     const PupilFrame& pupil, const Field& field, const Bundle& centres, const std::vector<RayResult>& c,
                                     const std::vector<RayResult>& k, int subdivisions, double scale, double maxRadius) {

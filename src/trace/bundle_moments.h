@@ -25,6 +25,11 @@ BundleMoments measureBundle(const Bundle& bundle, const std::vector<RayResult>& 
 /// The same over samples that stand for pupil areas of their own (area 0: not launched).
 BundleMoments measureSamples(std::span<const RayResult> hits, std::span<const double> areas, double scale, double maxRadiusMm);
 
+/// The moments of the union of disjoint sets of samples (the parts of a path's pupil, each on its own
+/// grid) from theirs: energies and counts add, the centroid is the energy-weighted mean, and each
+/// part's second moments move to the common centroid by the parallel-axis rule.
+BundleMoments combineMoments(std::span<const BundleMoments> parts);
+
 /// measureBundle with the vignetting edges resolved below the grid. A cell whose centre and corner
 /// rays (cornerBundle) do not share one fate — lost or arriving, landing inside maxRadiusMm or not —
 /// straddles an edge that a single centre ray counts all or nothing of, so the moments would move in

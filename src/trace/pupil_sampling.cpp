@@ -3,8 +3,11 @@
 #include "core/units.h"
 #include "optics/paraxial.h"
 
+#include <glm/vec2.hpp>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace ff::trace {
 
@@ -54,37 +57,218 @@ Bundle gridBundle(const PupilFrame& frame, const Field& field, int n, double cx,
 
 namespace {
 
-// Bounding box of the grid points of b whose rays arrive, or an empty box (xMin > xMax).
+// Bounding box of lit grid points, with what the region search needs to know of them.
 struct LitBox {
     double xMin = 1e300, xMax = -1e300, yMin = 1e300, yMax = -1e300;
     bool touchesEdge = false; ///< light at a grid point of the outermost ring
     double litArea = 0.0;     ///< lit points x cell area
     int litPoints = 0, thinPoints = 0; ///< lit points; those with no lit neighbour on either side along x or along y
     bool empty() const { return xMin > xMax; }
+    void add(const LitBox& o) {
+        xMin = std::min(xMin, o.xMin), xMax = std::max(xMax, o.xMax);
+        yMin = std::min(yMin, o.yMin), yMax = std::max(yMax, o.yMax);
+        touchesEdge = touchesEdge || o.touchesEdge;
+        litArea += o.litArea, litPoints += o.litPoints, thinPoints += o.thinPoints;
+    }
 };
 
-// A point is lit where its ray arrives within maxRadius of the axis (0: anywhere).
-LitBox litBox(const Bundle& b, const LensAtWavelength& L, const std::vector<PathStep>& steps, double maxRadius) {
-    std::vector<RayResult> hits(b.rays.size());
-    traceAnalytic(L, steps, b.rays, hits, Weighting::None); // where light gets through, not how much
-    const auto lit = [&](int i, int j) {
-        if (i < 0 || j < 0 || i >= b.n || j >= b.n) return false;
-        const RayResult& r = hits[static_cast<std::size_t>(j) * b.n + i];
-        return r.status == optics::RayStatus::Ok && (maxRadius <= 0.0 || std::hypot(r.sensorPoint.x, r.sensorPoint.y) <= maxRadius);
+// Which points of b are lit: their rays arrive, within maxRadius of the axis (0: anywhere). A point
+// lies at its cell's centre, or, on a jittered pass, at its own place in its cell.
+struct LitGrid {
+    Bundle b;
+    std::vector<char> lit;
+    std::vector<glm::dvec2> offsets; ///< per point, in cells from its cell's centre (empty: none)
+    bool at(int i, int j) const { return i >= 0 && j >= 0 && i < b.n && j < b.n && lit[static_cast<std::size_t>(j) * b.n + i]; }
+    glm::dvec2 point(int i, int j) const {
+        const glm::dvec2 o = offsets.empty() ? glm::dvec2(0.0) : offsets[static_cast<std::size_t>(j) * b.n + i];
+        return {b.x0 + (i + 0.5 + o.x) * b.cell, b.y0 + (j + 0.5 + o.y) * b.cell};
+    }
+};
+
+// A fixed pseudo-random place in cell (i, j), within +-0.45 of a cell of its centre along each axis.
+glm::dvec2 jitter(int i, int j) {
+    std::uint32_t h = static_cast<std::uint32_t>(i) * 0x9E3779B1u ^ static_cast<std::uint32_t>(j) * 0x85EBCA77u;
+    const auto next = [&h] {
+        h ^= h >> 16, h *= 0x7FEB352Du, h ^= h >> 15, h *= 0x846CA68Bu, h ^= h >> 16;
+        return (h >> 8) * (1.0 / 16777216.0) - 0.5;
     };
+    const double x = next();
+    return {0.9 * x, 0.9 * next()};
+}
+
+// Traces b's points (moved by their jitter, if asked) and marks those lit.
+LitGrid litGrid(Bundle b, const LensAtWavelength& L, const std::vector<PathStep>& steps, double maxRadius, bool jittered = false) {
+    LitGrid g{std::move(b), {}, {}};
+    if (jittered) {
+        g.offsets.resize(g.b.rays.size());
+        for (int j = 0; j < g.b.n; ++j)
+            for (int i = 0; i < g.b.n; ++i) {
+                const std::size_t k = static_cast<std::size_t>(j) * g.b.n + i;
+                g.offsets[k] = jitter(i, j);
+                // The rays are parallel: moving a point of the pupil plane moves its ray's origin alike.
+                g.b.rays[k].origin.x += g.offsets[k].x * g.b.cell;
+                g.b.rays[k].origin.y += g.offsets[k].y * g.b.cell;
+            }
+    }
+    std::vector<RayResult> hits(g.b.rays.size());
+    traceAnalytic(L, steps, g.b.rays, hits, Weighting::None); // where light gets through, not how much
+    g.lit.assign(hits.size(), 0);
+    for (std::size_t k = 0; k < hits.size(); ++k) {
+        const RayResult& r = hits[k];
+        g.lit[k] = r.status == optics::RayStatus::Ok && (maxRadius <= 0.0 || std::hypot(r.sensorPoint.x, r.sensorPoint.y) <= maxRadius);
+    }
+    return g;
+}
+
+// The box of one lit point.
+LitBox pointBox(const LitGrid& g, int i, int j) {
     LitBox box;
-    for (int j = 0; j < b.n; ++j)
-        for (int i = 0; i < b.n; ++i) {
-            if (!lit(i, j)) continue;
-            const double x = b.x0 + (i + 0.5) * b.cell, y = b.y0 + (j + 0.5) * b.cell;
-            box.xMin = std::min(box.xMin, x), box.xMax = std::max(box.xMax, x);
-            box.yMin = std::min(box.yMin, y), box.yMax = std::max(box.yMax, y);
-            box.touchesEdge = box.touchesEdge || i == 0 || j == 0 || i == b.n - 1 || j == b.n - 1;
-            ++box.litPoints;
-            box.thinPoints += (!lit(i - 1, j) && !lit(i + 1, j)) || (!lit(i, j - 1) && !lit(i, j + 1));
-        }
-    box.litArea = box.litPoints * b.cell * b.cell;
+    const glm::dvec2 p = g.point(i, j);
+    box.xMin = box.xMax = p.x;
+    box.yMin = box.yMax = p.y;
+    box.touchesEdge = i == 0 || j == 0 || i == g.b.n - 1 || j == g.b.n - 1;
+    box.litArea = g.b.cell * g.b.cell;
+    box.litPoints = 1;
+    box.thinPoints = (!g.at(i - 1, j) && !g.at(i + 1, j)) || (!g.at(i, j - 1) && !g.at(i, j + 1));
     return box;
+}
+
+LitBox litBox(const LitGrid& g) {
+    LitBox box;
+    for (int j = 0; j < g.b.n; ++j)
+        for (int i = 0; i < g.b.n; ++i)
+            if (g.at(i, j)) box.add(pointBox(g, i, j));
+    return box;
+}
+
+LitBox litBox(const Bundle& b, const LensAtWavelength& L, const std::vector<PathStep>& steps, double maxRadius) {
+    return litBox(litGrid(b, L, steps, maxRadius));
+}
+
+// The pieces of light of a pass: the boxes of its groups of lit points linked through neighbours
+// (the eight around each), at most maxPieces of them (more: empty, the light is too broken up to
+// tell its pieces apart at this spacing).
+std::vector<LitBox> litPieces(const LitGrid& g, std::size_t maxPieces) {
+    std::vector<LitBox> pieces;
+    std::vector<char> seen(g.lit.size(), 0);
+    std::vector<std::pair<int, int>> stack;
+    for (int j0 = 0; j0 < g.b.n; ++j0)
+        for (int i0 = 0; i0 < g.b.n; ++i0) {
+            if (!g.at(i0, j0) || seen[static_cast<std::size_t>(j0) * g.b.n + i0]) continue;
+            if (pieces.size() == maxPieces) return {};
+            LitBox piece;
+            seen[static_cast<std::size_t>(j0) * g.b.n + i0] = 1;
+            stack.assign(1, {i0, j0});
+            while (!stack.empty()) {
+                const auto [i, j] = stack.back();
+                stack.pop_back();
+                piece.add(pointBox(g, i, j));
+                for (int dj = -1; dj <= 1; ++dj)
+                    for (int di = -1; di <= 1; ++di) {
+                        const std::size_t k = static_cast<std::size_t>(j + dj) * g.b.n + (i + di);
+                        if (!g.at(i + di, j + dj) || seen[k]) continue;
+                        seen[k] = 1;
+                        stack.push_back({i + di, j + dj});
+                    }
+            }
+            pieces.push_back(piece);
+        }
+    return pieces;
+}
+
+// The boxes' gap: how far apart they lie along x or y (negative where they overlap along both).
+double gap(const LitBox& a, const LitBox& b) {
+    return std::max(std::max(a.xMin - b.xMax, b.xMin - a.xMax), std::max(a.yMin - b.yMax, b.yMin - a.yMax));
+}
+
+// Merges boxes lying closer than minGap into one, until none do.
+std::vector<LitBox> mergeNear(std::vector<LitBox> boxes, double minGap) {
+    for (bool merged = true; merged;) {
+        merged = false;
+        for (std::size_t a = 0; a < boxes.size() && !merged; ++a)
+            for (std::size_t b = a + 1; b < boxes.size() && !merged; ++b)
+                if (gap(boxes[a], boxes[b]) < minGap) {
+                    boxes[a].add(boxes[b]);
+                    boxes.erase(boxes.begin() + static_cast<std::ptrdiff_t>(b));
+                    merged = true;
+                }
+    }
+    return boxes;
+}
+
+// The region search's shared steps, for one field and path: the coarse pass, the local passes that
+// find a box's extent at their finer spacing, and the square over a box.
+class RegionSearch {
+public:
+    RegionSearch(const PupilFrame& frame, const Field& field, const LensAtWavelength& L, const std::vector<PathStep>& steps,
+                 double maxRadius)
+        : frame_(frame), field_(field), L_(L), steps_(steps), maxRadius_(maxRadius), half_(searchHalfSize(frame, field)),
+          cell_(2.0 * half_ / kNominal) {}
+
+    // Coarse pass over everything that could enter the front surface, traced analytically. The
+    // margins below are in cells of a 96 x 96 pass over it. The pass itself is denser where the
+    // paraxial pupil is small against that square (a retrofocus wide angle's front opening dwarfs its
+    // pupil): its spacing is at most an eighth of the pupil's radius, the scale of a ghost's own
+    // pupil, or it steps over whole patches of light, or thin rings of it, at some field angles and
+    // not others. Its points are jittered, each at a fixed place of its own in its cell: light in a
+    // band thinner than the spacing and lying along the grid's rows or columns falls between every
+    // point of a regular grid at some field angles, while each jittered point catches it with a
+    // chance of its thickness over the spacing, so a band a few cells long is all but always found
+    // (the wide angle's R4->R2 at 31.72-31.78 deg passes a band 0.1 mm thick and 4.6 mm long, along
+    // x, that a regular 0.18 mm grid misses).
+    LitGrid coarse() const {
+        const int n = std::clamp(static_cast<int>(std::ceil(16.0 * half_ / frame_.radius)), kNominal, kMaxCoarse);
+        return litGrid(gridBundle(frame_, field_, n, 0.0, 0.0, half_, false), L_, steps_, maxRadius_, true);
+    }
+
+    // The coarse points miss the tips of thin regions (two discs barely overlapping), and the box would
+    // jump by a coarse cell, cutting off light, as the field angle moves them across the points. A local
+    // pass over the box (two cells wider on every side, wider still while light reaches its outermost
+    // points) finds the extent at its finer spacing.
+    LitBox refine(const LitBox& found) const {
+        double cx = 0.5 * (found.xMin + found.xMax), cy = 0.5 * (found.yMin + found.yMax);
+        double h = 0.5 * std::max(found.xMax - found.xMin, found.yMax - found.yMin) + 2.0 * cell_;
+        LitBox box = found;
+        for (int pass = 0; pass < 4; ++pass) {
+            const LitBox local = litBox(gridBundle(frame_, field_, kLocal, cx, cy, h, false), L_, steps_, maxRadius_);
+            if (local.empty()) break;
+            box = local;
+            if (!local.touchesEdge) break;
+            cx = 0.5 * (local.xMin + local.xMax), cy = 0.5 * (local.yMin + local.yMax);
+            h = 0.5 * std::max(local.xMax - local.xMin, local.yMax - local.yMin) + 4.0 * cell_;
+        }
+        // Never less than the coarse pass found: light thinner than the local spacing can fall
+        // between its points.
+        box.xMin = std::min(box.xMin, found.xMin), box.xMax = std::max(box.xMax, found.xMax);
+        box.yMin = std::min(box.yMin, found.yMin), box.yMax = std::max(box.yMax, found.yMax);
+        return box;
+    }
+
+    // One cell of margin on every side, then a square over the box.
+    PupilRegion square(const LitBox& box) const {
+        const double side = std::max(box.xMax - box.xMin, box.yMax - box.yMin) + 2.0 * cell_;
+        return {0.5 * (box.xMin + box.xMax), 0.5 * (box.yMin + box.yMax), 0.5 * side, false, std::min(1.0, box.litArea / (side * side)),
+                double(box.thinPoints) / box.litPoints};
+    }
+
+    double cell() const { return cell_; }
+
+private:
+    static constexpr int kNominal = 96, kMaxCoarse = 512, kLocal = 64;
+    const PupilFrame& frame_;
+    const Field& field_;
+    const LensAtWavelength& L_;
+    const std::vector<PathStep>& steps_;
+    double maxRadius_, half_, cell_;
+};
+
+// Pieces of light closer than this many cells of the nominal coarse pass share a part; parts are kept
+// only while their squares together cover at most this share of the square over all of them (else
+// one grid serves as well).
+constexpr double kPartGapCells = 8.0, kMaxPartShare = 0.25;
+
+bool overlap(const PupilRegion& a, const PupilRegion& b) {
+    return std::abs(a.cx - b.cx) < a.half + b.half && std::abs(a.cy - b.cy) < a.half + b.half;
 }
 
 } // namespace
@@ -97,37 +281,43 @@ double searchHalfSize(const PupilFrame& frame, const Field& field) {
 PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
                         const std::vector<PathStep>& steps, double maxRadiusMm) {
     if (sampling == Sampling::ParaxialGrid) return {0.0, 0.0, frame.radius, true};
-
-    // Coarse pass over everything that could enter the front surface, traced analytically.
-    const double half = searchHalfSize(frame, field);
-    // The margins below are in cells of a 96 x 96 pass over it. The pass itself is denser where the
-    // paraxial pupil is small against that square (a retrofocus wide angle's front opening dwarfs its
-    // pupil): its spacing is at most an eighth of the pupil's radius, the scale of a ghost's own pupil,
-    // or it steps over whole patches of light, or thin rings of it, at some field angles and not others.
-    constexpr int kNominal = 96, kMaxCoarse = 512, kLocal = 64;
-    const double cell = 2.0 * half / kNominal;
-    const int nCoarse = std::clamp(static_cast<int>(std::ceil(16.0 * half / frame.radius)), kNominal, kMaxCoarse);
-    const LitBox found = litBox(gridBundle(frame, field, nCoarse, 0.0, 0.0, half, false), L, steps, maxRadiusMm);
+    const RegionSearch search(frame, field, L, steps, maxRadiusMm);
+    const LitBox found = litBox(search.coarse());
     if (found.empty()) return {0.0, 0.0, frame.radius, true}; // nothing gets through: the paraxial pupil
-    // The coarse points miss the tips of thin regions (two discs barely overlapping), and the box would
-    // jump by a coarse cell, cutting off light, as the field angle moves them across the points. A local
-    // pass over the box (two cells wider on every side, wider still while light reaches its outermost
-    // points) finds the extent at its finer spacing.
-    double cx = 0.5 * (found.xMin + found.xMax), cy = 0.5 * (found.yMin + found.yMax);
-    double h = 0.5 * std::max(found.xMax - found.xMin, found.yMax - found.yMin) + 2.0 * cell;
-    LitBox box = found;
-    for (int pass = 0; pass < 4; ++pass) {
-        const LitBox local = litBox(gridBundle(frame, field, kLocal, cx, cy, h, false), L, steps, maxRadiusMm);
-        if (local.empty()) break;
-        box = local;
-        if (!local.touchesEdge) break;
-        cx = 0.5 * (local.xMin + local.xMax), cy = 0.5 * (local.yMin + local.yMax);
-        h = 0.5 * std::max(local.xMax - local.xMin, local.yMax - local.yMin) + 4.0 * cell;
+    return search.square(search.refine(found));
+}
+
+std::vector<PupilRegion> pupilParts(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
+                                    const std::vector<PathStep>& steps, double maxRadiusMm) {
+    if (sampling == Sampling::ParaxialGrid) return {{0.0, 0.0, frame.radius, true}};
+    const RegionSearch search(frame, field, L, steps, maxRadiusMm);
+    const LitGrid coarse = search.coarse();
+    constexpr std::size_t kMaxPieces = 64;
+    const std::vector<LitBox> groups = mergeNear(litPieces(coarse, kMaxPieces), kPartGapCells * search.cell());
+    LitBox all;
+    for (const LitBox& g : groups) all.add(g);
+    if (groups.empty()) {
+        const LitBox found = litBox(coarse); // too many pieces to tell apart, or none
+        if (found.empty()) return {{0.0, 0.0, frame.radius, true}};
+        return {search.square(search.refine(found))};
     }
-    // One cell of margin on every side, then a square over the box.
-    const double side = std::max(box.xMax - box.xMin, box.yMax - box.yMin) + 2.0 * cell;
-    return {0.5 * (box.xMin + box.xMax), 0.5 * (box.yMin + box.yMax), 0.5 * side, false, std::min(1.0, box.litArea / (side * side)),
-            double(box.thinPoints) / box.litPoints};
+    if (groups.size() > 1) {
+        // Each group's extent found by its own local passes.
+        std::vector<PupilRegion> parts;
+        double area = 0.0;
+        bool split = true;
+        for (const LitBox& g : groups) {
+            const LitBox box = search.refine(g);
+            if (box.touchesEdge) split = false; // light beyond the local passes: the part's extent is not known
+            parts.push_back(search.square(box));
+            area += 4.0 * parts.back().half * parts.back().half;
+        }
+        for (std::size_t a = 0; a < parts.size() && split; ++a)
+            for (std::size_t b = a + 1; b < parts.size() && split; ++b) split = !overlap(parts[a], parts[b]);
+        const PupilRegion whole = search.square(all);
+        if (split && area <= kMaxPartShare * 4.0 * whole.half * whole.half) return parts;
+    }
+    return {search.square(search.refine(all))};
 }
 
 PupilRegion bandRegion(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> ends,
