@@ -262,10 +262,10 @@ private:
     double maxRadius_, half_, cell_;
 };
 
-// Pieces of light closer than this many cells of the nominal coarse pass share a part; parts are kept
-// only while their squares together cover at most this share of the square over all of them (else
-// one grid serves as well).
-constexpr double kPartGapCells = 8.0, kMaxPartShare = 0.25;
+// Pieces of light closer than this many cells of the nominal coarse pass share a part; a region is
+// cut into at most kMaxParts parts (light in more groups is traced on one grid).
+constexpr double kPartGapCells = 8.0;
+constexpr std::size_t kMaxParts = 4;
 
 bool overlap(const PupilRegion& a, const PupilRegion& b) {
     return std::abs(a.cx - b.cx) < a.half + b.half && std::abs(a.cy - b.cy) < a.half + b.half;
@@ -301,21 +301,18 @@ std::vector<PupilRegion> pupilParts(const PupilFrame& frame, const Field& field,
         if (found.empty()) return {{0.0, 0.0, frame.radius, true}};
         return {search.square(search.refine(found))};
     }
-    if (groups.size() > 1) {
+    if (groups.size() > 1 && groups.size() <= kMaxParts) {
         // Each group's extent found by its own local passes.
         std::vector<PupilRegion> parts;
-        double area = 0.0;
         bool split = true;
         for (const LitBox& g : groups) {
             const LitBox box = search.refine(g);
             if (box.touchesEdge) split = false; // light beyond the local passes: the part's extent is not known
             parts.push_back(search.square(box));
-            area += 4.0 * parts.back().half * parts.back().half;
         }
         for (std::size_t a = 0; a < parts.size() && split; ++a)
             for (std::size_t b = a + 1; b < parts.size() && split; ++b) split = !overlap(parts[a], parts[b]);
-        const PupilRegion whole = search.square(all);
-        if (split && area <= kMaxPartShare * 4.0 * whole.half * whole.half) return parts;
+        if (split) return parts;
     }
     return {search.square(search.refine(all))};
 }

@@ -90,10 +90,10 @@ PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sa
 /// than 8 coarse cells join one group), each found by its own local passes, so that each gets a grid
 /// at its own scale; one grid over the square holding both would put a row or two across the band,
 /// and its moments would jitter from one field angle to the next. Not cut (one part, pupilRegion's
-/// region) where there is one group, where the light is too broken up to tell its pieces apart
-/// (over 64 at the coarse spacing), where a group's light reaches its local passes' outermost points,
-/// where the parts' squares would overlap, or where together they would cover over a quarter of the
-/// square over all of them. The parts' squares never overlap, so their grids count no light twice.
+/// region) where there is one group or more than four, where the light is too broken up to tell its
+/// pieces apart (over 64 pieces at the coarse spacing), where a group's light reaches its local
+/// passes' outermost points, or where the parts' squares would overlap. The parts' squares never
+/// overlap, so their grids count no light twice.
 std::vector<PupilRegion> pupilParts(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
                                     const std::vector<PathStep>& steps, double maxRadiusMm = 0.0);
 

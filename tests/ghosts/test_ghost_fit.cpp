@@ -20,12 +20,15 @@ struct Synthetic {
     double flux = 0.0;
 };
 
-Synthetic synthetic(int n, double h, double cx, double cy, const std::function<double(double, double)>& weight) {
+// The grid's corner is at (x0, y0) of the pupil plane, by default where it centres the grid on (0, 0).
+Synthetic synthetic(int n, double h, double cx, double cy, const std::function<double(double, double)>& weight, double x0 = NAN,
+                    double y0 = NAN) {
     Synthetic s;
     s.b.n = n;
     s.b.cell = h;
     s.b.cellArea = h * h;
-    s.b.x0 = s.b.y0 = -0.5 * n * h;
+    s.b.x0 = std::isnan(x0) ? -0.5 * n * h : x0;
+    s.b.y0 = std::isnan(y0) ? -0.5 * n * h : y0;
     s.b.rays.resize(static_cast<std::size_t>(n) * n);
     s.b.launched.assign(s.b.rays.size(), 1);
     auto ray = [&](double x, double y, double w) {
@@ -101,4 +104,28 @@ TEST(GhostFit, AGhostWithNoSurvivingRayHasNoFlux) {
     const GhostFit f = fitGhost(s.b, s.c, s.k, 1.0);
     EXPECT_EQ(f.flux, 0.0);
     EXPECT_EQ(f.survivingFraction, 0.0);
+}
+
+// A ghost traced in two parts, each on a grid of its own (the lower half of its pupil on 60 x 60
+// cells 0.05 mm wide, the upper half on 40 x 40 cells 0.075 mm wide): its flux is the parts' sum, its
+// moments and its fitted widths are those of the Gaussian the two halves make up together.
+TEST(GhostFit, AGhostTracedInPartsIsFittedAsAWhole) {
+    const double sx = 0.30, sy = 0.45;
+    const auto gaussian = [&](double x, double y) { return std::exp(-0.5 * (x * x / (sx * sx) + y * y / (sy * sy))); };
+    const Synthetic lower = synthetic(60, 0.05, 1.0, 6.0, gaussian, -1.5, -3.0);
+    const Synthetic upper = synthetic(40, 0.075, 1.0, 6.0, gaussian, -1.5, 0.0);
+    const BundlePart parts[] = {{&lower.b, &lower.c, &lower.k}, {&upper.b, &upper.c, &upper.k}};
+    const GhostFit f = fitGhost(parts, 1.0);
+    EXPECT_NEAR(f.flux, lower.flux + upper.flux, 1e-12 * f.flux);
+    EXPECT_NEAR(f.centroidX, 1.0, 1e-9);
+    EXPECT_NEAR(f.centroidY, 6.0, 0.01 * sy); // the two halves' midpoint sums differ a little
+    EXPECT_NEAR(f.sigmaT, sx, 0.01 * sx);
+    EXPECT_NEAR(f.sigmaR, sy, 0.01 * sy);
+    EXPECT_NEAR(f.gaussian.widthT, sx, 0.01 * sx);
+    EXPECT_NEAR(f.gaussian.widthR, sy, 0.01 * sy);
+    EXPECT_LT(f.gaussian.error, 0.02);
+    EXPECT_EQ(f.survivingFraction, 1.0);
+    // One part alone is half the Gaussian: its fit is off.
+    const GhostFit half = fitGhost(lower.b, lower.c, lower.k, 1.0);
+    EXPECT_GT(std::abs(half.centroidY - 6.0), 0.5 * sy);
 }

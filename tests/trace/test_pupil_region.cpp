@@ -227,3 +227,61 @@ TEST(PupilRegion, ThinShareIsTheShareOfLightNarrowerThanItsPoints) {
     EXPECT_LT(region.thinShare, ringShare + 0.01);
     EXPECT_GT(region.thinShare, 0.5 * ringShare);
 }
+
+namespace {
+
+// The stretches of the line x = 0 of the pupil plane whose rays arrive within the counting radius,
+// found by a scan of 2e5 points across [-half, half] (under half a micron apart here): (start, end).
+std::vector<std::pair<double, double>> litAlongY(const LensBench& s, const std::vector<PathStep>& steps, const Field& field, double half) {
+    constexpr int kPoints = 200000;
+    const optics::Ray centre = gridBundle(s.pupil, field, 1, 0.0, 0.0, half, false).rays[0]; // through (0, 0)
+    const double step = 2.0 * half / kPoints;
+    std::vector<optics::Ray> column(kPoints, centre);
+    for (int i = 0; i < kPoints; ++i) column[i].origin.y += -half + (i + 0.5) * step; // the rays are parallel
+    std::vector<RayResult> hits(kPoints);
+    traceAnalytic(s.L, steps, column, hits);
+    std::vector<std::pair<double, double>> lit;
+    for (int i = 0; i < kPoints; ++i) {
+        const bool on = hits[i].status == optics::RayStatus::Ok && std::hypot(hits[i].sensorPoint.x, hits[i].sensorPoint.y) <= test::kMaxRadius;
+        const double y = -half + (i + 0.5) * step;
+        if (!on) continue;
+        if (!lit.empty() && lit.back().second >= y - 1.5 * step) lit.back().second = y;
+        else lit.push_back({y, y});
+    }
+    return lit;
+}
+
+} // namespace
+
+// The wide angle's R4->R2 at 31.70-31.80 deg (550 nm, counting radius) passes a disc about 1.8 mm
+// across and, 18 mm above it in the pupil, a band under 0.1 mm thick and a few millimetres long along
+// x, found here by a fine scan up the line x = 0. A regular coarse pass steps over the band at some of
+// these angles (it did at 31.72-31.78 deg); the jittered one finds it at each, and pupilParts gives
+// the disc and the band squares of their own (so each gets a grid at its own scale): disjoint, and
+// holding every lit stretch of the scan.
+TEST(PupilRegion, PartsHoldLightFallingInPiecesFarApart) {
+    const LensBench s("wide-angle-16.7mm-f4.lens");
+    const std::vector<PathStep> steps = stepsOf(s.lens, "R4\u2192R2");
+    ASSERT_FALSE(steps.empty());
+    for (double angle : {31.70, 31.72, 31.74, 31.76, 31.78, 31.80}) {
+        const Field field{degToRad(angle), 0.0};
+        const auto lit = litAlongY(s, steps, field, searchHalfSize(s.pupil, field));
+        ASSERT_GE(lit.size(), 2u) << angle << " deg";
+        const auto [bandStart, bandEnd] = lit.back();
+        EXPECT_LT(bandEnd - bandStart, 0.1) << angle << " deg: the band";
+        EXPECT_GT(bandStart - lit.front().second, 15.0) << angle << " deg: the band lies far from the disc";
+        const std::vector<PupilRegion> parts = pupilParts(s.pupil, field, Sampling::Reaim, s.L, steps, test::kMaxRadius);
+        ASSERT_EQ(parts.size(), 2u) << angle << " deg";
+        const PupilRegion& a = parts[0];
+        const PupilRegion& b = parts[1];
+        EXPECT_TRUE(std::abs(a.cx - b.cx) >= a.half + b.half || std::abs(a.cy - b.cy) >= a.half + b.half) << angle << " deg: parts overlap";
+        for (const auto& [start, end] : lit) {
+            const bool held = std::any_of(parts.begin(), parts.end(), [&](const PupilRegion& p) {
+                return std::abs(p.cx) <= p.half && start >= p.cy - p.half && end <= p.cy + p.half;
+            });
+            EXPECT_TRUE(held) << angle << " deg: light at y " << start << " to " << end << " mm outside the parts";
+        }
+        std::printf("%.2f deg: disc %.3f..%.3f mm, band %.4f..%.4f mm; parts' half sides %.2f and %.2f mm\n", angle, lit.front().first,
+                    lit.front().second, bandStart, bandEnd, a.half, b.half);
+    }
+}
