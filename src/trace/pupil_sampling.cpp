@@ -85,15 +85,20 @@ struct LitGrid {
     }
 };
 
-// A fixed pseudo-random place in cell (i, j), within +-0.45 of a cell of its centre along each axis.
-glm::dvec2 jitter(int i, int j) {
-    std::uint32_t h = static_cast<std::uint32_t>(i) * 0x9E3779B1u ^ static_cast<std::uint32_t>(j) * 0x85EBCA77u;
+// A fixed pseudo-random place in cell (i, j) of an n x n pass, within +-0.45 of a cell of its centre
+// along each axis, mirrored across the pass's middle column: a pass centred on the axis then keeps
+// the mirror symmetry of the light of a source at azimuth 0 (both pieces of a mirrored pair are met
+// or neither).
+glm::dvec2 jitter(int i, int j, int n) {
+    const int m = std::min(i, n - 1 - i);
+    const double side = i == n - 1 - i ? 0.0 : (i < n - 1 - i ? 1.0 : -1.0);
+    std::uint32_t h = static_cast<std::uint32_t>(m) * 0x9E3779B1u ^ static_cast<std::uint32_t>(j) * 0x85EBCA77u;
     const auto next = [&h] {
         h ^= h >> 16, h *= 0x7FEB352Du, h ^= h >> 15, h *= 0x846CA68Bu, h ^= h >> 16;
         return (h >> 8) * (1.0 / 16777216.0) - 0.5;
     };
     const double x = next();
-    return {0.9 * x, 0.9 * next()};
+    return {0.9 * side * x, 0.9 * next()};
 }
 
 // Traces b's points (moved by their jitter, if asked) and marks those lit.
@@ -104,7 +109,7 @@ LitGrid litGrid(Bundle b, const LensAtWavelength& L, const std::vector<PathStep>
         for (int j = 0; j < g.b.n; ++j)
             for (int i = 0; i < g.b.n; ++i) {
                 const std::size_t k = static_cast<std::size_t>(j) * g.b.n + i;
-                g.offsets[k] = jitter(i, j);
+                g.offsets[k] = jitter(i, j, g.b.n);
                 // The rays are parallel: moving a point of the pupil plane moves its ray's origin alike.
                 g.b.rays[k].origin.x += g.offsets[k].x * g.b.cell;
                 g.b.rays[k].origin.y += g.offsets[k].y * g.b.cell;

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <string>
 
 using namespace ff;
@@ -283,5 +284,31 @@ TEST(PupilRegion, PartsHoldLightFallingInPiecesFarApart) {
         }
         std::printf("%.2f deg: disc %.3f..%.3f mm, band %.4f..%.4f mm; parts' half sides %.2f and %.2f mm\n", angle, lit.front().first,
                     lit.front().second, bandStart, bandEnd, a.half, b.half);
+    }
+}
+
+// A rotationally symmetric lens passes light from a source at azimuth 0 through a pupil region that is
+// its own mirror image across x = 0. The double Gauss 50 mm's R11->R5 at the edge of its field
+// (24.681-24.690 deg, 650 nm, counting radius) passes two patches about 1.7 mm across at x = +-8.1 mm:
+// the search finds both or neither (a coarse pass jittered without that symmetry found only one, and
+// the ghost's tangential spread halved), and the region, or its parts, mirror onto themselves.
+TEST(PupilRegion, KeepsTheMirrorSymmetryOfTheLight) {
+    const LensBench s("double-gauss-50mm-f2.lens");
+    const LensAtWavelength red(s.lens, 650.0, s.sensorZ);
+    const std::vector<PathStep> steps = stepsOf(s.lens, "R11\u2192R5");
+    ASSERT_FALSE(steps.empty());
+    for (double angle = 24.681; angle <= 24.6905; angle += 0.003) {
+        const Field field{degToRad(angle), 0.0};
+        const std::vector<PupilRegion> parts = pupilParts(s.pupil, field, Sampling::Reaim, red, steps, test::kMaxRadius);
+        const double width = std::accumulate(parts.begin(), parts.end(), 0.0, [](double w, const PupilRegion& p) { return w + p.half; });
+        for (const PupilRegion& p : parts) {
+            const bool mirrored = std::any_of(parts.begin(), parts.end(), [&](const PupilRegion& q) {
+                return std::abs(q.cx + p.cx) < 0.05 * width && std::abs(q.cy - p.cy) < 0.05 * width && std::abs(q.half - p.half) < 0.05 * width;
+            });
+            EXPECT_TRUE(mirrored) << angle << " deg: the part at x " << p.cx << " mm has no mirror image";
+        }
+        const Coverage c = coverage(s, red, steps, field, {pupilRegion(s.pupil, field, Sampling::Reaim, red, steps, test::kMaxRadius)},
+                                    test::kMaxRadius);
+        EXPECT_EQ(c.outside[0], 0) << angle << " deg";
     }
 }
