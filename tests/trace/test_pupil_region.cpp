@@ -187,18 +187,27 @@ TEST(PupilRegion, BandRegionHoldsTheLightOfEveryWavelengthInTheBand) {
 
 namespace {
 
-// Where rays through (x, 0) of the pupil plane start arriving or stop, scanning x across [-half, half]
-// at 2e5 points (0.1 um apart at the widest region here).
-std::vector<double> edgesAlongX(const LensBench& s, const std::vector<PathStep>& steps, const Field& field, double half) {
-    constexpr int kPoints = 200000;
+constexpr int kScanPoints = 200000;
+
+// The hits of kScanPoints parallel rays through the line y = 0 (alongX) or x = 0 of the pupil plane,
+// spread evenly across [-half, half]: point i at -half + (i + 0.5) x 2 half / kScanPoints.
+std::vector<RayResult> scanLine(const LensBench& s, const std::vector<PathStep>& steps, const Field& field, double half, bool alongX) {
     const optics::Ray centre = gridBundle(s.pupil, field, 1, 0.0, 0.0, half, false).rays[0]; // through (0, 0)
-    const double step = 2.0 * half / kPoints;
-    std::vector<optics::Ray> row(kPoints, centre);
-    for (int i = 0; i < kPoints; ++i) row[i].origin.x += -half + (i + 0.5) * step; // the rays are parallel
-    std::vector<RayResult> hits(kPoints);
-    traceAnalytic(s.L, steps, row, hits);
+    const double step = 2.0 * half / kScanPoints;
+    std::vector<optics::Ray> line(kScanPoints, centre);
+    for (int i = 0; i < kScanPoints; ++i) (alongX ? line[i].origin.x : line[i].origin.y) += -half + (i + 0.5) * step; // parallel rays
+    std::vector<RayResult> hits(kScanPoints);
+    traceAnalytic(s.L, steps, line, hits);
+    return hits;
+}
+
+// Where rays through (x, 0) of the pupil plane start arriving or stop, scanning x across [-half, half]
+// (0.1 um apart at the widest region here).
+std::vector<double> edgesAlongX(const LensBench& s, const std::vector<PathStep>& steps, const Field& field, double half) {
+    const std::vector<RayResult> hits = scanLine(s, steps, field, half, true);
+    const double step = 2.0 * half / kScanPoints;
     std::vector<double> edges;
-    for (int i = 1; i < kPoints; ++i)
+    for (int i = 1; i < kScanPoints; ++i)
         if ((hits[i].status == optics::RayStatus::Ok) != (hits[i - 1].status == optics::RayStatus::Ok)) edges.push_back(-half + i * step);
     return edges;
 }
@@ -232,17 +241,12 @@ TEST(PupilRegion, ThinShareIsTheShareOfLightNarrowerThanItsPoints) {
 namespace {
 
 // The stretches of the line x = 0 of the pupil plane whose rays arrive within the counting radius,
-// found by a scan of 2e5 points across [-half, half] (under half a micron apart here): (start, end).
+// found by a scan across [-half, half] (under half a micron apart here): (start, end).
 std::vector<std::pair<double, double>> litAlongY(const LensBench& s, const std::vector<PathStep>& steps, const Field& field, double half) {
-    constexpr int kPoints = 200000;
-    const optics::Ray centre = gridBundle(s.pupil, field, 1, 0.0, 0.0, half, false).rays[0]; // through (0, 0)
-    const double step = 2.0 * half / kPoints;
-    std::vector<optics::Ray> column(kPoints, centre);
-    for (int i = 0; i < kPoints; ++i) column[i].origin.y += -half + (i + 0.5) * step; // the rays are parallel
-    std::vector<RayResult> hits(kPoints);
-    traceAnalytic(s.L, steps, column, hits);
+    const std::vector<RayResult> hits = scanLine(s, steps, field, half, false);
+    const double step = 2.0 * half / kScanPoints;
     std::vector<std::pair<double, double>> lit;
-    for (int i = 0; i < kPoints; ++i) {
+    for (int i = 0; i < kScanPoints; ++i) {
         const bool on = hits[i].status == optics::RayStatus::Ok && std::hypot(hits[i].sensorPoint.x, hits[i].sensorPoint.y) <= test::kMaxRadius;
         const double y = -half + (i + 0.5) * step;
         if (!on) continue;
