@@ -216,7 +216,7 @@ public:
     // point of a regular grid at some field angles, while each jittered point catches it with a
     // chance of its thickness over the spacing, so a band a few cells long is all but always found
     // (the wide angle's R4->R2 at 31.72-31.78 deg passes a band 0.1 mm thick and 4.6 mm long, along
-    // x, that a regular 0.18 mm grid misses).
+    // x, that a regular grid of points 0.28 mm apart misses).
     LitGrid coarse() const {
         const int n = std::clamp(static_cast<int>(std::ceil(16.0 * half_ / frame_.radius)), kNominal, kMaxCoarse);
         return litGrid(gridBundle(frame_, field_, n, 0.0, 0.0, half_, false), L_, steps_, maxRadius_, true);
