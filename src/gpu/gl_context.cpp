@@ -121,12 +121,14 @@ std::unique_ptr<GlContext> GlContext::create(std::string& why, bool hardwareOnly
     return nullptr;
 }
 
+// The display is left initialised. An EGL display is process-wide (eglGetPlatformDisplayEXT gives
+// every caller the same handle), so terminating it here would invalidate every other context on it;
+// and Mesa unloads its driver on eglTerminate, so the next context would load it again (9.4 ms
+// against 1.8 ms per context with llvmpipe). Only this context is released, and only if current.
 GlContext::~GlContext() {
-    if (context_) {
-        eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-        eglDestroyContext(display_, context_);
-    }
-    if (display_) eglTerminate(display_);
+    if (!context_) return;
+    if (eglGetCurrentContext() == context_) eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    eglDestroyContext(display_, context_);
 }
 
 } // namespace ff::gpu

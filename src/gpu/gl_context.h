@@ -2,7 +2,8 @@
 // A headless OpenGL 4.5 core context through EGL, no window and no config (EGL_KHR_no_config_context).
 // Hardware first: the EGL devices (EGL_EXT_device_enumeration) are tried, those that are not Mesa's
 // software device before it; then Mesa's surfaceless platform, which on a machine without a GPU is
-// llvmpipe. The context is current on the thread that created it and only there.
+// llvmpipe. The context is current on the thread that created it and only there. Destroying it
+// leaves its display initialised for the other contexts of the process (gl_context.cpp).
 
 #include <memory>
 #include <string>
