@@ -20,7 +20,7 @@
 namespace ff::ghosts {
 
 std::string TableSettings::key() const {
-    std::string k = "table-v10 lambda";
+    std::string k = "table-v11 lambda";
     for (double l : wavelengthsNm) k += " " + text::roundTrip(l);
     k += " sampling " + std::to_string(static_cast<int>(sampling)) + " grid " + std::to_string(grid) + " sensor " +
          std::to_string(static_cast<int>(sensor)) + " coating " + std::to_string(static_cast<int>(coating)) + " max " +
@@ -155,13 +155,16 @@ public:
             const std::size_t g = tasks[task].ghost;
             const DirectResult& d = direct_.at(tasks[task].angleDeg);
             const trace::Field field{degToRad(tasks[task].angleDeg), 0.0};
+            // Each wavelength's own region: a ghost's lit pupil can change shape with the wavelength,
+            // not only shift (the double Gauss 50 mm's R3->R1 at 22.28-22.40 deg passes a 5 x 3 mm
+            // patch at 650 nm that is gone at the d line). Where the light falls in pieces far apart,
+            // each piece gets a grid at its own scale; the wavelengths' searches tell one another
+            // where they found light (trace::pupilPartsByWavelength).
+            const auto partsByWavelength =
+                trace::pupilPartsByWavelength(frame_, field, s_.sampling, atLambda_, steps_[g], fitOptions_.maxRadiusMm);
             for (std::size_t w = 0; w < nW; ++w) {
                 if (d.energy[w] <= 0.0) continue;
-                // Each wavelength's own region: a ghost's lit pupil can change shape with the
-                // wavelength, not only shift (the double Gauss 50 mm's R3->R1 at 22.28-22.40 deg passes
-                // a 5 x 3 mm patch at 650 nm that is gone at the d line). Where the light falls in
-                // pieces far apart, each piece gets a grid at its own scale (trace::pupilParts).
-                const auto regions = trace::pupilParts(frame_, field, s_.sampling, atLambda_[w], steps_[g], fitOptions_.maxRadiusMm);
+                const std::vector<trace::PupilRegion>& regions = partsByWavelength[w];
                 const double scale = 1.0 / d.energy[w];
                 std::vector<PartTrace> parts(regions.size());
                 std::vector<trace::BundleMoments> moments;

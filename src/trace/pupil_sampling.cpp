@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 
 namespace ff::trace {
 
@@ -88,11 +89,11 @@ struct LitGrid {
 // A fixed pseudo-random place in cell (i, j) of an n x n pass, within +-0.45 of a cell of its centre
 // along each axis, mirrored across the pass's middle column: a pass centred on the axis then keeps
 // the mirror symmetry of the light of a source at azimuth 0 (both pieces of a mirrored pair are met
-// or neither).
-glm::dvec2 jitter(int i, int j, int n) {
+// or neither). Passes with different seeds place their points independently.
+glm::dvec2 jitter(int i, int j, int n, std::uint32_t seed) {
     const int m = std::min(i, n - 1 - i);
     const double side = i == n - 1 - i ? 0.0 : (i < n - 1 - i ? 1.0 : -1.0);
-    std::uint32_t h = static_cast<std::uint32_t>(m) * 0x9E3779B1u ^ static_cast<std::uint32_t>(j) * 0x85EBCA77u;
+    std::uint32_t h = (static_cast<std::uint32_t>(m) * 0x9E3779B1u ^ static_cast<std::uint32_t>(j) * 0x85EBCA77u) + seed * 0xC2B2AE3Du;
     const auto next = [&h] {
         h ^= h >> 16, h *= 0x7FEB352Du, h ^= h >> 15, h *= 0x846CA68Bu, h ^= h >> 16;
         return (h >> 8) * (1.0 / 16777216.0) - 0.5;
@@ -101,15 +102,16 @@ glm::dvec2 jitter(int i, int j, int n) {
     return {0.9 * side * x, 0.9 * next()};
 }
 
-// Traces b's points (moved by their jitter, if asked) and marks those lit.
-LitGrid litGrid(Bundle b, const LensAtWavelength& L, const std::vector<PathStep>& steps, double maxRadius, bool jittered = false) {
+// Traces b's points (moved by their jitter, if a seed is given) and marks those lit.
+LitGrid litGrid(Bundle b, const LensAtWavelength& L, const std::vector<PathStep>& steps, double maxRadius,
+                std::optional<std::uint32_t> jitterSeed = std::nullopt) {
     LitGrid g{std::move(b), {}, {}};
-    if (jittered) {
+    if (jitterSeed) {
         g.offsets.resize(g.b.rays.size());
         for (int j = 0; j < g.b.n; ++j)
             for (int i = 0; i < g.b.n; ++i) {
                 const std::size_t k = static_cast<std::size_t>(j) * g.b.n + i;
-                g.offsets[k] = jitter(i, j, g.b.n);
+                g.offsets[k] = jitter(i, j, g.b.n, *jitterSeed);
                 // The rays are parallel: moving a point of the pupil plane moves its ray's origin alike.
                 g.b.rays[k].origin.x += g.offsets[k].x * g.b.cell;
                 g.b.rays[k].origin.y += g.offsets[k].y * g.b.cell;
@@ -217,9 +219,20 @@ public:
     // chance of its thickness over the spacing, so a band a few cells long is all but always found
     // (the wide angle's R4->R2 at 31.72-31.78 deg passes a band 0.1 mm thick and 4.6 mm long, along
     // x, that a regular grid of points 0.28 mm apart misses).
-    LitGrid coarse() const {
+    // Searches of the same field at other wavelengths pass other seeds, so that each places its points
+    // independently of the others and a band one misses another is likely to meet (pieces()).
+    LitGrid coarse(std::uint32_t seed = 0) const {
         const int n = std::clamp(static_cast<int>(std::ceil(16.0 * half_ / frame_.radius)), kNominal, kMaxCoarse);
-        return litGrid(gridBundle(frame_, field_, n, 0.0, 0.0, half_, false), L_, steps_, maxRadius_, true);
+        return litGrid(gridBundle(frame_, field_, n, 0.0, 0.0, half_, false), L_, steps_, maxRadius_, seed);
+    }
+
+    // Whether light is at this wavelength where another's search found a piece: a jittered local pass
+    // over the piece's box, two coarse cells wider on every side. The pieces of light it finds.
+    std::vector<LitBox> look(const LitBox& hint, std::size_t maxPieces) const {
+        const double h = 0.5 * std::max(hint.xMax - hint.xMin, hint.yMax - hint.yMin) + 2.0 * cell_;
+        const LitGrid g = litGrid(gridBundle(frame_, field_, kLocal, 0.5 * (hint.xMin + hint.xMax), 0.5 * (hint.yMin + hint.yMax), h, false),
+                                  L_, steps_, maxRadius_, kLookSeed);
+        return litPieces(g, maxPieces);
     }
 
     // The coarse points miss the tips of thin regions (two discs barely overlapping), and the box would
@@ -259,6 +272,7 @@ public:
 
 private:
     static constexpr int kNominal = 96, kMaxCoarse = 512, kLocal = 64;
+    static constexpr std::uint32_t kLookSeed = 0xA5A5u;
     const PupilFrame& frame_;
     const Field& field_;
     const LensAtWavelength& L_;
@@ -291,46 +305,96 @@ PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sa
     return search.square(search.refine(found));
 }
 
+namespace {
+
+constexpr std::size_t kMaxPieces = 64;
+
+// What a coarse pass found: its pieces of light (none where there are more than kMaxPieces, too broken
+// up to tell apart) and the box over all of it.
+struct Found {
+    std::vector<LitBox> pieces;
+    LitBox all;
+};
+
+Found findPieces(const RegionSearch& search, std::uint32_t seed) {
+    const LitGrid coarse = search.coarse(seed);
+    return {litPieces(coarse, kMaxPieces), litBox(coarse)};
+}
+
+// Whether b lies within `margin` of a (their boxes, each widened by margin, overlap).
+bool near(const LitBox& a, const LitBox& b, double margin) { return gap(a, b) < margin; }
+
+// The parts of pupilParts from the pieces found.
+std::vector<PupilRegion> partsFrom(const RegionSearch& search, const PupilFrame& frame, const Found& found) {
+    if (found.all.empty()) return {{0.0, 0.0, frame.radius, true}}; // nothing gets through: the paraxial pupil
+    const std::vector<LitBox> groups = mergeNear(found.pieces, kPartGapCells * search.cell());
+    if (groups.size() < 2 || groups.size() > kMaxParts) return {search.square(search.refine(found.all))};
+    // Each group's extent found by its own local passes.
+    std::vector<PupilRegion> parts;
+    bool split = true;
+    for (const LitBox& g : groups) {
+        const LitBox box = search.refine(g);
+        if (box.touchesEdge) split = false; // light beyond the local passes: the part's extent is not known
+        parts.push_back(search.square(box));
+    }
+    for (std::size_t a = 0; a < parts.size() && split; ++a)
+        for (std::size_t b = a + 1; b < parts.size() && split; ++b) split = !overlap(parts[a], parts[b]);
+    // The local passes over all the groups together can find light between them that the coarse
+    // pass stepped over (the double Gauss 50 mm's R11->R5 near 24.54 deg: a band 0.24 mm thick
+    // below two patches far apart); the parts must hold all of it, or the region is not cut.
+    LitGrid whole;
+    const LitBox wholeBox = search.refine(found.all, &whole);
+    for (int j = 0; j < whole.b.n && split; ++j)
+        for (int i = 0; i < whole.b.n && split; ++i) {
+            if (!whole.at(i, j)) continue;
+            const glm::dvec2 p = whole.point(i, j);
+            split = std::any_of(parts.begin(), parts.end(),
+                                [&](const PupilRegion& r) { return std::abs(p.x - r.cx) <= r.half && std::abs(p.y - r.cy) <= r.half; });
+        }
+    return split ? parts : std::vector<PupilRegion>{search.square(wholeBox)};
+}
+
+} // namespace
+
 std::vector<PupilRegion> pupilParts(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
                                     const std::vector<PathStep>& steps, double maxRadiusMm) {
-    if (sampling == Sampling::ParaxialGrid) return {{0.0, 0.0, frame.radius, true}};
-    const RegionSearch search(frame, field, L, steps, maxRadiusMm);
-    const LitGrid coarse = search.coarse();
-    constexpr std::size_t kMaxPieces = 64;
-    const std::vector<LitBox> groups = mergeNear(litPieces(coarse, kMaxPieces), kPartGapCells * search.cell());
-    LitBox all;
-    for (const LitBox& g : groups) all.add(g);
-    if (groups.empty()) {
-        const LitBox found = litBox(coarse); // too many pieces to tell apart, or none
-        if (found.empty()) return {{0.0, 0.0, frame.radius, true}};
-        return {search.square(search.refine(found))};
+    return pupilPartsByWavelength(frame, field, sampling, std::span<const LensAtWavelength>(&L, 1), steps, maxRadiusMm).front();
+}
+
+std::vector<std::vector<PupilRegion>> pupilPartsByWavelength(const PupilFrame& frame, const Field& field, Sampling sampling,
+                                                             std::span<const LensAtWavelength> Ls, const std::vector<PathStep>& steps,
+                                                             double maxRadiusMm) {
+    if (sampling == Sampling::ParaxialGrid) return std::vector<std::vector<PupilRegion>>(Ls.size(), {{0.0, 0.0, frame.radius, true}});
+    std::vector<RegionSearch> searches;
+    searches.reserve(Ls.size());
+    std::vector<Found> found;
+    for (std::size_t w = 0; w < Ls.size(); ++w) {
+        searches.emplace_back(frame, field, Ls[w], steps, maxRadiusMm);
+        found.push_back(findPieces(searches[w], static_cast<std::uint32_t>(w)));
     }
-    if (groups.size() > 1 && groups.size() <= kMaxParts) {
-        // Each group's extent found by its own local passes.
-        std::vector<PupilRegion> parts;
-        bool split = true;
-        for (const LitBox& g : groups) {
-            const LitBox box = search.refine(g);
-            if (box.touchesEdge) split = false; // light beyond the local passes: the part's extent is not known
-            parts.push_back(search.square(box));
-        }
-        for (std::size_t a = 0; a < parts.size() && split; ++a)
-            for (std::size_t b = a + 1; b < parts.size() && split; ++b) split = !overlap(parts[a], parts[b]);
-        // The local passes over all the groups together can find light between them that the coarse
-        // pass stepped over (the double Gauss 50 mm's R11->R5 near 24.54 deg: a band 0.24 mm thick
-        // below two patches far apart); the parts must hold all of it, or the region is not cut.
-        LitGrid whole;
-        const LitBox wholeBox = search.refine(all, &whole);
-        for (int j = 0; j < whole.b.n && split; ++j)
-            for (int i = 0; i < whole.b.n && split; ++i) {
-                if (!whole.at(i, j)) continue;
-                const glm::dvec2 p = whole.point(i, j);
-                split = std::any_of(parts.begin(), parts.end(),
-                                    [&](const PupilRegion& r) { return std::abs(p.x - r.cx) <= r.half && std::abs(p.y - r.cy) <= r.half; });
-            }
-        return split ? parts : std::vector<PupilRegion>{search.square(wholeBox)};
+    std::vector<std::vector<PupilRegion>> parts;
+    for (std::size_t w = 0; w < Ls.size(); ++w) {
+        Found mine = found[w];
+        const double margin = 2.0 * searches[w].cell();
+        // The pieces other wavelengths found with nothing of this one's near them (light shifts a
+        // little with the wavelength; a piece far from all of this one's was stepped over, or is not
+        // there at this wavelength): looked at again, unless the light is too broken up to tell its
+        // pieces apart or they fall in more groups than a region is cut into.
+        std::vector<LitBox> hints;
+        const bool broken = mine.pieces.empty() && !mine.all.empty();
+        for (std::size_t v = 0; v < Ls.size() && !broken; ++v)
+            for (const LitBox& p : v == w ? std::vector<LitBox>{} : found[v].pieces)
+                if (std::none_of(mine.pieces.begin(), mine.pieces.end(), [&](const LitBox& q) { return near(p, q, margin); })) hints.push_back(p);
+        hints = mergeNear(std::move(hints), kPartGapCells * searches[w].cell());
+        if (hints.size() <= kMaxParts)
+            for (const LitBox& h : hints)
+                for (const LitBox& p : searches[w].look(h, kMaxPieces)) {
+                    mine.pieces.push_back(p);
+                    mine.all.add(p);
+                }
+        parts.push_back(partsFrom(searches[w], frame, mine));
     }
-    return {search.square(search.refine(all))};
+    return parts;
 }
 
 PupilRegion bandRegion(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> ends,

@@ -97,6 +97,17 @@ PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sa
 std::vector<PupilRegion> pupilParts(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
                                     const std::vector<PathStep>& steps, double maxRadiusMm = 0.0);
 
+/// pupilParts at several wavelengths of the same field and path, [wavelength][part]. The searches help
+/// one another: each places its coarse points independently of the others, and where one finds a piece
+/// of light far from everything another found, the other looks for light there on a finer pass of its
+/// own. A band a fraction of the coarse spacing thick is met by each search with a chance of its own
+/// (the wide angle's R4->R2 at 30.3-31.6 deg: 0.05 mm thick against 0.28 mm apart, missed at 450 nm
+/// at a third of those angles alone, at an eighth searched with 550 and 650 nm); where one search
+/// finds it, the others' finer passes find it too, if it is there at their wavelengths.
+std::vector<std::vector<PupilRegion>> pupilPartsByWavelength(const PupilFrame& frame, const Field& field, Sampling sampling,
+                                                             std::span<const LensAtWavelength> Ls, const std::vector<PathStep>& steps,
+                                                             double maxRadiusMm = 0.0);
+
 /// One region for a band of wavelengths, for callers that trace all of them on the same grid: the
 /// square over the regions searched at the band's shortest and longest wavelengths (first and last
 /// of `ends`). A lit pupil can change shape with the wavelength, not only shift, and the indices,

@@ -190,14 +190,16 @@ namespace {
 constexpr int kScanPoints = 200000;
 
 // The hits of kScanPoints parallel rays through the line y = 0 (alongX) or x = 0 of the pupil plane,
-// spread evenly across [-half, half]: point i at -half + (i + 0.5) x 2 half / kScanPoints.
-std::vector<RayResult> scanLine(const LensBench& s, const std::vector<PathStep>& steps, const Field& field, double half, bool alongX) {
+// spread evenly across [-half, half]: point i at -half + (i + 0.5) x 2 half / kScanPoints; at the bench's
+// wavelength, or at `at`'s.
+std::vector<RayResult> scanLine(const LensBench& s, const std::vector<PathStep>& steps, const Field& field, double half, bool alongX,
+                                const LensAtWavelength* at = nullptr) {
     const optics::Ray centre = gridBundle(s.pupil, field, 1, 0.0, 0.0, half, false).rays[0]; // through (0, 0)
     const double step = 2.0 * half / kScanPoints;
     std::vector<optics::Ray> line(kScanPoints, centre);
     for (int i = 0; i < kScanPoints; ++i) (alongX ? line[i].origin.x : line[i].origin.y) += -half + (i + 0.5) * step; // parallel rays
     std::vector<RayResult> hits(kScanPoints);
-    traceAnalytic(s.L, steps, line, hits);
+    traceAnalytic(at ? *at : s.L, steps, line, hits);
     return hits;
 }
 
@@ -241,9 +243,11 @@ TEST(PupilRegion, ThinShareIsTheShareOfLightNarrowerThanItsPoints) {
 namespace {
 
 // The stretches of the line x = 0 of the pupil plane whose rays arrive within the counting radius,
-// found by a scan across [-half, half] (under half a micron apart here): (start, end).
-std::vector<std::pair<double, double>> litAlongY(const LensBench& s, const std::vector<PathStep>& steps, const Field& field, double half) {
-    const std::vector<RayResult> hits = scanLine(s, steps, field, half, false);
+// found by a scan across [-half, half] (under half a micron apart here): (start, end). At the bench's
+// wavelength, or at `at`'s.
+std::vector<std::pair<double, double>> litAlongY(const LensBench& s, const std::vector<PathStep>& steps, const Field& field, double half,
+                                                 const LensAtWavelength* at = nullptr) {
+    const std::vector<RayResult> hits = scanLine(s, steps, field, half, false, at);
     const double step = 2.0 * half / kScanPoints;
     std::vector<std::pair<double, double>> lit;
     for (int i = 0; i < kScanPoints; ++i) {
@@ -288,6 +292,32 @@ TEST(PupilRegion, PartsHoldLightFallingInPiecesFarApart) {
         }
         std::printf("%.2f deg: disc %.3f..%.3f mm, band %.4f..%.4f mm; parts' half sides %.2f and %.2f mm\n", angle, lit.front().first,
                     lit.front().second, bandStart, bandEnd, a.half, b.half);
+    }
+}
+
+// The same ghost at 30.86-30.98 deg and 450 nm passes a band 0.055 mm thick, 17 mm above its disc in
+// the pupil (found by the fine scan up x = 0), which that wavelength's search alone, its coarse points
+// 0.28 mm apart, steps over at each of these angles, while the search at 650 nm finds it. Searched
+// together, the 450 nm search looks again where the others found light: its parts hold the band.
+TEST(PupilRegion, SearchesAtSeveralWavelengthsFindWhatOneSteppedOver) {
+    const LensBench s("wide-angle-16.7mm-f4.lens");
+    const std::vector<PathStep> steps = stepsOf(s.lens, "R4\u2192R2");
+    ASSERT_FALSE(steps.empty());
+    std::vector<LensAtWavelength> Ls;
+    for (double lambda : {650.0, 550.0, 450.0}) Ls.emplace_back(s.lens, lambda, s.sensorZ);
+    for (double angle = 30.86; angle <= 30.981; angle += 0.02) {
+        const Field field{degToRad(angle), 0.0};
+        const auto lit = litAlongY(s, steps, field, searchHalfSize(s.pupil, field), &Ls[2]);
+        ASSERT_EQ(lit.size(), 2u) << angle << " deg";
+        EXPECT_LT(lit.back().second - lit.back().first, 0.1) << angle << " deg: the band";
+        const std::vector<std::vector<PupilRegion>> parts = pupilPartsByWavelength(s.pupil, field, Sampling::Reaim, Ls, steps, test::kMaxRadius);
+        ASSERT_EQ(parts.size(), 3u);
+        for (const auto& [start, end] : lit) {
+            const bool held = std::any_of(parts[2].begin(), parts[2].end(), [&](const PupilRegion& p) {
+                return std::abs(p.cx) <= p.half && start >= p.cy - p.half && end <= p.cy + p.half;
+            });
+            EXPECT_TRUE(held) << angle << " deg: 450 nm light at y " << start << " to " << end << " mm outside its parts";
+        }
     }
 }
 
