@@ -65,6 +65,11 @@ struct LitBox {
     double litArea = 0.0;     ///< lit points x cell area
     int litPoints = 0, thinPoints = 0; ///< lit points; those with no lit neighbour on either side along x or along y
     bool empty() const { return xMin > xMax; }
+    /// Grows the box over o's extent only (counts and flags unchanged).
+    void extend(const LitBox& o) {
+        xMin = std::min(xMin, o.xMin), xMax = std::max(xMax, o.xMax);
+        yMin = std::min(yMin, o.yMin), yMax = std::max(yMax, o.yMax);
+    }
     void add(const LitBox& o) {
         xMin = std::min(xMin, o.xMin), xMax = std::max(xMax, o.xMax);
         yMin = std::min(yMin, o.yMin), yMax = std::max(yMax, o.yMax);
@@ -86,20 +91,16 @@ struct LitGrid {
     }
 };
 
-// A fixed pseudo-random place in cell (i, j) of an n x n pass, within +-0.45 of a cell of its centre
-// along each axis, mirrored across the pass's middle column: a pass centred on the axis then keeps
-// the mirror symmetry of the light of a source at azimuth 0 (both pieces of a mirrored pair are met
-// or neither). Passes with different seeds place their points independently.
-glm::dvec2 jitter(int i, int j, int n, std::uint32_t seed) {
-    const int m = std::min(i, n - 1 - i);
-    const double side = i == n - 1 - i ? 0.0 : (i < n - 1 - i ? 1.0 : -1.0);
-    std::uint32_t h = (static_cast<std::uint32_t>(m) * 0x9E3779B1u ^ static_cast<std::uint32_t>(j) * 0x85EBCA77u) + seed * 0xC2B2AE3Du;
+// A fixed pseudo-random place in cell (i, j), within +-0.45 of a cell of its centre along each axis;
+// passes with different seeds place their points independently.
+glm::dvec2 jitter(int i, int j, std::uint32_t seed) {
+    std::uint32_t h = (static_cast<std::uint32_t>(i) * 0x9E3779B1u ^ static_cast<std::uint32_t>(j) * 0x85EBCA77u) + seed * 0xC2B2AE3Du;
     const auto next = [&h] {
         h ^= h >> 16, h *= 0x7FEB352Du, h ^= h >> 15, h *= 0x846CA68Bu, h ^= h >> 16;
         return (h >> 8) * (1.0 / 16777216.0) - 0.5;
     };
     const double x = next();
-    return {0.9 * side * x, 0.9 * next()};
+    return {0.9 * x, 0.9 * next()};
 }
 
 // Traces b's points (moved by their jitter, if a seed is given) and marks those lit.
@@ -111,7 +112,7 @@ LitGrid litGrid(Bundle b, const LensAtWavelength& L, const std::vector<PathStep>
         for (int j = 0; j < g.b.n; ++j)
             for (int i = 0; i < g.b.n; ++i) {
                 const std::size_t k = static_cast<std::size_t>(j) * g.b.n + i;
-                g.offsets[k] = jitter(i, j, g.b.n, *jitterSeed);
+                g.offsets[k] = jitter(i, j, *jitterSeed);
                 // The rays are parallel: moving a point of the pupil plane moves its ray's origin alike.
                 g.b.rays[k].origin.x += g.offsets[k].x * g.b.cell;
                 g.b.rays[k].origin.y += g.offsets[k].y * g.b.cell;
@@ -211,16 +212,17 @@ public:
     // Coarse pass over everything that could enter the front surface, traced analytically. The
     // margins below are in cells of a 96 x 96 pass over it. The pass itself is denser where the
     // paraxial pupil is small against that square (a retrofocus wide angle's front opening dwarfs its
-    // pupil): its spacing is at most an eighth of the pupil's radius, the scale of a ghost's own
-    // pupil, or it steps over whole patches of light, or thin rings of it, at some field angles and
-    // not others. Its points are jittered, each at a fixed place of its own in its cell: light in a
-    // band thinner than the spacing and lying along the grid's rows or columns falls between every
-    // point of a regular grid at some field angles, while each jittered point catches it with a
-    // chance of its thickness over the spacing, so a band a few cells long is all but always found
-    // (the wide angle's R4->R2 at 31.72-31.78 deg passes a band 0.1 mm thick and 4.6 mm long, along
-    // x, that a regular grid of points 0.28 mm apart misses).
-    // Searches of the same field at other wavelengths pass other seeds, so that each places its points
-    // independently of the others and a band one misses another is likely to meet (pieces()).
+    // pupil): its spacing is an eighth of the pupil's radius (the scale of a ghost's own pupil; up to
+    // 512 points across), or it steps over whole patches of light, or thin rings of it, at some field
+    // angles and not others. Its points are jittered, each at a fixed place of its own in its cell:
+    // light in a band thinner than the spacing and lying along the grid's rows or columns falls
+    // between every point of a regular grid at some field angles, while each jittered point catches
+    // it with a chance of its thickness over the spacing, so a band a few cells long is found at most
+    // angles (the wide angle's R4->R2 at 31.72-31.78 deg passes a band 0.1 mm thick and 4.6 mm long,
+    // along x, that a regular grid of points 0.28 mm apart misses); findPieces completes what it
+    // found by symmetry. Searches of the same field at other wavelengths pass other seeds, so that
+    // each places its points independently of the others and a band one misses another is likely
+    // to meet (pupilPartsByWavelength).
     LitGrid coarse(std::uint32_t seed = 0) const {
         const int n = std::clamp(static_cast<int>(std::ceil(16.0 * half_ / frame_.radius)), kNominal, kMaxCoarse);
         return litGrid(gridBundle(frame_, field_, n, 0.0, 0.0, half_, false), L_, steps_, maxRadius_, seed);
@@ -268,6 +270,21 @@ public:
                 double(box.thinPoints) / box.litPoints};
     }
 
+    // The box's mirror image across the line through the axis along the field's azimuth, over which
+    // a rotationally symmetric lens passes the light of the field mirror-symmetrically: the box over
+    // its corners' images (the same box where the azimuth is a multiple of 90 deg), the same counts.
+    LitBox mirror(const LitBox& b) const {
+        const glm::dvec2 e(-std::sin(field_.azimuthRad), std::cos(field_.azimuthRad));
+        LitBox m = b;
+        m.xMin = m.yMin = 1e300, m.xMax = m.yMax = -1e300;
+        for (const glm::dvec2 p : {glm::dvec2(b.xMin, b.yMin), glm::dvec2(b.xMax, b.yMin), glm::dvec2(b.xMin, b.yMax), glm::dvec2(b.xMax, b.yMax)}) {
+            const glm::dvec2 q = 2.0 * (p.x * e.x + p.y * e.y) * e - p;
+            m.xMin = std::min(m.xMin, q.x), m.xMax = std::max(m.xMax, q.x);
+            m.yMin = std::min(m.yMin, q.y), m.yMax = std::max(m.yMax, q.y);
+        }
+        return m;
+    }
+
     double cell() const { return cell_; }
 
 private:
@@ -296,15 +313,6 @@ double searchHalfSize(const PupilFrame& frame, const Field& field) {
     return std::max(frame.frontRadius, frame.radius) + shift + frame.radius;
 }
 
-PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
-                        const std::vector<PathStep>& steps, double maxRadiusMm) {
-    if (sampling == Sampling::ParaxialGrid) return {0.0, 0.0, frame.radius, true};
-    const RegionSearch search(frame, field, L, steps, maxRadiusMm);
-    const LitBox found = litBox(search.coarse());
-    if (found.empty()) return {0.0, 0.0, frame.radius, true}; // nothing gets through: the paraxial pupil
-    return search.square(search.refine(found));
-}
-
 namespace {
 
 constexpr std::size_t kMaxPieces = 64;
@@ -316,13 +324,28 @@ struct Found {
     LitBox all;
 };
 
-Found findPieces(const RegionSearch& search, std::uint32_t seed) {
-    const LitGrid coarse = search.coarse(seed);
-    return {litPieces(coarse, kMaxPieces), litBox(coarse)};
-}
-
 // Whether b lies within `margin` of a (their boxes, each widened by margin, overlap).
 bool near(const LitBox& a, const LitBox& b, double margin) { return gap(a, b) < margin; }
+
+// The coarse pass's pieces, completed by symmetry: the light is its own mirror image (RegionSearch::
+// mirror), so a piece whose image is far from every piece found was met on one side and stepped over
+// on the other (jittered points fall differently on the two sides, which doubles the chances of
+// meeting a thin band that crosses the mirror line, or one of a mirrored pair), and the image is
+// added as a piece of its own.
+Found findPieces(const RegionSearch& search, std::uint32_t seed) {
+    const LitGrid coarse = search.coarse(seed);
+    Found f{litPieces(coarse, kMaxPieces), litBox(coarse)};
+    if (f.all.empty()) return f;
+    const std::size_t found = f.pieces.size();
+    for (std::size_t k = 0; k < found; ++k) {
+        const LitBox image = search.mirror(f.pieces[k]);
+        if (std::none_of(f.pieces.begin(), f.pieces.begin() + static_cast<std::ptrdiff_t>(found),
+                         [&](const LitBox& q) { return near(image, q, 2.0 * search.cell()); }))
+            f.pieces.push_back(image);
+    }
+    f.all.extend(search.mirror(f.all));
+    return f;
+}
 
 // The parts of pupilParts from the pieces found.
 std::vector<PupilRegion> partsFrom(const RegionSearch& search, const PupilFrame& frame, const Found& found) {
@@ -355,6 +378,15 @@ std::vector<PupilRegion> partsFrom(const RegionSearch& search, const PupilFrame&
 }
 
 } // namespace
+
+PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
+                        const std::vector<PathStep>& steps, double maxRadiusMm) {
+    if (sampling == Sampling::ParaxialGrid) return {0.0, 0.0, frame.radius, true};
+    const RegionSearch search(frame, field, L, steps, maxRadiusMm);
+    const Found found = findPieces(search, 0);
+    if (found.all.empty()) return {0.0, 0.0, frame.radius, true}; // nothing gets through: the paraxial pupil
+    return search.square(search.refine(found.all));
+}
 
 std::vector<PupilRegion> pupilParts(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
                                     const std::vector<PathStep>& steps, double maxRadiusMm) {
