@@ -23,4 +23,9 @@ bool Iris::contains(double x, double y) const {
     return rho2 <= rhoMax * rhoMax;
 }
 
+bool Iris::mirrorSymmetricAbout(double lineRad) const {
+    if (blades < 3) return true;
+    return std::abs(std::remainder(lineRad - rotationRad, std::numbers::pi / blades)) < 1e-9;
+}
+
 } // namespace ff::trace

@@ -17,6 +17,10 @@ struct Iris {
 
     /// True when (x, y), mm from the axis in the stop plane, lies inside the opening.
     bool contains(double x, double y) const;
+    /// True when the opening is its own mirror image across the line through the axis at angle
+    /// lineRad from +x: always for a circle; for a polygon, on the lines through its vertices and
+    /// through its edges' midpoints (rotation + k pi / blades).
+    bool mirrorSymmetricAbout(double lineRad) const;
 };
 
 } // namespace ff::trace

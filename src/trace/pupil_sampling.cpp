@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <optional>
 
 namespace ff::trace {
@@ -207,7 +208,7 @@ public:
     RegionSearch(const PupilFrame& frame, const Field& field, const LensAtWavelength& L, const std::vector<PathStep>& steps,
                  double maxRadius)
         : frame_(frame), field_(field), L_(L), steps_(steps), maxRadius_(maxRadius), half_(searchHalfSize(frame, field)),
-          cell_(2.0 * half_ / kNominal) {}
+          cell_(2.0 * half_ / kNominal), symmetric_(L.iris.mirrorSymmetricAbout(field.azimuthRad + 0.5 * std::numbers::pi)) {}
 
     // Coarse pass over everything that could enter the front surface, traced analytically. The
     // margins below are in cells of a 96 x 96 pass over it. The pass itself is denser where the
@@ -270,9 +271,13 @@ public:
                 double(box.thinPoints) / box.litPoints};
     }
 
-    // The box's mirror image across the line through the axis along the field's azimuth, over which
-    // a rotationally symmetric lens passes the light of the field mirror-symmetrically: the box over
-    // its corners' images (the same box where the azimuth is a multiple of 90 deg), the same counts.
+    // Whether the field's light is mirror-symmetric across the line through the axis along the field's
+    // azimuth: the surfaces and the barrel are surfaces of revolution, so it is unless the iris's
+    // blades are not symmetric about that line.
+    bool symmetric() const { return symmetric_; }
+
+    // The box's mirror image across that line: the box over its corners' images (the same box where
+    // the azimuth is a multiple of 90 deg), the same counts.
     LitBox mirror(const LitBox& b) const {
         const glm::dvec2 e(-std::sin(field_.azimuthRad), std::cos(field_.azimuthRad));
         LitBox m = b;
@@ -295,6 +300,7 @@ private:
     const LensAtWavelength& L_;
     const std::vector<PathStep>& steps_;
     double maxRadius_, half_, cell_;
+    bool symmetric_;
 };
 
 // Pieces of light closer than this many cells of the nominal coarse pass share a part; a region is
@@ -335,7 +341,7 @@ bool near(const LitBox& a, const LitBox& b, double margin) { return gap(a, b) < 
 Found findPieces(const RegionSearch& search, std::uint32_t seed) {
     const LitGrid coarse = search.coarse(seed);
     Found f{litPieces(coarse, kMaxPieces), litBox(coarse)};
-    if (f.all.empty()) return f;
+    if (f.all.empty() || !search.symmetric()) return f;
     const std::size_t found = f.pieces.size();
     for (std::size_t k = 0; k < found; ++k) {
         const LitBox image = search.mirror(f.pieces[k]);

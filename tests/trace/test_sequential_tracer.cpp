@@ -11,7 +11,9 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 
 using namespace ff;
 using namespace ff::trace;
@@ -173,4 +175,33 @@ TEST(SequentialTracer, UnweightedTracesFollowTheSamePaths) {
             }
     }
     EXPECT_GT(arriving, 100);
+}
+
+// An iris is its own mirror image across a line exactly where every point and its image across the
+// line are both inside or both outside: checked on points spread over the circumscribed square, for
+// lines at every sixteenth of pi / blades around the circle (on the symmetry lines and between them).
+TEST(Iris, MirrorSymmetryLinesAreThoseOfThePolygon) {
+    const double pi = std::numbers::pi;
+    for (int blades : {0, 5, 6, 9})
+        for (double rotation : {0.0, 0.3}) {
+            const Iris iris(blades, rotation, 1.0);
+            int symmetricLines = 0, lines = 0;
+            const int steps = 16 * std::max(blades, 1);
+            for (int k = 0; k < steps; ++k) {
+                const double line = rotation + k * pi / steps;
+                const double cx = std::cos(line), cy = std::sin(line);
+                bool mirrored = true;
+                for (int j = 0; j < 101 && mirrored; ++j)
+                    for (int i = 0; i < 101 && mirrored; ++i) {
+                        const double x = -1.3 + 2.6 * (i + 0.37) / 101, y = -1.3 + 2.6 * (j + 0.61) / 101;
+                        const double d = x * cx + y * cy; // image: 2 (p . e) e - p
+                        mirrored = iris.contains(x, y) == iris.contains(2.0 * d * cx - x, 2.0 * d * cy - y);
+                    }
+                EXPECT_EQ(iris.mirrorSymmetricAbout(line), mirrored) << blades << " blades, rotation " << rotation << ", line " << line;
+                symmetricLines += mirrored;
+                ++lines;
+            }
+            if (blades >= 3) EXPECT_EQ(symmetricLines, blades) << blades << " blades: symmetry lines in half a turn";
+            else EXPECT_EQ(symmetricLines, lines);
+        }
 }
