@@ -333,15 +333,13 @@ struct Found {
 // Whether b lies within `margin` of a (their boxes, each widened by margin, overlap).
 bool near(const LitBox& a, const LitBox& b, double margin) { return gap(a, b) < margin; }
 
-// The coarse pass's pieces, completed by symmetry: the light is its own mirror image (RegionSearch::
-// mirror), so a piece whose image is far from every piece found was met on one side and stepped over
-// on the other (jittered points fall differently on the two sides, which doubles the chances of
-// meeting a thin band that crosses the mirror line, or one of a mirrored pair), and the image is
-// added as a piece of its own.
-Found findPieces(const RegionSearch& search, std::uint32_t seed) {
-    const LitGrid coarse = search.coarse(seed);
-    Found f{litPieces(coarse, kMaxPieces), litBox(coarse)};
-    if (f.all.empty() || !search.symmetric()) return f;
+// Completes what was found by symmetry: the light is its own mirror image (RegionSearch::mirror), so
+// a piece whose image is far from every piece found was met on one side and stepped over on the
+// other (jittered points fall differently on the two sides, which doubles the chances of meeting a
+// thin band that crosses the mirror line, or one of a mirrored pair), and the image is added as a
+// piece of its own.
+void completeBySymmetry(const RegionSearch& search, Found& f) {
+    if (f.all.empty() || !search.symmetric()) return;
     const std::size_t found = f.pieces.size();
     for (std::size_t k = 0; k < found; ++k) {
         const LitBox image = search.mirror(f.pieces[k]);
@@ -350,6 +348,13 @@ Found findPieces(const RegionSearch& search, std::uint32_t seed) {
             f.pieces.push_back(image);
     }
     f.all.extend(search.mirror(f.all));
+}
+
+// The coarse pass's pieces, completed by symmetry.
+Found findPieces(const RegionSearch& search, std::uint32_t seed) {
+    const LitGrid coarse = search.coarse(seed);
+    Found f{litPieces(coarse, kMaxPieces), litBox(coarse)};
+    completeBySymmetry(search, f);
     return f;
 }
 
@@ -420,9 +425,11 @@ std::vector<std::vector<PupilRegion>> pupilPartsByWavelength(const PupilFrame& f
         // pieces apart or they fall in more groups than a region is cut into.
         std::vector<LitBox> hints;
         const bool broken = mine.pieces.empty() && !mine.all.empty();
-        for (std::size_t v = 0; v < Ls.size() && !broken; ++v)
-            for (const LitBox& p : v == w ? std::vector<LitBox>{} : found[v].pieces)
+        for (std::size_t v = 0; v < Ls.size() && !broken; ++v) {
+            if (v == w) continue;
+            for (const LitBox& p : found[v].pieces)
                 if (std::none_of(mine.pieces.begin(), mine.pieces.end(), [&](const LitBox& q) { return near(p, q, margin); })) hints.push_back(p);
+        }
         hints = mergeNear(std::move(hints), kPartGapCells * searches[w].cell());
         if (hints.size() <= kMaxParts)
             for (const LitBox& h : hints)
@@ -430,6 +437,7 @@ std::vector<std::vector<PupilRegion>> pupilPartsByWavelength(const PupilFrame& f
                     mine.pieces.push_back(p);
                     mine.all.add(p);
                 }
+        completeBySymmetry(searches[w], mine); // what the looks found, too
         parts.push_back(partsFrom(searches[w], frame, mine));
     }
     return parts;
