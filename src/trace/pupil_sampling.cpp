@@ -229,29 +229,31 @@ public:
         return litGrid(gridBundle(frame_, field_, n, 0.0, 0.0, half_, false), L_, steps_, maxRadius_, seed);
     }
 
-    // Whether light is at this wavelength where another's search found a piece: a jittered local pass
-    // over the piece's box, two coarse cells wider on every side. The pieces of light it finds.
-    std::vector<LitBox> look(const LitBox& hint, std::size_t maxPieces) const {
-        const double h = 0.5 * std::max(hint.xMax - hint.xMin, hint.yMax - hint.yMin) + 2.0 * cell_;
-        const LitGrid g = litGrid(gridBundle(frame_, field_, kLocal, 0.5 * (hint.xMin + hint.xMax), 0.5 * (hint.yMin + hint.yMax), h, false),
-                                  L_, steps_, maxRadius_, kLookSeed);
-        return litPieces(g, maxPieces);
+    // A jittered n x n pass over the square around the box, two coarse cells wider on every side.
+    LitGrid jittered(const LitBox& box, int n) const {
+        const double h = 0.5 * std::max(box.xMax - box.xMin, box.yMax - box.yMin) + 2.0 * cell_;
+        return litGrid(gridBundle(frame_, field_, n, 0.5 * (box.xMin + box.xMax), 0.5 * (box.yMin + box.yMax), h, false), L_, steps_,
+                       maxRadius_, kLookSeed);
     }
+
+    // Whether light is at this wavelength where another's search found a piece: a jittered local pass
+    // over the piece's box. The pieces of light it finds.
+    std::vector<LitBox> look(const LitBox& hint, std::size_t maxPieces) const { return litPieces(jittered(hint, kLocal), maxPieces); }
+
+    // A jittered pass over the box twice as dense as the local passes, for light they step over.
+    LitGrid check(const LitBox& box) const { return jittered(box, 2 * kLocal); }
 
     // The coarse points miss the tips of thin regions (two discs barely overlapping), and the box would
     // jump by a coarse cell, cutting off light, as the field angle moves them across the points. A local
     // pass over the box (two cells wider on every side, wider still while light reaches its outermost
     // points) finds the extent at its finer spacing.
-    // `last`, if given, receives the last local pass that found light.
-    LitBox refine(const LitBox& found, LitGrid* last = nullptr) const {
+    LitBox refine(const LitBox& found) const {
         double cx = 0.5 * (found.xMin + found.xMax), cy = 0.5 * (found.yMin + found.yMax);
         double h = 0.5 * std::max(found.xMax - found.xMin, found.yMax - found.yMin) + 2.0 * cell_;
         LitBox box = found;
         for (int pass = 0; pass < 4; ++pass) {
-            LitGrid grid = litGrid(gridBundle(frame_, field_, kLocal, cx, cy, h, false), L_, steps_, maxRadius_);
-            const LitBox local = litBox(grid);
+            const LitBox local = litBox(litGrid(gridBundle(frame_, field_, kLocal, cx, cy, h, false), L_, steps_, maxRadius_));
             if (local.empty()) break;
-            if (last) *last = std::move(grid);
             box = local;
             if (!local.touchesEdge) break;
             cx = 0.5 * (local.xMin + local.xMax), cy = 0.5 * (local.yMin + local.yMax);
@@ -373,11 +375,13 @@ std::vector<PupilRegion> partsFrom(const RegionSearch& search, const PupilFrame&
     }
     for (std::size_t a = 0; a < parts.size() && split; ++a)
         for (std::size_t b = a + 1; b < parts.size() && split; ++b) split = !overlap(parts[a], parts[b]);
-    // The local passes over all the groups together can find light between them that the coarse
-    // pass stepped over (the double Gauss 50 mm's R11->R5 near 24.54 deg: a band 0.24 mm thick
-    // below two patches far apart); the parts must hold all of it, or the region is not cut.
-    LitGrid whole;
-    const LitBox wholeBox = search.refine(found.all, &whole);
+    // Light between the groups that the coarse pass stepped over would be lost to every part (the
+    // double Gauss 50 mm's R11->R5 near 24.54 deg: a band 0.24 mm thick below two patches far apart;
+    // at 24.646 deg one 0.09 mm thick, which the regular local passes over the whole, 0.3 mm apart,
+    // also missed). A jittered pass over all the light, twice as dense as the local passes, must find
+    // every lit point within the parts, or the region is not cut.
+    const LitBox wholeBox = search.refine(found.all);
+    const LitGrid whole = search.check(wholeBox);
     for (int j = 0; j < whole.b.n && split; ++j)
         for (int i = 0; i < whole.b.n && split; ++i) {
             if (!whole.at(i, j)) continue;
