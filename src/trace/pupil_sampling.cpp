@@ -284,7 +284,8 @@ public:
         const glm::dvec2 e(-std::sin(field_.azimuthRad), std::cos(field_.azimuthRad));
         LitBox m = b;
         m.xMin = m.yMin = 1e300, m.xMax = m.yMax = -1e300;
-        for (const glm::dvec2 p : {glm::dvec2(b.xMin, b.yMin), glm::dvec2(b.xMax, b.yMin), glm::dvec2(b.xMin, b.yMax), glm::dvec2(b.xMax, b.yMax)}) {
+        for (const glm::dvec2 p : {glm::dvec2(b.xMin, b.yMin), glm::dvec2(b.xMax, b.yMin), glm::dvec2(b.xMin, b.yMax),
+                                   glm::dvec2(b.xMax, b.yMax)}) {
             const glm::dvec2 q = 2.0 * (p.x * e.x + p.y * e.y) * e - p;
             m.xMin = std::min(m.xMin, q.x), m.xMax = std::max(m.xMax, q.x);
             m.yMin = std::min(m.yMin, q.y), m.yMax = std::max(m.yMax, q.y);
@@ -432,7 +433,8 @@ std::vector<std::vector<PupilRegion>> pupilPartsByWavelength(const PupilFrame& f
         for (std::size_t v = 0; v < Ls.size() && !broken; ++v) {
             if (v == w) continue;
             for (const LitBox& p : found[v].pieces)
-                if (std::none_of(mine.pieces.begin(), mine.pieces.end(), [&](const LitBox& q) { return near(p, q, margin); })) hints.push_back(p);
+                if (std::none_of(mine.pieces.begin(), mine.pieces.end(), [&](const LitBox& q) { return near(p, q, margin); }))
+                    hints.push_back(p);
         }
         hints = mergeNear(std::move(hints), kPartGapCells * searches[w].cell());
         if (hints.size() <= kMaxParts)

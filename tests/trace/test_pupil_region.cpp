@@ -260,6 +260,19 @@ std::vector<std::pair<double, double>> litAlongY(const LensBench& s, const std::
     return lit;
 }
 
+// Whether the stretch [start, end] of the line x = 0 lies within one of the parts.
+bool holdsStretch(const std::vector<PupilRegion>& parts, double start, double end) {
+    return std::any_of(parts.begin(), parts.end(),
+                       [&](const PupilRegion& p) { return std::abs(p.cx) <= p.half && start >= p.cy - p.half && end <= p.cy + p.half; });
+}
+
+// The ghost table's wavelengths: 650, 550 and 450 nm.
+std::vector<LensAtWavelength> tableWavelengths(const LensBench& s) {
+    std::vector<LensAtWavelength> Ls;
+    for (double lambda : {650.0, 550.0, 450.0}) Ls.emplace_back(s.lens, lambda, s.sensorZ);
+    return Ls;
+}
+
 } // namespace
 
 // The wide angle's R4->R2 at 31.70-31.80 deg (550 nm, counting radius) passes a disc about 1.8 mm
@@ -285,10 +298,7 @@ TEST(PupilRegion, PartsHoldLightFallingInPiecesFarApart) {
         const PupilRegion& b = parts[1];
         EXPECT_TRUE(std::abs(a.cx - b.cx) >= a.half + b.half || std::abs(a.cy - b.cy) >= a.half + b.half) << angle << " deg: parts overlap";
         for (const auto& [start, end] : lit) {
-            const bool held = std::any_of(parts.begin(), parts.end(), [&](const PupilRegion& p) {
-                return std::abs(p.cx) <= p.half && start >= p.cy - p.half && end <= p.cy + p.half;
-            });
-            EXPECT_TRUE(held) << angle << " deg: light at y " << start << " to " << end << " mm outside the parts";
+            EXPECT_TRUE(holdsStretch(parts, start, end)) << angle << " deg: light at y " << start << " to " << end << " mm outside the parts";
         }
         std::printf("%.2f deg: disc %.3f..%.3f mm, band %.4f..%.4f mm; parts' half sides %.2f and %.2f mm\n", angle, lit.front().first,
                     lit.front().second, bandStart, bandEnd, a.half, b.half);
@@ -304,30 +314,21 @@ TEST(PupilRegion, SearchesAtSeveralWavelengthsFindWhatOneSteppedOver) {
     const LensBench s("wide-angle-16.7mm-f4.lens");
     const std::vector<PathStep> steps = stepsOf(s.lens, "R4\u2192R2");
     ASSERT_FALSE(steps.empty());
-    std::vector<LensAtWavelength> Ls;
-    for (double lambda : {650.0, 550.0, 450.0}) Ls.emplace_back(s.lens, lambda, s.sensorZ);
+    const std::vector<LensAtWavelength> Ls = tableWavelengths(s);
     for (double angle : {30.90, 30.94, 30.98}) {
         const Field field{degToRad(angle), 0.0};
         const auto lit = litAlongY(s, steps, field, searchHalfSize(s.pupil, field), &Ls[2]);
         ASSERT_EQ(lit.size(), 2u) << angle << " deg";
         EXPECT_LT(lit.back().second - lit.back().first, 0.1) << angle << " deg: the band";
-        const std::vector<std::vector<PupilRegion>> parts = pupilPartsByWavelength(s.pupil, field, Sampling::Reaim, Ls, steps, test::kMaxRadius);
+        const auto parts = pupilPartsByWavelength(s.pupil, field, Sampling::Reaim, Ls, steps, test::kMaxRadius);
         ASSERT_EQ(parts.size(), 3u);
         for (const auto& [start, end] : lit) {
-            const bool held = std::any_of(parts[2].begin(), parts[2].end(), [&](const PupilRegion& p) {
-                return std::abs(p.cx) <= p.half && start >= p.cy - p.half && end <= p.cy + p.half;
-            });
-            EXPECT_TRUE(held) << angle << " deg: 450 nm light at y " << start << " to " << end << " mm outside its parts";
+            EXPECT_TRUE(holdsStretch(parts[2], start, end))
+                << angle << " deg: 450 nm light at y " << start << " to " << end << " mm outside its parts";
         }
     }
 }
 
-// A rotationally symmetric lens passes light from a source at azimuth 0 through a pupil region that is
-// its own mirror image across x = 0. The double Gauss 50 mm's R11->R5 at the edge of its field
-// (24.681-24.690 deg, 650 nm, counting radius) passes two patches about 1.7 mm across at x = +-8.1 mm:
-// the search's jittered coarse pass meets only one of them at these angles, completes what it found
-// by symmetry (without that, the ghost's tangential spread halved), and the region, or its parts,
-// mirror onto themselves.
 // The double Gauss 50 mm's R11->R5 near the edge of its field (650 nm, counting radius) passes two
 // patches at x = +-8 mm and, below them on x = 0, a band 0.09 mm thick at 24.646-24.650 deg, which
 // the coarse pass (0.73 mm apart) and the regular local passes over all the light (0.3 mm apart)
@@ -338,8 +339,7 @@ TEST(PupilRegion, PartsHoldTheLightBetweenThem) {
     const LensBench s("double-gauss-50mm-f2.lens");
     const std::vector<PathStep> steps = stepsOf(s.lens, "R11\u2192R5");
     ASSERT_FALSE(steps.empty());
-    std::vector<LensAtWavelength> Ls;
-    for (double lambda : {650.0, 550.0, 450.0}) Ls.emplace_back(s.lens, lambda, s.sensorZ);
+    const std::vector<LensAtWavelength> Ls = tableWavelengths(s);
     for (double angle : {24.646, 24.648, 24.650}) {
         const Field field{degToRad(angle), 0.0};
         const auto lit = litAlongY(s, steps, field, searchHalfSize(s.pupil, field), &Ls[0]);
@@ -347,10 +347,8 @@ TEST(PupilRegion, PartsHoldTheLightBetweenThem) {
         const auto byWavelength = pupilPartsByWavelength(s.pupil, field, Sampling::Reaim, Ls, steps, test::kMaxRadius);
         for (const auto& parts : {pupilParts(s.pupil, field, Sampling::Reaim, Ls[0], steps, test::kMaxRadius), byWavelength[0]})
             for (const auto& [start, end] : lit) {
-                const bool held = std::any_of(parts.begin(), parts.end(), [&](const PupilRegion& p) {
-                    return std::abs(p.cx) <= p.half && start >= p.cy - p.half && end <= p.cy + p.half;
-                });
-                EXPECT_TRUE(held) << angle << " deg: light at y " << start << " to " << end << " mm outside the " << parts.size() << " part(s)";
+                EXPECT_TRUE(holdsStretch(parts, start, end))
+                    << angle << " deg: light at y " << start << " to " << end << " mm outside the " << parts.size() << " part(s)";
             }
     }
 }
@@ -371,6 +369,12 @@ void expectMirrored(const std::vector<PupilRegion>& parts, double angle) {
 
 } // namespace
 
+// A rotationally symmetric lens passes light from a source at azimuth 0 through a pupil region that is
+// its own mirror image across x = 0. The double Gauss 50 mm's R11->R5 at the edge of its field
+// (24.681-24.690 deg, 650 nm, counting radius) passes two patches about 1.7 mm across at x = +-8.1 mm:
+// the search's jittered coarse pass meets only one of them at these angles, completes what it found
+// by symmetry (without that, the ghost's tangential spread halved), and the region, or its parts,
+// mirror onto themselves.
 TEST(PupilRegion, KeepsTheMirrorSymmetryOfTheLight) {
     const LensBench s("double-gauss-50mm-f2.lens");
     const LensAtWavelength red(s.lens, 650.0, s.sensorZ);
@@ -389,8 +393,7 @@ TEST(PupilRegion, KeepsTheMirrorSymmetryOfTheLight) {
     // spread fell from 17.1 to 0.21 mm while one spot was missing).
     const std::vector<PathStep> spots = stepsOf(s.lens, "R9\u2192R7");
     ASSERT_FALSE(spots.empty());
-    std::vector<LensAtWavelength> Ls;
-    for (double lambda : {650.0, 550.0, 450.0}) Ls.emplace_back(s.lens, lambda, s.sensorZ);
+    const std::vector<LensAtWavelength> Ls = tableWavelengths(s);
     for (double angle : {23.8499, 23.8509, 23.8519, 23.8529}) {
         const Field field{degToRad(angle), 0.0};
         const auto parts = pupilPartsByWavelength(s.pupil, field, Sampling::Reaim, Ls, spots, test::kMaxRadius);
@@ -401,7 +404,8 @@ TEST(PupilRegion, KeepsTheMirrorSymmetryOfTheLight) {
         traceAnalytic(Ls[2], spots, b.rays, hits);
         int lit = 0, outside = 0;
         for (std::size_t k = 0; k < hits.size(); ++k) {
-            if (hits[k].status != optics::RayStatus::Ok || std::hypot(hits[k].sensorPoint.x, hits[k].sensorPoint.y) > test::kMaxRadius) continue;
+            const RayResult& r = hits[k];
+            if (r.status != optics::RayStatus::Ok || std::hypot(r.sensorPoint.x, r.sensorPoint.y) > test::kMaxRadius) continue;
             const double x = b.x0 + (static_cast<double>(k % 768) + 0.5) * b.cell, y = b.y0 + (static_cast<double>(k / 768) + 0.5) * b.cell;
             ++lit;
             outside += std::none_of(parts[2].begin(), parts[2].end(),
