@@ -75,13 +75,15 @@ struct PupilRegion {
 double searchHalfSize(const PupilFrame& frame, const Field& field);
 
 /// Where the grid of one path goes, by the chosen sampling. For Reaim, a coarse analytic pass at L's
-/// wavelength (points at most an eighth of the pupil radius apart, so that small patches and thin rings
-/// of light are not stepped over), then local passes over what it found (until no light reaches their
+/// wavelength (jittered points an eighth of the pupil radius apart, up to 512 across, so that small
+/// patches and thin rings of light are not stepped over), then local passes over what it found (until no light reaches their
 /// outermost points), so that the region moves smoothly with the field angle; its margin (1/96 of the
 /// coarse square) also covers the small shift of the pupil with wavelength, so one region serves every
-/// wavelength of a path (where the lit shape itself changes with the wavelength, search at each). With
-/// maxRadiusMm > 0 only light landing within that radius of the axis counts as found: where the rest
-/// of a ghost is not measured, its grid need not cover it.
+/// wavelength of a path (where the lit shape itself changes with the wavelength, search at each). What
+/// the coarse pass finds is completed by the light's mirror symmetry across the line through the axis
+/// along the field's azimuth, where the iris is symmetric about that line (Iris::mirrorSymmetricAbout).
+/// With maxRadiusMm > 0 only light landing within that radius of the axis counts as found: where the
+/// rest of a ghost is not measured, its grid need not cover it.
 PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
                         const std::vector<PathStep>& steps, double maxRadiusMm = 0.0);
 
@@ -92,8 +94,10 @@ PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sa
 /// and its moments would jitter from one field angle to the next. Not cut (one part, pupilRegion's
 /// region) where there is one group or more than four, where the light is too broken up to tell its
 /// pieces apart (over 64 pieces at the coarse spacing), where a group's light reaches its local
-/// passes' outermost points, or where the parts' squares would overlap. The parts' squares never
-/// overlap, so their grids count no light twice.
+/// passes' outermost points, where the parts' squares would overlap, or where a jittered pass over
+/// all the light, twice as dense as the local passes, finds light outside every part (a band between
+/// the pieces that the coarse pass stepped over). The parts' squares never overlap, so their grids
+/// count no light twice.
 std::vector<PupilRegion> pupilParts(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
                                     const std::vector<PathStep>& steps, double maxRadiusMm = 0.0);
 
