@@ -72,8 +72,7 @@ struct LitBox {
         yMin = std::min(yMin, o.yMin), yMax = std::max(yMax, o.yMax);
     }
     void add(const LitBox& o) {
-        xMin = std::min(xMin, o.xMin), xMax = std::max(xMax, o.xMax);
-        yMin = std::min(yMin, o.yMin), yMax = std::max(yMax, o.yMax);
+        extend(o);
         touchesEdge = touchesEdge || o.touchesEdge;
         litArea += o.litArea, litPoints += o.litPoints, thinPoints += o.thinPoints;
     }
@@ -382,14 +381,16 @@ std::vector<PupilRegion> partsFrom(const RegionSearch& search, const PupilFrame&
     // also missed). A jittered pass over all the light, twice as dense as the local passes, must find
     // every lit point within the parts, or the region is not cut.
     const LitBox wholeBox = search.refine(found.all);
-    const LitGrid whole = search.check(wholeBox);
-    for (int j = 0; j < whole.b.n && split; ++j)
-        for (int i = 0; i < whole.b.n && split; ++i) {
-            if (!whole.at(i, j)) continue;
-            const glm::dvec2 p = whole.point(i, j);
-            split = std::any_of(parts.begin(), parts.end(),
-                                [&](const PupilRegion& r) { return std::abs(p.x - r.cx) <= r.half && std::abs(p.y - r.cy) <= r.half; });
-        }
+    if (split) {
+        const LitGrid whole = search.check(wholeBox);
+        for (int j = 0; j < whole.b.n && split; ++j)
+            for (int i = 0; i < whole.b.n && split; ++i) {
+                if (!whole.at(i, j)) continue;
+                const glm::dvec2 p = whole.point(i, j);
+                split = std::any_of(parts.begin(), parts.end(),
+                                    [&](const PupilRegion& r) { return std::abs(p.x - r.cx) <= r.half && std::abs(p.y - r.cy) <= r.half; });
+            }
+    }
     return split ? parts : std::vector<PupilRegion>{search.square(wholeBox)};
 }
 

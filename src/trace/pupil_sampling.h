@@ -76,10 +76,10 @@ double searchHalfSize(const PupilFrame& frame, const Field& field);
 
 /// Where the grid of one path goes, by the chosen sampling. For Reaim, a coarse analytic pass at L's
 /// wavelength (jittered points an eighth of the pupil radius apart, up to 512 across, so that small
-/// patches and thin rings of light are not stepped over), then local passes over what it found (until no light reaches their
-/// outermost points), so that the region moves smoothly with the field angle; its margin (1/96 of the
-/// coarse square) also covers the small shift of the pupil with wavelength, so one region serves every
-/// wavelength of a path (where the lit shape itself changes with the wavelength, search at each). What
+/// patches and thin rings of light are not stepped over), then local passes over what it found (until
+/// no light reaches their outermost points), so that the region moves smoothly with the field angle;
+/// its margin (1/96 of the coarse square) also covers the small shift of the pupil with wavelength, so
+/// one region serves every wavelength of a path (where the lit shape changes with it, search at each). What
 /// the coarse pass finds is completed by the light's mirror symmetry across the line through the axis
 /// along the field's azimuth, where the iris is symmetric about that line (Iris::mirrorSymmetricAbout).
 /// With maxRadiusMm > 0 only light landing within that radius of the axis counts as found: where the
