@@ -20,7 +20,7 @@
 namespace ff::ghosts {
 
 std::string TableSettings::key() const {
-    std::string k = "table-v11 lambda";
+    std::string k = "table-v12 lambda";
     for (double l : wavelengthsNm) k += " " + text::roundTrip(l);
     k += " sampling " + std::to_string(static_cast<int>(sampling)) + " grid " + std::to_string(grid) + " sensor " +
          std::to_string(static_cast<int>(sensor)) + " coating " + std::to_string(static_cast<int>(coating)) + " max " +
@@ -84,10 +84,17 @@ struct PartTrace {
     std::vector<trace::RayResult> c, k;
 };
 
-// One ghost at one field angle.
+// One ghost at one field angle, with where light was found at its neighbouring angles.
 struct Task {
     std::size_t ghost = 0;
     double angleDeg = 0.0;
+    trace::PupilHints hints;
+};
+
+// A task's entry, [wavelength], and what its search found.
+struct Traced {
+    std::vector<std::vector<TableEntry>> rows; ///< [task][wavelength]
+    std::vector<trace::PupilSearch> found;     ///< [task]
 };
 
 class Builder {
@@ -144,13 +151,22 @@ public:
         for (std::size_t a = 0; a < todo.size(); ++a) direct_.emplace(todo[a], std::move(out[a]));
     }
 
-    /// Every task's entry, [task][wavelength] (direct images traced first where missing).
-    std::vector<std::vector<TableEntry>> trace(const std::vector<Task>& tasks) {
+    /// Whether looking where the hints say finds light at this ghost and angle that `known`, its
+    /// search there, did not (trace::hintsFindLight).
+    bool hintsFindLight(std::size_t ghost, double angleDeg, const trace::PupilSearch& known, const trace::PupilHints& hints) const {
+        const trace::Field field{degToRad(angleDeg), 0.0};
+        return trace::hintsFindLight(frame_, field, s_.sampling, atLambda_, steps_[ghost], fitOptions_.maxRadiusMm, known, hints);
+    }
+
+    /// Every task's entry and search (direct images traced first where missing).
+    Traced trace(const std::vector<Task>& tasks) {
         std::vector<double> angles;
         for (const Task& t : tasks) angles.push_back(t.angleDeg);
         traceDirect(angles);
         const std::size_t nW = s_.wavelengthsNm.size();
-        std::vector<std::vector<TableEntry>> out(tasks.size(), std::vector<TableEntry>(nW));
+        Traced traced{std::vector<std::vector<TableEntry>>(tasks.size(), std::vector<TableEntry>(nW)),
+                      std::vector<trace::PupilSearch>(tasks.size())};
+        std::vector<std::vector<TableEntry>>& out = traced.rows;
         tbb::parallel_for(std::size_t(0), tasks.size(), [&](std::size_t task) {
             const std::size_t g = tasks[task].ghost;
             const DirectResult& d = direct_.at(tasks[task].angleDeg);
@@ -159,12 +175,13 @@ public:
             // not only shift (the double Gauss 50 mm's R3->R1 at 22.28-22.40 deg passes a 5 x 3 mm
             // patch at 650 nm that is gone at the d line). Where the light falls in pieces far apart,
             // each piece gets a grid at its own scale; the wavelengths' searches tell one another
-            // where they found light (trace::pupilPartsByWavelength).
-            const auto partsByWavelength =
-                trace::pupilPartsByWavelength(frame_, field, s_.sampling, atLambda_, steps_[g], fitOptions_.maxRadiusMm);
+            // where they found light, and look where the ghost's neighbouring angles found it
+            // (trace::searchPupil).
+            trace::PupilSearch& found = traced.found[task];
+            found = trace::searchPupil(frame_, field, s_.sampling, atLambda_, steps_[g], fitOptions_.maxRadiusMm, tasks[task].hints);
             for (std::size_t w = 0; w < nW; ++w) {
                 if (d.energy[w] <= 0.0) continue;
-                const std::vector<trace::PupilRegion>& regions = partsByWavelength[w];
+                const std::vector<trace::PupilRegion>& regions = found.parts[w];
                 const double scale = 1.0 / d.energy[w];
                 std::vector<PartTrace> parts(regions.size());
                 std::vector<trace::BundleMoments> moments;
@@ -193,7 +210,7 @@ public:
             }
             report();
         });
-        return out;
+        return traced;
     }
 
 private:
@@ -260,6 +277,7 @@ struct Interval {
 struct GhostNodes {
     std::vector<double> angles;
     std::vector<std::vector<TableEntry>> rows; ///< [angle][wavelength]
+    std::vector<trace::PupilSearch> found;     ///< [angle]: where its search found light
     std::vector<Interval> intervals;
 
     double fluxAt(std::size_t w, double a) const {
@@ -267,6 +285,59 @@ struct GhostNodes {
         return angles.size() < 2 ? rows[0][w].flux : lerp(rows[i][w].flux, rows[i + 1][w].flux, t);
     }
 };
+
+// An interval of a ghost to measure, by its priority.
+struct Todo {
+    std::size_t ghost, interval;
+    double priority;
+};
+
+// An entry of a ghost: (ghost, index of its angle).
+using Node = std::pair<std::size_t, std::size_t>;
+
+// Light a mid-angle's search found far from everything a neighbouring entry's search found was
+// stepped over there, or is not there: where looking for it finds it (Builder::hintsFindLight, the
+// looks alone), the entry is traced again, told where to look, while the budget lasts. A piece of
+// light is so carried along the angles where it is, whichever angle's search met it first. Returns
+// the entries traced again (with 0, their error estimate to be raised by the caller).
+std::map<Node, double> retraceNeighbours(Builder& builder, std::vector<GhostNodes>& nodes, const std::vector<Todo>& todo, const Traced& mids,
+                                         std::size_t budget, std::size_t& spent) {
+    std::map<Node, trace::PupilHints> hints;
+    for (std::size_t k = 0; k < todo.size(); ++k)
+        for (const std::size_t e : {todo[k].interval, todo[k].interval + 1}) {
+            const trace::PupilHints away = trace::piecesAwayFrom(mids.found[k], nodes[todo[k].ghost].found[e]);
+            if (std::all_of(away.begin(), away.end(), [](const auto& boxes) { return boxes.empty(); })) continue;
+            trace::PupilHints& h = hints[{todo[k].ghost, e}];
+            h.resize(away.size());
+            for (std::size_t w = 0; w < away.size(); ++w) h[w].insert(h[w].end(), away[w].begin(), away[w].end());
+        }
+    std::vector<std::pair<Node, trace::PupilHints>> candidates(hints.begin(), hints.end());
+    std::vector<char> finds(candidates.size(), 0);
+    tbb::parallel_for(std::size_t(0), candidates.size(), [&](std::size_t c) {
+        const auto& [node, h] = candidates[c];
+        const GhostNodes& n = nodes[node.first];
+        finds[c] = builder.hintsFindLight(node.first, n.angles[node.second], n.found[node.second], h);
+    });
+    std::vector<Task> again;
+    std::vector<Node> which;
+    for (std::size_t c = 0; c < candidates.size() && spent + again.size() < budget; ++c) {
+        if (!finds[c]) continue;
+        const auto& [node, h] = candidates[c];
+        again.push_back({node.first, nodes[node.first].angles[node.second], h});
+        which.push_back(node);
+    }
+    std::map<Node, double> changed;
+    if (again.empty()) return changed;
+    Traced traced = builder.trace(again);
+    spent += again.size();
+    for (std::size_t j = 0; j < again.size(); ++j) {
+        GhostNodes& n = nodes[which[j].first];
+        n.rows[which[j].second] = std::move(traced.rows[j]);
+        n.found[which[j].second] = std::move(traced.found[j]);
+        changed.emplace(which[j], 0.0);
+    }
+    return changed;
+}
 
 // Relative error of interpolating one ghost at a mid-angle (see the header), the worst over the
 // wavelengths at which it carries at least 1 % of the strongest ghost's flux there. floorMm keeps
@@ -293,12 +364,13 @@ void requireSymmetric(const optics::Lens& lens) {
         throw Error(ErrorKind::Input, SourceLocation{lens.file}, "the lens has anamorphic surfaces; a ghost table needs a rotationally symmetric lens");
 }
 
-// Intervals are not split below maxAngle / kFinestDivision (0.003 deg on a 25 deg field). A ghost
-// refines alone, so following one of its kinks deeper costs about two traces per halving. What still
-// fails there are square-root kinks (a part of a ghost vignetted away: double Gauss 50 mm R3->R1 at
-// 650 nm loses a patch of its pupil at 22.395 deg, and its sigma r falls from 6.8 to 3.2 mm over
-// the preceding 0.12 deg), which halving improves by only sqrt(2) each time.
-constexpr double kFinestDivision = 8192.0;
+// Intervals are not split below maxAngle / kFinestDivision (0.0002 deg on a 25 deg field). A ghost
+// refines alone, so following one of its kinks deeper costs about two traces per halving, and the
+// square-root kinks (a part of a ghost vignetted away: double Gauss 50 mm R3->R1 at 650 nm loses a
+// patch of its pupil at 22.395 deg, and its sigma r falls from 6.8 to 3.2 mm over the preceding
+// 0.12 deg) improve by only sqrt(2) per halving: at 1/8192 of the field the double Gauss 50 mm kept
+// intervals 9.7 % off. What fails at this floor are steps in the traced entries themselves.
+constexpr double kFinestDivision = 131072.0;
 
 double defaultMaxAngle(const optics::Lens& lens, const TableSettings& s, double sensorZ) {
     const auto size = lens.sensorMm.value_or(s.sensorSizeMm);
@@ -378,12 +450,13 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
     {
         std::vector<Task> tasks;
         for (std::size_t g = 0; g < nG; ++g)
-            for (int i = 0; i <= 8; ++i) tasks.push_back({g, maxAngle * i / 8.0});
-        std::vector<std::vector<TableEntry>> rows = builder.trace(tasks);
+            for (int i = 0; i <= 8; ++i) tasks.push_back({g, maxAngle * i / 8.0, {}});
+        Traced traced = builder.trace(tasks);
         for (std::size_t k = 0; k < tasks.size(); ++k) {
             GhostNodes& n = nodes[tasks[k].ghost];
             n.angles.push_back(tasks[k].angleDeg);
-            n.rows.push_back(std::move(rows[k]));
+            n.rows.push_back(std::move(traced.rows[k]));
+            n.found.push_back(std::move(traced.found[k]));
         }
         for (GhostNodes& n : nodes) n.intervals.assign(n.angles.size() - 1, Interval{});
     }
@@ -393,10 +466,6 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
         // them all, the ones with the largest estimate x width go first (the rest keep their
         // estimate): a light falls in an interval in proportion to its width, and an interval astride
         // a kink (a part of a ghost vignetted away) cannot take the whole budget.
-        struct Todo {
-            std::size_t ghost, interval;
-            double priority;
-        };
         std::vector<Todo> todo;
         for (std::size_t g = 0; g < nG; ++g) {
             const GhostNodes& n = nodes[g];
@@ -414,13 +483,18 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
             });
         }
         if (todo.empty()) break;
+        // Each mid-angle's search looks where its two neighbours' searches found light.
         std::vector<Task> tasks;
         for (const Todo& d : todo) {
             const GhostNodes& n = nodes[d.ghost];
-            tasks.push_back({d.ghost, 0.5 * (n.angles[d.interval] + n.angles[d.interval + 1])});
+            trace::PupilHints hints = n.found[d.interval].pieces;
+            const trace::PupilHints& other = n.found[d.interval + 1].pieces;
+            for (std::size_t w = 0; w < hints.size() && w < other.size(); ++w) hints[w].insert(hints[w].end(), other[w].begin(), other[w].end());
+            tasks.push_back({d.ghost, 0.5 * (n.angles[d.interval] + n.angles[d.interval + 1]), std::move(hints)});
         }
-        std::vector<std::vector<TableEntry>> midRows = builder.trace(tasks);
+        Traced mids = builder.trace(tasks);
         spent += tasks.size();
+        const std::map<Node, double> changed = retraceNeighbours(builder, nodes, todo, mids, budget, spent);
 
         // The strongest ghost's flux at each mid-angle and wavelength: traced where this round
         // traced it, interpolated from the ghost's entries elsewhere.
@@ -430,10 +504,22 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
             for (const GhostNodes& n : nodes)
                 for (std::size_t w = 0; w < nW; ++w) flux[w] = std::max(flux[w], n.fluxAt(w, angle));
         for (std::size_t k = 0; k < tasks.size(); ++k)
-            for (std::size_t w = 0; w < nW; ++w) strongest[tasks[k].angleDeg][w] = std::max(strongest[tasks[k].angleDeg][w], midRows[k][w].flux);
+            for (std::size_t w = 0; w < nW; ++w) strongest[tasks[k].angleDeg][w] = std::max(strongest[tasks[k].angleDeg][w], mids.rows[k][w].flux);
+
+        // The measured intervals' errors; an entry traced again passes its largest to the intervals
+        // beside it that are not measured this round, as their estimate until they are.
+        std::vector<std::pair<double, bool>> errors(todo.size());
+        std::map<Node, double> estimates = changed;
+        for (std::size_t k = 0; k < todo.size(); ++k) {
+            const GhostNodes& n = nodes[todo[k].ghost];
+            errors[k] = midError(n.rows[todo[k].interval], n.rows[todo[k].interval + 1], mids.rows[k], strongest[tasks[k].angleDeg], floorMm);
+            for (const std::size_t e : {todo[k].interval, todo[k].interval + 1})
+                if (const auto it = estimates.find({todo[k].ghost, e}); it != estimates.end()) it->second = std::max(it->second, errors[k].first);
+        }
 
         // Every mid-angle becomes an entry of its ghost. A passing interval leaves two halves that
-        // keep its error; a failing one leaves two halves to be measured.
+        // keep its error; a failing one leaves two halves to be measured; one beside an entry traced
+        // again is measured again.
         for (std::size_t k = 0; k < todo.size();) {
             const std::size_t g = todo[k].ghost;
             GhostNodes& n = nodes[g];
@@ -441,17 +527,25 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
             for (std::size_t i = 0; i < n.angles.size(); ++i) {
                 next.angles.push_back(n.angles[i]);
                 next.rows.push_back(std::move(n.rows[i]));
+                next.found.push_back(std::move(n.found[i]));
                 if (i + 1 == n.angles.size()) break;
                 if (k < todo.size() && todo[k].ghost == g && todo[k].interval == i) {
-                    const auto [e, relevant] = midError(next.rows.back(), n.rows[i + 1], midRows[k], strongest[tasks[k].angleDeg], floorMm);
+                    const auto [e, relevant] = errors[k];
                     const Interval half{e <= s.interpolationTolerance, relevant, e};
                     next.intervals.push_back(half);
                     next.angles.push_back(tasks[k].angleDeg);
-                    next.rows.push_back(std::move(midRows[k]));
+                    next.rows.push_back(std::move(mids.rows[k]));
+                    next.found.push_back(std::move(mids.found[k]));
                     next.intervals.push_back(half);
                     ++k;
                 } else {
-                    next.intervals.push_back(n.intervals[i]);
+                    Interval kept = n.intervals[i];
+                    for (const std::size_t e : {i, i + 1})
+                        if (const auto it = estimates.find({g, e}); it != estimates.end()) {
+                            kept.measured = false;
+                            kept.error = std::max(kept.error, it->second);
+                        }
+                    next.intervals.push_back(kept);
                 }
             }
             n = std::move(next);
@@ -513,8 +607,8 @@ std::vector<std::vector<std::vector<TableEntry>>> traceEntries(const optics::Len
     }
     std::vector<Task> tasks;
     for (double a : anglesDeg)
-        for (std::size_t g : ghosts) tasks.push_back({g, a});
-    std::vector<std::vector<TableEntry>> rows = builder.trace(tasks);
+        for (std::size_t g : ghosts) tasks.push_back({g, a, {}});
+    std::vector<std::vector<TableEntry>> rows = builder.trace(tasks).rows;
     std::vector<std::vector<std::vector<TableEntry>>> out(anglesDeg.size());
     for (std::size_t k = 0; k < tasks.size(); ++k) out[k / ghosts.size()].push_back(std::move(rows[k]));
     return out;

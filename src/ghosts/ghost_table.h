@@ -8,9 +8,12 @@
 // itself, at wavelengths where the ghost carries at least 1 % of the strongest ghost's flux there)
 // and keeps the mid-angle as a new entry of that ghost; only intervals above the tolerance are split
 // further, so a ghost's angles gather where it changes fast (its vignetting onsets), until every
-// interval passes, reaches the finest step (1/8192 of the field) or the budget (maxAngles entries per
+// interval passes, reaches the finest step (1/131072 of the field) or the budget (maxAngles traces per
 // ghost on average) is spent; when the budget cannot take every failing interval, those with the
-// largest error x width go first, whichever ghost they belong to. The measured errors (median, 95th
+// largest error x width go first, whichever ghost they belong to. A mid-angle's pupil search looks
+// where its neighbours' searches found light; where it finds light that a neighbour's search lacks
+// and looking there finds it, the neighbour is traced again (its other interval then measured again),
+// so that a piece of light one search stepped over is not lost between angles where another met it. The measured errors (median, 95th
 // percentile, worst over the final intervals of ghosts that counted there) are stored with the table;
 // an interval whose halves could not be measured counts with its own error.
 //
@@ -39,7 +42,7 @@ struct TableSettings {
     trace::CoatingChoice coating = trace::CoatingChoice::File;
     double maxAngleDeg = 0.0;            ///< 0: the field of the sensor's half-diagonal plus 5 %
     double interpolationTolerance = 0.005;
-    int maxAngles = 49; ///< the refinement's budget: traced entries per ghost, on average
+    int maxAngles = 64; ///< the refinement's budget: traced entries per ghost, on average
     /// Cells on a vignetting edge are re-traced on this many sub-cells per side for the moments (1: off):
     /// without it the moments move in steps as edges cross grid cells, and that noise, not the optics,
     /// would set the interpolation error.

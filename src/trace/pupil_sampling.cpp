@@ -410,10 +410,53 @@ std::vector<PupilRegion> pupilParts(const PupilFrame& frame, const Field& field,
     return pupilPartsByWavelength(frame, field, sampling, std::span<const LensAtWavelength>(&L, 1), steps, maxRadiusMm).front();
 }
 
-std::vector<std::vector<PupilRegion>> pupilPartsByWavelength(const PupilFrame& frame, const Field& field, Sampling sampling,
-                                                             std::span<const LensAtWavelength> Ls, const std::vector<PathStep>& steps,
-                                                             double maxRadiusMm) {
-    if (sampling == Sampling::ParaxialGrid) return std::vector<std::vector<PupilRegion>>(Ls.size(), {{0.0, 0.0, frame.radius, true}});
+namespace {
+
+LitBox litBoxOf(const PupilBox& b) {
+    LitBox l;
+    l.xMin = b.xMin, l.xMax = b.xMax, l.yMin = b.yMin, l.yMax = b.yMax;
+    return l;
+}
+
+bool tooBroken(const Found& f) { return f.pieces.empty() && !f.all.empty(); }
+
+// Looks at the hints (pieces of light found elsewhere) lying far from every piece `mine` holds, unless
+// they fall in more groups than a region is cut into, and adds the pieces of light found there.
+// Returns whether any of those lies far from every piece `mine` held before.
+bool lookAt(const RegionSearch& search, Found& mine, std::vector<LitBox> hints) {
+    const double margin = 2.0 * search.cell();
+    const std::vector<LitBox> before = mine.pieces;
+    const auto known = [&](const LitBox& p) { return std::any_of(before.begin(), before.end(), [&](const LitBox& q) { return near(p, q, margin); }); };
+    std::erase_if(hints, known);
+    hints = mergeNear(std::move(hints), kPartGapCells * search.cell());
+    if (hints.size() > kMaxParts) return false;
+    bool more = false;
+    for (const LitBox& h : hints)
+        for (const LitBox& p : search.look(h, kMaxPieces)) {
+            more = more || !known(p);
+            mine.pieces.push_back(p);
+            mine.all.add(p);
+        }
+    return more;
+}
+
+std::vector<LitBox> litBoxes(const std::vector<PupilBox>& boxes) {
+    std::vector<LitBox> out;
+    for (const PupilBox& b : boxes) out.push_back(litBoxOf(b));
+    return out;
+}
+
+} // namespace
+
+PupilSearch searchPupil(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> Ls,
+                        const std::vector<PathStep>& steps, double maxRadiusMm, const PupilHints& hints) {
+    PupilSearch out;
+    out.pieces.assign(Ls.size(), {});
+    out.tooBroken.assign(Ls.size(), 0);
+    if (sampling == Sampling::ParaxialGrid) {
+        out.parts.assign(Ls.size(), {{0.0, 0.0, frame.radius, true}});
+        return out;
+    }
     std::vector<RegionSearch> searches;
     searches.reserve(Ls.size());
     std::vector<Found> found;
@@ -421,33 +464,60 @@ std::vector<std::vector<PupilRegion>> pupilPartsByWavelength(const PupilFrame& f
         searches.emplace_back(frame, field, Ls[w], steps, maxRadiusMm);
         found.push_back(findPieces(searches[w], static_cast<std::uint32_t>(w)));
     }
-    std::vector<std::vector<PupilRegion>> parts;
+    out.spacing = Ls.empty() ? 0.0 : searches.front().cell();
     for (std::size_t w = 0; w < Ls.size(); ++w) {
         Found mine = found[w];
-        const double margin = 2.0 * searches[w].cell();
         // The pieces other wavelengths found with nothing of this one's near them (light shifts a
         // little with the wavelength; a piece far from all of this one's was stepped over, or is not
-        // there at this wavelength): looked at again, unless the light is too broken up to tell its
-        // pieces apart or they fall in more groups than a region is cut into.
-        std::vector<LitBox> hints;
-        const bool broken = mine.pieces.empty() && !mine.all.empty();
-        for (std::size_t v = 0; v < Ls.size() && !broken; ++v) {
-            if (v == w) continue;
-            for (const LitBox& p : found[v].pieces)
-                if (std::none_of(mine.pieces.begin(), mine.pieces.end(), [&](const LitBox& q) { return near(p, q, margin); }))
-                    hints.push_back(p);
+        // there at this wavelength) are looked at again, unless the light is too broken up to tell
+        // its pieces apart; then those found at neighbouring field angles.
+        if (!tooBroken(mine)) {
+            std::vector<LitBox> shared;
+            for (std::size_t v = 0; v < Ls.size(); ++v)
+                if (v != w) shared.insert(shared.end(), found[v].pieces.begin(), found[v].pieces.end());
+            lookAt(searches[w], mine, std::move(shared));
+            if (w < hints.size() && lookAt(searches[w], mine, litBoxes(hints[w]))) out.hintsFoundLight = true;
         }
-        hints = mergeNear(std::move(hints), kPartGapCells * searches[w].cell());
-        if (hints.size() <= kMaxParts)
-            for (const LitBox& h : hints)
-                for (const LitBox& p : searches[w].look(h, kMaxPieces)) {
-                    mine.pieces.push_back(p);
-                    mine.all.add(p);
-                }
         completeBySymmetry(searches[w], mine); // what the looks found, too
-        parts.push_back(partsFrom(searches[w], frame, mine));
+        out.parts.push_back(partsFrom(searches[w], frame, mine));
+        out.tooBroken[w] = tooBroken(mine);
+        for (const LitBox& p : mine.pieces) out.pieces[w].push_back({p.xMin, p.xMax, p.yMin, p.yMax});
     }
-    return parts;
+    return out;
+}
+
+std::vector<std::vector<PupilRegion>> pupilPartsByWavelength(const PupilFrame& frame, const Field& field, Sampling sampling,
+                                                             std::span<const LensAtWavelength> Ls, const std::vector<PathStep>& steps,
+                                                             double maxRadiusMm) {
+    return searchPupil(frame, field, sampling, Ls, steps, maxRadiusMm).parts;
+}
+
+bool hintsFindLight(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> Ls,
+                    const std::vector<PathStep>& steps, double maxRadiusMm, const PupilSearch& known, const PupilHints& hints) {
+    if (sampling == Sampling::ParaxialGrid) return false;
+    for (std::size_t w = 0; w < Ls.size() && w < hints.size(); ++w) {
+        if (hints[w].empty() || (w < known.tooBroken.size() && known.tooBroken[w])) continue;
+        const RegionSearch search(frame, field, Ls[w], steps, maxRadiusMm);
+        Found mine;
+        if (w < known.pieces.size()) mine.pieces = litBoxes(known.pieces[w]);
+        for (const LitBox& p : mine.pieces) mine.all.extend(p);
+        if (lookAt(search, mine, litBoxes(hints[w]))) return true;
+    }
+    return false;
+}
+
+PupilHints piecesAwayFrom(const PupilSearch& from, const PupilSearch& of) {
+    const double margin = 2.0 * std::max(from.spacing, of.spacing);
+    PupilHints out(from.pieces.size());
+    for (std::size_t w = 0; w < from.pieces.size(); ++w) {
+        if (w < of.tooBroken.size() && of.tooBroken[w]) continue;
+        const std::vector<LitBox> mine = w < of.pieces.size() ? litBoxes(of.pieces[w]) : std::vector<LitBox>{};
+        for (const PupilBox& b : from.pieces[w]) {
+            const LitBox p = litBoxOf(b);
+            if (std::none_of(mine.begin(), mine.end(), [&](const LitBox& q) { return near(p, q, margin); })) out[w].push_back(b);
+        }
+    }
+    return out;
 }
 
 PupilRegion bandRegion(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> ends,

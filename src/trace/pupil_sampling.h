@@ -112,6 +112,48 @@ std::vector<std::vector<PupilRegion>> pupilPartsByWavelength(const PupilFrame& f
                                                              std::span<const LensAtWavelength> Ls, const std::vector<PathStep>& steps,
                                                              double maxRadiusMm = 0.0);
 
+/// A box of the pupil plane (mm) over a piece of light a search found.
+struct PupilBox {
+    double xMin = 0.0, xMax = 0.0, yMin = 0.0, yMax = 0.0;
+};
+
+/// Boxes to look at for light, [wavelength][box].
+using PupilHints = std::vector<std::vector<PupilBox>>;
+
+/// What searchPupil found at several wavelengths of one field and path.
+struct PupilSearch {
+    std::vector<std::vector<PupilRegion>> parts; ///< [wavelength][part], as pupilPartsByWavelength
+    /// The pieces of light found, [wavelength][piece], for searches at neighbouring field angles to
+    /// look at; none where no light was found, or where it is too broken up to tell its pieces apart
+    /// (tooBroken).
+    PupilHints pieces;
+    std::vector<char> tooBroken; ///< [wavelength]
+    double spacing = 0.0;        ///< the searches' nominal spacing (mm): pieces closer than two of it are one
+    /// Whether looking at the hints found light far from everything the search had found without them.
+    bool hintsFoundLight = false;
+};
+
+/// pupilPartsByWavelength, told where light was found at neighbouring field angles of the same path:
+/// a piece of light a fraction of the coarse spacing across is met by the coarse passes with a chance
+/// of its area over a cell's, so the searches of neighbouring angles step over it at some angles and
+/// not at others, and a ghost's moments jump (the wide angle's R6->R1 at 450 nm: a patch 13 mm from
+/// the rest of its light, 0.14 mm across at 5.515 deg and gone at 5.5167 deg, a third of its radial
+/// spread, found at some of those angles). hints[w] (empty: none) are boxes where light was found at
+/// wavelength w; those far from everything this search found are looked at on the finer passes that
+/// serve the wavelengths' hints to one another.
+PupilSearch searchPupil(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> Ls,
+                        const std::vector<PathStep>& steps, double maxRadiusMm = 0.0, const PupilHints& hints = {});
+
+/// Whether the hints' looks of searchPupil find light far from what `known` (searchPupil's result at
+/// this field, without these hints) found: the looks alone, without the coarse passes, to tell cheaply
+/// whether searching again with the hints would find more.
+bool hintsFindLight(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> Ls,
+                    const std::vector<PathStep>& steps, double maxRadiusMm, const PupilSearch& known, const PupilHints& hints);
+
+/// The pieces `from` found that lie far from every piece `of` found, [wavelength][piece] (none at a
+/// wavelength where `of`'s light was too broken up to compare).
+PupilHints piecesAwayFrom(const PupilSearch& from, const PupilSearch& of);
+
 /// One region for a band of wavelengths, for callers that trace all of them on the same grid: the
 /// square over the regions searched at the band's shortest and longest wavelengths (first and last
 /// of `ends`). A lit pupil can change shape with the wavelength, not only shift, and the indices,

@@ -415,3 +415,38 @@ TEST(PupilRegion, KeepsTheMirrorSymmetryOfTheLight) {
         EXPECT_EQ(outside, 0) << angle << " deg: of " << lit << " lit points";
     }
 }
+
+// The wide angle's R6->R1 at 450 nm passes, 13 mm above the rest of its light in the pupil, a patch
+// that shrinks to nothing near 5.5167 deg (found here by the fine scan up x = 0). At 5.5150-5.5160
+// deg it is under 0.15 mm across and the searches' coarse points (0.28 mm apart) step over it at
+// 450 nm; at 5.512 deg they meet it. Told where the search at 5.512 deg found light, the
+// searches at these angles look there and their parts hold the patch; and the looks alone
+// (hintsFindLight), at the pieces 5.512 deg found that the search here lacks, tell that searching
+// again would find more.
+TEST(PupilRegion, LooksWhereANeighbouringAngleFoundLight) {
+    const LensBench s("wide-angle-16.7mm-f4.lens");
+    const std::vector<PathStep> steps = stepsOf(s.lens, "R6\u2192R1");
+    ASSERT_FALSE(steps.empty());
+    const std::vector<LensAtWavelength> Ls = tableWavelengths(s);
+    const PupilSearch neighbour = searchPupil(s.pupil, Field{degToRad(5.512), 0.0}, Sampling::Reaim, Ls, steps, test::kMaxRadius);
+    for (double angle : {5.5150, 5.5155, 5.5160}) {
+        const Field field{degToRad(angle), 0.0};
+        const auto lit = litAlongY(s, steps, field, searchHalfSize(s.pupil, field), &Ls[2]);
+        ASSERT_GE(lit.size(), 2u) << angle << " deg";
+        EXPECT_GT(lit.back().first - lit.front().second, 10.0) << angle << " deg: the patch lies far from the rest";
+        EXPECT_LT(lit.back().second - lit.back().first, 0.15) << angle << " deg: the patch";
+        const PupilSearch alone = searchPupil(s.pupil, field, Sampling::Reaim, Ls, steps, test::kMaxRadius);
+        const PupilSearch told = searchPupil(s.pupil, field, Sampling::Reaim, Ls, steps, test::kMaxRadius, neighbour.pieces);
+        EXPECT_TRUE(told.hintsFoundLight) << angle << " deg";
+        for (const auto& [start, end] : lit) {
+            EXPECT_TRUE(holdsStretch(told.parts[2], start, end))
+                << angle << " deg: 450 nm light at y " << start << " to " << end << " mm outside its parts";
+        }
+        const PupilHints away = piecesAwayFrom(neighbour, alone);
+        const bool missed = !holdsStretch(alone.parts[2], lit.back().first, lit.back().second);
+        if (missed) {
+            EXPECT_TRUE(hintsFindLight(s.pupil, field, Sampling::Reaim, Ls, steps, test::kMaxRadius, alone, away)) << angle << " deg";
+        }
+        std::printf("%.4f deg: patch %.4f..%.4f mm, %s alone\n", angle, lit.back().first, lit.back().second, missed ? "missed" : "found");
+    }
+}
