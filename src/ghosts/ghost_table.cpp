@@ -489,7 +489,8 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
             const GhostNodes& n = nodes[d.ghost];
             trace::PupilHints hints = n.found[d.interval].pieces;
             const trace::PupilHints& other = n.found[d.interval + 1].pieces;
-            for (std::size_t w = 0; w < hints.size() && w < other.size(); ++w) hints[w].insert(hints[w].end(), other[w].begin(), other[w].end());
+            for (std::size_t w = 0; w < hints.size() && w < other.size(); ++w)
+                hints[w].insert(hints[w].end(), other[w].begin(), other[w].end());
             tasks.push_back({d.ghost, 0.5 * (n.angles[d.interval] + n.angles[d.interval + 1]), std::move(hints)});
         }
         Traced mids = builder.trace(tasks);
@@ -504,7 +505,10 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
             for (const GhostNodes& n : nodes)
                 for (std::size_t w = 0; w < nW; ++w) flux[w] = std::max(flux[w], n.fluxAt(w, angle));
         for (std::size_t k = 0; k < tasks.size(); ++k)
-            for (std::size_t w = 0; w < nW; ++w) strongest[tasks[k].angleDeg][w] = std::max(strongest[tasks[k].angleDeg][w], mids.rows[k][w].flux);
+            for (std::size_t w = 0; w < nW; ++w) {
+                double& flux = strongest[tasks[k].angleDeg][w];
+                flux = std::max(flux, mids.rows[k][w].flux);
+            }
 
         // The measured intervals' errors; an entry traced again passes its largest to the intervals
         // beside it that are not measured this round, as their estimate until they are.
@@ -512,9 +516,11 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
         std::map<Node, double> estimates = changed;
         for (std::size_t k = 0; k < todo.size(); ++k) {
             const GhostNodes& n = nodes[todo[k].ghost];
-            errors[k] = midError(n.rows[todo[k].interval], n.rows[todo[k].interval + 1], mids.rows[k], strongest[tasks[k].angleDeg], floorMm);
-            for (const std::size_t e : {todo[k].interval, todo[k].interval + 1})
-                if (const auto it = estimates.find({todo[k].ghost, e}); it != estimates.end()) it->second = std::max(it->second, errors[k].first);
+            const std::size_t i = todo[k].interval;
+            errors[k] = midError(n.rows[i], n.rows[i + 1], mids.rows[k], strongest[tasks[k].angleDeg], floorMm);
+            for (const std::size_t e : {i, i + 1})
+                if (const auto it = estimates.find({todo[k].ghost, e}); it != estimates.end())
+                    it->second = std::max(it->second, errors[k].first);
         }
 
         // Every mid-angle becomes an entry of its ghost. A passing interval leaves two halves that

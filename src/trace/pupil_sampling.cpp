@@ -426,7 +426,9 @@ bool tooBroken(const Found& f) { return f.pieces.empty() && !f.all.empty(); }
 bool lookAt(const RegionSearch& search, Found& mine, std::vector<LitBox> hints) {
     const double margin = 2.0 * search.cell();
     const std::vector<LitBox> before = mine.pieces;
-    const auto known = [&](const LitBox& p) { return std::any_of(before.begin(), before.end(), [&](const LitBox& q) { return near(p, q, margin); }); };
+    const auto known = [&](const LitBox& p) {
+        return std::any_of(before.begin(), before.end(), [&](const LitBox& q) { return near(p, q, margin); });
+    };
     std::erase_if(hints, known);
     hints = mergeNear(std::move(hints), kPartGapCells * search.cell());
     if (hints.size() > kMaxParts) return false;
