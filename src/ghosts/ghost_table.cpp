@@ -369,7 +369,9 @@ void requireSymmetric(const optics::Lens& lens) {
 // square-root kinks (a part of a ghost vignetted away: double Gauss 50 mm R3->R1 at 650 nm loses a
 // patch of its pupil at 22.395 deg, and its sigma r falls from 6.8 to 3.2 mm over the preceding
 // 0.12 deg) improve by only sqrt(2) per halving: at 1/8192 of the field the double Gauss 50 mm kept
-// intervals 9.7 % off. What fails at this floor are steps in the traced entries themselves.
+// intervals 9.7 % off. What fails at this floor: far pieces of light vanishing (a second moment
+// dominated by a piece whose flux goes to zero is missed by linear interpolation by a fixed share
+// however short the interval), and steps in the traced entries themselves.
 constexpr double kFinestDivision = 131072.0;
 
 double defaultMaxAngle(const optics::Lens& lens, const TableSettings& s, double sensorZ) {
