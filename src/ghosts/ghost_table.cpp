@@ -3,19 +3,16 @@
 #include "core/error.h"
 #include "core/text.h"
 #include "core/units.h"
+#include "ghosts/entry_tracer.h"
 #include "optics/paraxial.h"
-#include "trace/bundle_moments.h"
-#include "trace/flare_raster.h"
 #include "trace/traced_flare.h"
 
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <map>
-#include <mutex>
 
 namespace ff::ghosts {
 
@@ -72,199 +69,6 @@ TableEntry lerp(const TableEntry& a, const TableEntry& b, double t) {
     return e;
 }
 
-// The direct image at one field angle: its centroid and its energy (which normalises every ghost's
-// flux there), per wavelength.
-struct DirectResult {
-    std::vector<double> y, energy;
-};
-
-// One part of a ghost's pupil, traced: its centre and corner rays.
-struct PartTrace {
-    trace::Bundle centres, corners;
-    std::vector<trace::RayResult> c, k;
-};
-
-// One ghost at one field angle, with where light was found at its neighbouring angles.
-struct Task {
-    std::size_t ghost = 0;
-    double angleDeg = 0.0;
-    trace::PupilHints hints;
-};
-
-// A task's entry, [wavelength], and what its search found.
-struct Traced {
-    std::vector<std::vector<TableEntry>> rows; ///< [task][wavelength]
-    std::vector<trace::PupilSearch> found;     ///< [task]
-};
-
-class Builder {
-public:
-    Builder(const optics::Lens& lens, const TableSettings& s, const Progress& progress)
-        : lens_(lens), s_(s), progress_(progress), sensorZ_(trace::sensorPlaneZ(lens, s.sensor)),
-          frame_(trace::pupilFrame(lens)), geometry_(lens, lines::d, sensorZ_), tracer_(geometry_) {
-        for (const trace::GhostPair& g : trace::enumerateGhosts(lens)) {
-            pairs_.push_back(g);
-            steps_.push_back(trace::pathSteps(lens, g));
-        }
-        for (double l : s.wavelengthsNm) atLambda_.emplace_back(lens, l, sensorZ_);
-        // Light landing beyond twice the sensor's half-diagonal can never reach the frame.
-        const auto size = lens.sensorMm.value_or(s.sensorSizeMm);
-        fitOptions_.maxRadiusMm = std::hypot(size.first, size.second);
-        directSteps_ = trace::pathSteps(lens, std::nullopt);
-    }
-
-    const std::vector<trace::GhostPair>& pairs() const { return pairs_; }
-    double sensorZ() const { return sensorZ_; }
-
-    void setTotalWork(std::size_t total) { total_ = total; }
-    /// The refinement may stop before its budget: the work is then all done.
-    void finish() {
-        if (progress_ && done_ > 0) progress_(done_, done_);
-    }
-
-    /// The direct image at every angle traced so far.
-    const std::map<double, DirectResult>& directs() const { return direct_; }
-
-    /// Direct images at every angle not yet traced.
-    void traceDirect(const std::vector<double>& anglesDeg) {
-        std::vector<double> todo;
-        for (double a : anglesDeg)
-            if (!direct_.count(a)) todo.push_back(a);
-        std::sort(todo.begin(), todo.end());
-        todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
-        const std::size_t nW = s_.wavelengthsNm.size();
-        std::vector<DirectResult> out(todo.size(), DirectResult{std::vector<double>(nW), std::vector<double>(nW)});
-        tbb::parallel_for(std::size_t(0), todo.size(), [&](std::size_t a) {
-            const trace::Field field{degToRad(todo[a]), 0.0};
-            for (std::size_t w = 0; w < nW; ++w) {
-                const trace::PupilRegion region = trace::pupilRegion(frame_, field, s_.sampling, atLambda_[w], directSteps_);
-                const trace::Bundle b = trace::regionBundle(frame_, field, region, gridFor(region));
-                const trace::Bundle corners = trace::cornerBundle(frame_, field, b);
-                std::vector<trace::RayResult> hits(b.rays.size()), k(corners.rays.size());
-                tracer_.trace(atLambda_[w], directSteps_, b.rays, hits);
-                tracer_.trace(atLambda_[w], directSteps_, corners.rays, k);
-                const trace::BundleMoments m = measure(w, directSteps_, field, b, hits, k, 1.0, 0.0);
-                out[a].energy[w] = m.energy;
-                out[a].y[w] = m.centroidY;
-            }
-        });
-        for (std::size_t a = 0; a < todo.size(); ++a) direct_.emplace(todo[a], std::move(out[a]));
-    }
-
-    /// Whether looking where the hints say finds light at this ghost and angle that `known`, its
-    /// search there, did not (trace::hintsFindLight).
-    bool hintsFindLight(std::size_t ghost, double angleDeg, const trace::PupilSearch& known, const trace::PupilHints& hints) const {
-        const trace::Field field{degToRad(angleDeg), 0.0};
-        return trace::hintsFindLight(frame_, field, s_.sampling, atLambda_, steps_[ghost], fitOptions_.maxRadiusMm, known, hints);
-    }
-
-    /// Every task's entry and search (direct images traced first where missing).
-    Traced trace(const std::vector<Task>& tasks) {
-        std::vector<double> angles;
-        for (const Task& t : tasks) angles.push_back(t.angleDeg);
-        traceDirect(angles);
-        const std::size_t nW = s_.wavelengthsNm.size();
-        Traced traced{std::vector<std::vector<TableEntry>>(tasks.size(), std::vector<TableEntry>(nW)),
-                      std::vector<trace::PupilSearch>(tasks.size())};
-        std::vector<std::vector<TableEntry>>& out = traced.rows;
-        tbb::parallel_for(std::size_t(0), tasks.size(), [&](std::size_t task) {
-            const std::size_t g = tasks[task].ghost;
-            const DirectResult& d = direct_.at(tasks[task].angleDeg);
-            const trace::Field field{degToRad(tasks[task].angleDeg), 0.0};
-            // Each wavelength's own region: a ghost's lit pupil can change shape with the wavelength,
-            // not only shift (the double Gauss 50 mm's R3->R1 at 22.28-22.40 deg passes a 5 x 3 mm
-            // patch at 650 nm that is gone at the d line). Where the light falls in pieces far apart,
-            // each piece gets a grid at its own scale; the wavelengths' searches tell one another
-            // where they found light, and look where the ghost's neighbouring angles found it
-            // (trace::searchPupil).
-            trace::PupilSearch& found = traced.found[task];
-            found = trace::searchPupil(frame_, field, s_.sampling, atLambda_, steps_[g], fitOptions_.maxRadiusMm, tasks[task].hints);
-            for (std::size_t w = 0; w < nW; ++w) {
-                if (d.energy[w] <= 0.0) continue;
-                const std::vector<trace::PupilRegion>& regions = found.parts[w];
-                const double scale = 1.0 / d.energy[w];
-                std::vector<PartTrace> parts(regions.size());
-                std::vector<trace::BundleMoments> moments;
-                std::vector<BundlePart> views;
-                for (std::size_t p = 0; p < regions.size(); ++p) {
-                    PartTrace& t = parts[p];
-                    t.centres = trace::regionBundle(frame_, field, regions[p], gridFor(regions[p]));
-                    t.corners = trace::cornerBundle(frame_, field, t.centres);
-                    t.c.resize(t.centres.rays.size());
-                    t.k.resize(t.corners.rays.size());
-                    tracer_.trace(atLambda_[w], steps_[g], t.centres.rays, t.c);
-                    tracer_.trace(atLambda_[w], steps_[g], t.corners.rays, t.k);
-                    moments.push_back(measure(w, steps_[g], field, t.centres, t.c, t.k, scale, fitOptions_.maxRadiusMm));
-                    views.push_back({&t.centres, &t.c, &t.k});
-                }
-                const trace::BundleMoments m = trace::combineMoments(moments);
-                const GhostFit f = fitGhost(views, scale, fitOptions_, &m);
-                TableEntry& e = out[task][w];
-                e.centroidY = f.centroidY;
-                e.sigmaR = f.sigmaR;
-                e.sigmaT = f.sigmaT;
-                e.flux = f.flux;
-                e.surviving = f.survivingFraction;
-                e.gaussian = f.gaussian;
-                e.cos2 = f.cos2;
-            }
-            report();
-        });
-        return traced;
-    }
-
-private:
-    // The table's grid, refined where it would under-sample the light: doubled (at most twice) while
-    // less than kMinLit of the region is lit (a ghost nearly vignetted away falls between a handful of
-    // rays), and 8x where more than kMaxThin of the region search's lit points are one point thick
-    // (a band or ring of light narrower than that pass's spacing, which a grid as coarse lets slip
-    // between its rays, and the edge sub-grids with it), 16x where more than kAllThin are (a part
-    // that is all thin band: the wide angle's R4->R2 band at 31.7 deg, 0.05-0.1 mm thick, on a 256
-    // grid over its 7 mm square had two or three rays across it, and its tangential spread missed
-    // the mid-angles by up to 0.68 %; on 512, 0.07 %). Either way the moments would move in steps as
-    // the field angle moves the light across the rays.
-    int gridFor(const trace::PupilRegion& r) const {
-        constexpr double kMinLit = 0.1, kMaxThin = 0.05, kAllThin = 0.5;
-        if (r.thinShare > kAllThin) return 16 * s_.grid;
-        if (r.thinShare > kMaxThin) return 8 * s_.grid;
-        int n = s_.grid;
-        for (double lit = r.litFraction; lit < kMinLit && n < 4 * s_.grid; lit *= 4.0) n *= 2;
-        return n;
-    }
-
-    // The bundle's moments, its vignetting edges resolved on sub-grids (TableSettings::edgeSubdivisions).
-    trace::BundleMoments measure(std::size_t w, const std::vector<trace::PathStep>& steps, const trace::Field& field, const trace::Bundle& b,
-                                 const std::vector<trace::RayResult>& c, const std::vector<trace::RayResult>& k, double scale,
-                                 double maxRadius) const {
-        if (s_.edgeSubdivisions <= 1) return trace::measureBundle(b, c, scale, maxRadius);
-        return trace::measureBundleResolved(tracer_, atLambda_[w], steps, frame_, field, b, c, k, s_.edgeSubdivisions, scale, maxRadius);
-    }
-
-    void report() {
-        const std::size_t d = ++done_;
-        if (!progress_) return;
-        std::lock_guard<std::mutex> lock(mutex_);
-        progress_(std::min(d, total_), std::max(total_, d));
-    }
-
-    const optics::Lens& lens_;
-    const TableSettings& s_;
-    const Progress& progress_;
-    double sensorZ_;
-    trace::PupilFrame frame_;
-    trace::LensAtWavelength geometry_;
-    trace::EmbreeTracer tracer_;
-    std::vector<trace::LensAtWavelength> atLambda_;
-    std::vector<trace::GhostPair> pairs_;
-    std::vector<std::vector<trace::PathStep>> steps_;
-    std::vector<trace::PathStep> directSteps_;
-    FitOptions fitOptions_;
-    std::map<double, DirectResult> direct_;
-    std::atomic<std::size_t> done_{0};
-    std::size_t total_ = 0;
-    std::mutex mutex_;
-};
-
 // A ghost's angles while the table is refined: its traced entries and the intervals between them.
 // Each interval is either measured (the error of interpolating at its mid-angle) or waiting to be,
 // with its parent's error kept as the estimate should the budget run out first.
@@ -296,11 +100,11 @@ struct Todo {
 using Node = std::pair<std::size_t, std::size_t>;
 
 // Light a mid-angle's search found far from everything a neighbouring entry's search found was
-// stepped over there, or is not there: where looking for it finds it (Builder::hintsFindLight, the
+// stepped over there, or is not there: where looking for it finds it (EntryTracer::hintsFindLight, the
 // looks alone), the entry is traced again, told where to look, while the budget lasts. A piece of
 // light is so carried along the angles where it is, whichever angle's search met it first. Returns
 // the entries traced again (with 0, their error estimate to be raised by the caller).
-std::map<Node, double> retraceNeighbours(Builder& builder, std::vector<GhostNodes>& nodes, const std::vector<Todo>& todo, const Traced& mids,
+std::map<Node, double> retraceNeighbours(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const std::vector<Todo>& todo, const Traced& mids,
                                          std::size_t budget, std::size_t& spent) {
     std::map<Node, trace::PupilHints> hints;
     for (std::size_t k = 0; k < todo.size(); ++k)
@@ -316,7 +120,7 @@ std::map<Node, double> retraceNeighbours(Builder& builder, std::vector<GhostNode
     tbb::parallel_for(std::size_t(0), candidates.size(), [&](std::size_t c) {
         const auto& [node, h] = candidates[c];
         const GhostNodes& n = nodes[node.first];
-        finds[c] = builder.hintsFindLight(node.first, n.angles[node.second], n.found[node.second], h);
+        finds[c] = tracer.hintsFindLight(node.first, n.angles[node.second], n.found[node.second], h);
     });
     std::vector<Task> again;
     std::vector<Node> which;
@@ -328,7 +132,7 @@ std::map<Node, double> retraceNeighbours(Builder& builder, std::vector<GhostNode
     }
     std::map<Node, double> changed;
     if (again.empty()) return changed;
-    Traced traced = builder.trace(again);
+    Traced traced = tracer.trace(again);
     spent += again.size();
     for (std::size_t j = 0; j < again.size(); ++j) {
         GhostNodes& n = nodes[which[j].first];
@@ -428,32 +232,32 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
     requireSymmetric(lensIn);
     const auto start = std::chrono::steady_clock::now();
     const optics::Lens lens = trace::withCoating(lensIn, s.coating);
-    Builder builder(lens, s, progress);
+    EntryTracer tracer(lens, s, progress);
     GhostTable t;
     t.lensName = lens.name;
     t.lensFile = lens.file;
     t.lensHash = lens.contentHash;
     t.settingsKey = s.key();
     t.efl = optics::paraxialEfl(lens, lines::d);
-    t.sensorZ = builder.sensorZ();
+    t.sensorZ = tracer.sensorZ();
     t.sensorSizeMm = lens.sensorMm.value_or(s.sensorSizeMm);
     t.apertureBlades = lens.apertureBlades;
     t.bladeRotationDeg = lens.bladeRotationDeg;
     t.wavelengthsNm = s.wavelengthsNm;
     const double maxAngle = s.maxAngleDeg > 0.0 ? s.maxAngleDeg : defaultMaxAngle(lens, s, t.sensorZ);
-    const std::size_t nW = s.wavelengthsNm.size(), nG = builder.pairs().size();
+    const std::size_t nW = s.wavelengthsNm.size(), nG = tracer.pairs().size();
     const double minStep = maxAngle / kFinestDivision, floorMm = 0.01 * 0.5 * t.sensorSizeMm.second;
 
     // Every ghost starts on the same 9 uniform angles; each then refines its own intervals. The
     // budget counts traced entries: maxAngles per ghost on average.
     const std::size_t budget = static_cast<std::size_t>(std::max(s.maxAngles, 9)) * nG;
-    builder.setTotalWork(budget);
+    tracer.setTotalWork(budget);
     std::vector<GhostNodes> nodes(nG);
     {
         std::vector<Task> tasks;
         for (std::size_t g = 0; g < nG; ++g)
             for (int i = 0; i <= 8; ++i) tasks.push_back({g, maxAngle * i / 8.0, {}});
-        Traced traced = builder.trace(tasks);
+        Traced traced = tracer.trace(tasks);
         for (std::size_t k = 0; k < tasks.size(); ++k) {
             GhostNodes& n = nodes[tasks[k].ghost];
             n.angles.push_back(tasks[k].angleDeg);
@@ -495,9 +299,9 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
                 hints[w].insert(hints[w].end(), other[w].begin(), other[w].end());
             tasks.push_back({d.ghost, 0.5 * (n.angles[d.interval] + n.angles[d.interval + 1]), std::move(hints)});
         }
-        Traced mids = builder.trace(tasks);
+        Traced mids = tracer.trace(tasks);
         spent += tasks.size();
-        const std::map<Node, double> changed = retraceNeighbours(builder, nodes, todo, mids, budget, spent);
+        const std::map<Node, double> changed = retraceNeighbours(tracer, nodes, todo, mids, budget, spent);
 
         // The strongest ghost's flux at each mid-angle and wavelength: traced where this round
         // traced it, interpolated from the ghost's entries elsewhere.
@@ -559,7 +363,7 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
             n = std::move(next);
         }
     }
-    builder.finish();
+    tracer.finish();
 
     // The errors of the final intervals of ghosts that counted there.
     std::vector<double> errors;
@@ -580,13 +384,13 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
 
     // The direct image at every angle any ghost uses.
     t.directY.assign(nW, {});
-    for (const auto& [angle, d] : builder.directs()) {
+    for (const auto& [angle, d] : tracer.directs()) {
         t.anglesDeg.push_back(angle);
         for (std::size_t w = 0; w < nW; ++w) t.directY[w].push_back(d.y[w]);
     }
     for (std::size_t g = 0; g < nG; ++g) {
         TableGhost tg;
-        tg.pair = builder.pairs()[g];
+        tg.pair = tracer.pairs()[g];
         tg.anglesDeg = nodes[g].angles;
         tg.entries.assign(nW, std::vector<TableEntry>(tg.anglesDeg.size()));
         for (std::size_t a = 0; a < tg.anglesDeg.size(); ++a)
@@ -603,12 +407,12 @@ std::vector<std::vector<std::vector<TableEntry>>> traceEntries(const optics::Len
     requireSymmetric(lensIn);
     const optics::Lens lens = trace::withCoating(lensIn, s.coating);
     const Progress none;
-    Builder builder(lens, s, none);
+    EntryTracer tracer(lens, s, none);
     std::vector<std::size_t> ghosts;
-    for (std::size_t g = 0; g < builder.pairs().size(); ++g)
+    for (std::size_t g = 0; g < tracer.pairs().size(); ++g)
         if (onlyGhosts.empty()) ghosts.push_back(g);
     for (const std::string& label : onlyGhosts) {
-        const auto& pairs = builder.pairs();
+        const auto& pairs = tracer.pairs();
         const auto it = std::find_if(pairs.begin(), pairs.end(), [&](const trace::GhostPair& p) { return p.label() == label; });
         if (it == pairs.end()) throw Error(ErrorKind::Input, SourceLocation{lens.file}, "the lens has no ghost " + label);
         ghosts.push_back(static_cast<std::size_t>(it - pairs.begin()));
@@ -616,7 +420,7 @@ std::vector<std::vector<std::vector<TableEntry>>> traceEntries(const optics::Len
     std::vector<Task> tasks;
     for (double a : anglesDeg)
         for (std::size_t g : ghosts) tasks.push_back({g, a, {}});
-    std::vector<std::vector<TableEntry>> rows = builder.trace(tasks).rows;
+    std::vector<std::vector<TableEntry>> rows = tracer.trace(tasks).rows;
     std::vector<std::vector<std::vector<TableEntry>>> out(anglesDeg.size());
     for (std::size_t k = 0; k < tasks.size(); ++k) out[k / ghosts.size()].push_back(std::move(rows[k]));
     return out;
