@@ -100,12 +100,12 @@ struct Todo {
 using Node = std::pair<std::size_t, std::size_t>;
 
 // Light a mid-angle's search found far from everything a neighbouring entry's search found was
-// stepped over there, or is not there: where looking for it finds it (EntryTracer::hintsFindLight, the
-// looks alone), the entry is traced again, told where to look, while the budget lasts. A piece of
-// light is so carried along the angles where it is, whichever angle's search met it first. Returns
-// the entries traced again (with 0, their error estimate to be raised by the caller).
-std::map<Node, double> retraceNeighbours(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const std::vector<Todo>& todo, const Traced& mids,
-                                         std::size_t budget, std::size_t& spent) {
+// stepped over there, or is not there: where looking for it finds it (EntryTracer::hintsFindLight,
+// the looks alone), the entry is traced again, told where to look, while the budget lasts. A piece
+// of light is so carried along the angles where it is, whichever angle's search met it first.
+// Returns the entries traced again.
+std::vector<Node> retraceNeighbours(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const std::vector<Todo>& todo, const Traced& mids,
+                                    std::size_t budget, std::size_t& spent) {
     std::map<Node, trace::PupilHints> hints;
     for (std::size_t k = 0; k < todo.size(); ++k)
         for (const std::size_t e : {todo[k].interval, todo[k].interval + 1}) {
@@ -130,17 +130,15 @@ std::map<Node, double> retraceNeighbours(EntryTracer& tracer, std::vector<GhostN
         again.push_back({node.first, nodes[node.first].angles[node.second], h});
         which.push_back(node);
     }
-    std::map<Node, double> changed;
-    if (again.empty()) return changed;
+    if (again.empty()) return which;
     Traced traced = tracer.trace(again);
     spent += again.size();
     for (std::size_t j = 0; j < again.size(); ++j) {
         GhostNodes& n = nodes[which[j].first];
         n.rows[which[j].second] = std::move(traced.rows[j]);
         n.found[which[j].second] = std::move(traced.found[j]);
-        changed.emplace(which[j], 0.0);
     }
-    return changed;
+    return which;
 }
 
 // Relative error of interpolating one ghost at a mid-angle (see the header), the worst over the
@@ -301,7 +299,7 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
         }
         Traced mids = tracer.trace(tasks);
         spent += tasks.size();
-        const std::map<Node, double> changed = retraceNeighbours(tracer, nodes, todo, mids, budget, spent);
+        const std::vector<Node> retraced = retraceNeighbours(tracer, nodes, todo, mids, budget, spent);
 
         // The strongest ghost's flux at each mid-angle and wavelength: traced where this round
         // traced it, interpolated from the ghost's entries elsewhere.
@@ -319,7 +317,8 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
         // The measured intervals' errors; an entry traced again passes its largest to the intervals
         // beside it that are not measured this round, as their estimate until they are.
         std::vector<std::pair<double, bool>> errors(todo.size());
-        std::map<Node, double> estimates = changed;
+        std::map<Node, double> estimates;
+        for (const Node& e : retraced) estimates.emplace(e, 0.0);
         for (std::size_t k = 0; k < todo.size(); ++k) {
             const GhostNodes& n = nodes[todo[k].ghost];
             const std::size_t i = todo[k].interval;
