@@ -353,6 +353,35 @@ TEST(PupilRegion, PartsHoldTheLightBetweenThem) {
     }
 }
 
+// The double Gauss 50 mm's R3->R1 at 21.8406-21.8407 deg and 450 nm (counting radius) passes, on the
+// line x = 0, a crescent's stretch and, more than 5 mm below it, a patch's stretch under 0.5 mm long;
+// the search finds the two far apart. A square over the crescent (20 mm across) centred on it would
+// reach over the patch's; slid along the gap, each piece gets a square of its own: two parts,
+// disjoint, the patch's a few millimetres across, holding every lit stretch of the scan.
+TEST(PupilRegion, PartsSlideApartWhereASquareWouldReachOverTheOtherPiece) {
+    const LensBench s("double-gauss-50mm-f2.lens");
+    const std::vector<PathStep> steps = stepsOf(s.lens, "R3\u2192R1");
+    ASSERT_FALSE(steps.empty());
+    const std::vector<LensAtWavelength> Ls = tableWavelengths(s);
+    for (double angle : {21.8406, 21.8407}) {
+        const Field field{degToRad(angle), 0.0};
+        const auto lit = litAlongY(s, steps, field, searchHalfSize(s.pupil, field), &Ls[2]);
+        ASSERT_EQ(lit.size(), 2u) << angle << " deg";
+        const auto [patchStart, patchEnd] = lit.front();
+        EXPECT_LT(patchEnd - patchStart, 0.5) << angle << " deg: the patch";
+        EXPECT_GT(lit.back().first - patchEnd, 5.0) << angle << " deg: the patch lies far from the crescent";
+        const auto parts = pupilPartsByWavelength(s.pupil, field, Sampling::Reaim, Ls, steps, test::kMaxRadius)[2];
+        ASSERT_EQ(parts.size(), 2u) << angle << " deg";
+        const PupilRegion& a = parts[0];
+        const PupilRegion& b = parts[1];
+        EXPECT_TRUE(std::abs(a.cx - b.cx) >= a.half + b.half || std::abs(a.cy - b.cy) >= a.half + b.half) << angle << " deg: parts overlap";
+        EXPECT_LT(std::min(a.half, b.half), 2.0) << angle << " deg: the patch's square";
+        for (const auto& [start, end] : lit) {
+            EXPECT_TRUE(holdsStretch(parts, start, end)) << angle << " deg: light at y " << start << " to " << end << " mm outside the parts";
+        }
+    }
+}
+
 namespace {
 
 // Whether every part has a mirror image across x = 0 among the parts (within 5 % of their summed
