@@ -134,34 +134,69 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
         }
     std::vector<RayResult> hits;
     std::vector<double> areas;
-    std::vector<optics::Ray> subRays;
-    const double subArea = centres.cellArea / (double(subdivisions) * subdivisions);
+    std::vector<std::size_t> queue;
     for (std::size_t i = 0; i < c.size(); ++i) {
         if (!centres.launched[i]) continue;
-        const int col = static_cast<int>(i % static_cast<std::size_t>(centres.n)), row = static_cast<int>(i / static_cast<std::size_t>(centres.n));
-        if (!edge[i]) {
-            if (!counted(c[i])) continue;
-            // A wholly lit cell: 2/3 of the midpoint rule plus 1/3 of its corners' trapezoid rule,
-            // whose h^2 error terms cancel (a strongly curved landing map is then integrated to
-            // fourth order instead of second).
-            hits.push_back(c[i]);
-            areas.push_back(centres.cellArea * (2.0 / 3.0));
-            const std::size_t corner = static_cast<std::size_t>(row) * (n + 1) + col;
-            for (const std::size_t q : {corner, corner + 1, corner + n + 1, corner + n + 2}) {
-                hits.push_back(k[q]);
-                areas.push_back(centres.cellArea / 12.0);
-            }
+        if (edge[i]) {
+            queue.push_back(i);
             continue;
         }
-        const Bundle sub = gridBundle(pupil, field, subdivisions, centres.x0 + (col + 0.5) * centres.cell, centres.y0 + (row + 0.5) * centres.cell,
-                                      0.5 * centres.cell, false);
-        subRays.insert(subRays.end(), sub.rays.begin(), sub.rays.end());
+        if (!counted(c[i])) continue;
+        // A wholly lit cell: 2/3 of the midpoint rule plus 1/3 of its corners' trapezoid rule,
+        // whose h^2 error terms cancel (a strongly curved landing map is then integrated to
+        // fourth order instead of second).
+        const std::size_t col = i % static_cast<std::size_t>(n), row = i / static_cast<std::size_t>(n);
+        hits.push_back(c[i]);
+        areas.push_back(centres.cellArea * (2.0 / 3.0));
+        const std::size_t corner = row * (n + 1) + col;
+        for (const std::size_t q : {corner, corner + 1, corner + n + 1, corner + n + 2}) {
+            hits.push_back(k[q]);
+            areas.push_back(centres.cellArea / 12.0);
+        }
     }
-    if (!subRays.empty()) {
+    // The straddling cells' sub-grids, then those of dark cells (none of their five rays counts)
+    // into which a traced sub-grid's counted light reaches: a sub-ray on its border or corner counts,
+    // the cell beyond it is dark. Light thinner than the grid can pass between all five rays of a
+    // cell (the tip of a sliver, which the telephoto's R8->R3 at 6.657 deg lays in its square's
+    // outermost column: 2 % of its tangential second moment was there at one angle and not the
+    // next); light is continuous, so it enters such a cell across a border that a traced sub-grid
+    // sees it reach. (Light wholly inside one cell, between its rays, is the region search's to
+    // find: a piece far from the rest gets a square and grid of its own.)
+    std::vector<char> resolved(c.size(), 0);
+    for (const std::size_t i : queue) resolved[i] = 1;
+    const double subArea = centres.cellArea / (double(subdivisions) * subdivisions);
+    const int last = subdivisions - 1;
+    while (!queue.empty()) {
+        std::vector<optics::Ray> subRays;
+        for (const std::size_t i : queue) {
+            const int col = static_cast<int>(i % static_cast<std::size_t>(n)), row = static_cast<int>(i / static_cast<std::size_t>(n));
+            const Bundle sub = gridBundle(pupil, field, subdivisions, centres.x0 + (col + 0.5) * centres.cell,
+                                          centres.y0 + (row + 0.5) * centres.cell, 0.5 * centres.cell, false);
+            subRays.insert(subRays.end(), sub.rays.begin(), sub.rays.end());
+        }
         std::vector<RayResult> subHits(subRays.size());
         tracer.trace(L, steps, subRays, subHits);
         hits.insert(hits.end(), subHits.begin(), subHits.end());
         areas.insert(areas.end(), subHits.size(), subArea);
+        std::vector<std::size_t> next;
+        for (std::size_t q = 0; q < queue.size(); ++q) {
+            const int col = static_cast<int>(queue[q] % static_cast<std::size_t>(n)), row = static_cast<int>(queue[q] / static_cast<std::size_t>(n));
+            const RayResult* cell = &subHits[q * static_cast<std::size_t>(subdivisions) * subdivisions];
+            for (int sj = 0; sj < subdivisions; ++sj)
+                for (int si = 0; si < subdivisions; ++si) {
+                    if ((si != 0 && si != last && sj != 0 && sj != last) || !counted(cell[sj * subdivisions + si])) continue;
+                    for (int dj = sj == 0 ? -1 : 0; dj <= (sj == last ? 1 : 0); ++dj)
+                        for (int di = si == 0 ? -1 : 0; di <= (si == last ? 1 : 0); ++di) {
+                            const int nc = col + di, nr = row + dj;
+                            if ((di == 0 && dj == 0) || nc < 0 || nr < 0 || nc >= n || nr >= n) continue;
+                            const std::size_t j = static_cast<std::size_t>(nr) * n + nc;
+                            if (resolved[j] || !centres.launched[j] || counted(c[j])) continue;
+                            resolved[j] = 1;
+                            next.push_back(j);
+                        }
+                }
+        }
+        queue = std::move(next);
     }
     BundleMoments m = measureSamples(hits, areas, scale, maxRadius);
     // The counts are the grid's centre rays'.
