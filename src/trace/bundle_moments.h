@@ -36,7 +36,9 @@ BundleMoments combineMoments(std::span<const BundleMoments> parts);
 /// steps as the field angle sweeps the edge across cells; here each such cell is re-traced on a
 /// `subdivisions` x `subdivisions` sub-grid and counted by its sub-cells, and so is, in turn, every
 /// dark cell (none of its five rays counts) into which a traced sub-grid's counted light reaches
-/// (light thinner than the grid passing between all five of its rays). A cell all of whose five
+/// (light thinner than the grid passing between all five of its rays), and every cell whose five rays
+/// all count but whose weights differ more than two-fold (a step in the weight: a reflection turning
+/// total). A cell all of whose five
 /// rays count is integrated by 2/3 of its centre ray plus 1/3 of its corners' mean (fourth order: the
 /// h^2 terms of the midpoint and trapezoid rules cancel). Counts (launched, surviving, blocked) stay
 /// those of the grid's centre rays.

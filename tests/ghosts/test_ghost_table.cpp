@@ -312,3 +312,36 @@ TEST(GhostTable, TheTipOfASliverBetweenTheRaysInterpolatesWithinItsTolerance) {
     }
     std::printf("R8->R3 at 6.65702-6.65717 deg, 650 nm: worst mid-angle error %.3f %%\n", 100.0 * worst);
 }
+
+// A step in the rays' weight: the double Gauss 50 mm's R11->R7 at 0.411 deg and 450 nm, a ghost
+// spread over 26 mm whose weight rises six-fold across a line of its pupil (a reflection turning
+// total), so that cells all of whose five rays arrive hold both sides of the step. Integrated by
+// their centre and corner rays, such cells moved the ghost's flux by 3.2 % and its centroid by
+// 0.66 mm within 0.00005 deg as the square moved with the field angle (its mid-angle missed by
+// 1.25 %); re-traced on sub-grids, entries 0.000047 deg apart (the table's finest step on this lens
+// is 0.00019 deg) interpolate to their mid-angles within the table's tolerance, by the builder's
+// measure and in flux.
+TEST(GhostTable, AStepInTheRaysWeightInterpolatesWithinItsTolerance) {
+    const optics::Lens lens = optics::loadLens(test::lensPath("double-gauss-50mm-f2.lens"));
+    const TableSettings s;
+    std::vector<double> angles;
+    for (int i = 0; i <= 4; ++i) angles.push_back(0.41096 + 0.000047 * i);
+    const auto e = traceEntries(lens, s, angles, {"R11\u2192R7"});
+    ASSERT_EQ(e.size(), angles.size());
+    const double floorMm = 0.01 * 0.5 * lens.sensorMm.value_or(s.sensorSizeMm).second;
+    double worst = 0.0;
+    for (std::size_t i = 1; i + 1 < angles.size(); ++i) {
+        const TableEntry& lo = e[i - 1][0][2];
+        const TableEntry& hi = e[i + 1][0][2];
+        const TableEntry& mid = e[i][0][2];
+        ASSERT_GT(mid.flux, 0.0) << angles[i] << " deg";
+        const double c = std::abs(0.5 * (lo.centroidY + hi.centroidY) - mid.centroidY) / std::max({std::abs(mid.centroidY), mid.sigmaR, floorMm});
+        const double r = std::abs(0.5 * (lo.sigmaR + hi.sigmaR) - mid.sigmaR) / mid.sigmaR;
+        const double t = std::abs(0.5 * (lo.sigmaT + hi.sigmaT) - mid.sigmaT) / mid.sigmaT;
+        const double f = std::abs(0.5 * (lo.flux + hi.flux) - mid.flux) / mid.flux;
+        EXPECT_LT(std::max({c, r, t, f}), s.interpolationTolerance)
+            << angles[i] << " deg: centroid " << c << ", sigma r " << r << ", sigma t " << t << ", flux " << f;
+        worst = std::max({worst, c, r, t, f});
+    }
+    std::printf("R11->R7 at 0.41096-0.41115 deg, 450 nm: worst mid-angle error %.3f %%\n", 100.0 * worst);
+}
