@@ -318,7 +318,7 @@ TEST(GhostTable, TheTipOfASliverBetweenTheRaysInterpolatesWithinItsTolerance) {
 // total), so that cells all of whose five rays arrive hold both sides of the step. Integrated by
 // their centre and corner rays, such cells moved the ghost's flux by 3.2 % and its centroid by
 // 0.66 mm within 0.00005 deg as the square moved with the field angle (its mid-angle missed by
-// 1.25 %); re-traced on sub-grids, entries 0.000047 deg apart (the table's finest step on this lens
+// 1.6 %); re-traced on sub-grids, entries 0.000047 deg apart (the table's finest step on this lens
 // is 0.00019 deg) interpolate to their mid-angles within the table's tolerance, by the builder's
 // measure and in flux.
 TEST(GhostTable, AStepInTheRaysWeightInterpolatesWithinItsTolerance) {
