@@ -244,6 +244,21 @@ double expectMidAnglesWithin(const Entries& e, const std::vector<double>& angles
     return worst;
 }
 
+// One ghost's entries at the default settings, at count + 1 angles from a0, step apart.
+struct Sweep {
+    optics::Lens lens;
+    TableSettings s;
+    std::vector<double> angles;
+    Entries e;
+};
+
+Sweep sweep(const char* lensFile, const char* label, double a0, double step, int count) {
+    Sweep w{optics::loadLens(test::lensPath(lensFile)), TableSettings{}, {}, {}};
+    for (int i = 0; i <= count; ++i) w.angles.push_back(a0 + step * i);
+    w.e = traceEntries(w.lens, w.s, w.angles, {label});
+    return w;
+}
+
 } // namespace
 
 // A ghost whose light falls in pieces far apart: the wide angle's R4->R2 at 31.70-31.80 deg passes a
@@ -280,15 +295,11 @@ TEST(GhostTable, AGhostInPiecesFarApartInterpolatesWithinItsTolerance) {
 // by 3.7 %). Entries 0.0001 deg apart interpolate to their mid-angles within the table's tolerance,
 // by the builder's measure.
 TEST(GhostTable, APatchBesideALongPieceInterpolatesWithinItsTolerance) {
-    const optics::Lens lens = optics::loadLens(test::lensPath("double-gauss-50mm-f2.lens"));
-    const TableSettings s;
-    ASSERT_EQ(s.wavelengthsNm.size(), 3u);
-    ASSERT_EQ(s.wavelengthsNm[2], 450.0);
-    std::vector<double> angles;
-    for (int i = 0; i <= 4; ++i) angles.push_back(21.8404 + 0.0001 * i);
-    const auto e = traceEntries(lens, s, angles, {"R3\u2192R1"});
-    ASSERT_EQ(e.size(), angles.size());
-    const double worst = expectMidAnglesWithin(e, angles, 2, lens, s, 1);
+    const Sweep w = sweep("double-gauss-50mm-f2.lens", "R3\u2192R1", 21.8404, 0.0001, 4);
+    ASSERT_EQ(w.s.wavelengthsNm.size(), 3u);
+    ASSERT_EQ(w.s.wavelengthsNm[2], 450.0);
+    ASSERT_EQ(w.e.size(), w.angles.size());
+    const double worst = expectMidAnglesWithin(w.e, w.angles, 2, w.lens, w.s, 1);
     std::printf("R3->R1 at 21.8404-21.8408 deg, 450 nm: worst mid-angle error %.3f %%\n", 100.0 * worst);
 }
 
@@ -301,14 +312,10 @@ TEST(GhostTable, APatchBesideALongPieceInterpolatesWithinItsTolerance) {
 // (trace::measureBundleResolved). Entries 0.0000385 deg apart (the table's finest step on this lens)
 // interpolate to their mid-angles within the table's tolerance.
 TEST(GhostTable, TheTipOfASliverBetweenTheRaysInterpolatesWithinItsTolerance) {
-    const optics::Lens lens = optics::loadLens(test::lensPath("telephoto-127mm-f5.6.lens"));
-    const TableSettings s;
-    ASSERT_EQ(s.wavelengthsNm[0], 650.0);
-    std::vector<double> angles;
-    for (int i = 0; i <= 4; ++i) angles.push_back(6.657019 + 0.0000385 * i);
-    const auto e = traceEntries(lens, s, angles, {"R8\u2192R3"});
-    ASSERT_EQ(e.size(), angles.size());
-    const double worst = expectMidAnglesWithin(e, angles, 0, lens, s, 1);
+    const Sweep w = sweep("telephoto-127mm-f5.6.lens", "R8\u2192R3", 6.657019, 0.0000385, 4);
+    ASSERT_EQ(w.s.wavelengthsNm[0], 650.0);
+    ASSERT_EQ(w.e.size(), w.angles.size());
+    const double worst = expectMidAnglesWithin(w.e, w.angles, 0, w.lens, w.s, 1);
     std::printf("R8->R3 at 6.65702-6.65717 deg, 650 nm: worst mid-angle error %.3f %%\n", 100.0 * worst);
 }
 
@@ -321,12 +328,8 @@ TEST(GhostTable, TheTipOfASliverBetweenTheRaysInterpolatesWithinItsTolerance) {
 // is 0.00019 deg) interpolate to their mid-angles within the table's tolerance, by the builder's
 // measure and in flux.
 TEST(GhostTable, AStepInTheRaysWeightInterpolatesWithinItsTolerance) {
-    const optics::Lens lens = optics::loadLens(test::lensPath("double-gauss-50mm-f2.lens"));
-    const TableSettings s;
-    std::vector<double> angles;
-    for (int i = 0; i <= 4; ++i) angles.push_back(0.41096 + 0.000047 * i);
-    const auto e = traceEntries(lens, s, angles, {"R11\u2192R7"});
-    ASSERT_EQ(e.size(), angles.size());
-    const double worst = expectMidAnglesWithin(e, angles, 2, lens, s, 1, true);
+    const Sweep w = sweep("double-gauss-50mm-f2.lens", "R11\u2192R7", 0.41096, 0.000047, 4);
+    ASSERT_EQ(w.e.size(), w.angles.size());
+    const double worst = expectMidAnglesWithin(w.e, w.angles, 2, w.lens, w.s, 1, true);
     std::printf("R11->R7 at 0.41096-0.41115 deg, 450 nm: worst mid-angle error %.3f %%\n", 100.0 * worst);
 }
