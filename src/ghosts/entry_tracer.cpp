@@ -52,7 +52,7 @@ void EntryTracer::traceDirect(const std::vector<double>& anglesDeg) {
             std::vector<trace::RayResult> hits(b.rays.size()), k(corners.rays.size());
             tracer_.trace(atLambda_[w], directSteps_, b.rays, hits);
             tracer_.trace(atLambda_[w], directSteps_, corners.rays, k);
-            const trace::BundleMoments m = measure(w, directSteps_, field, b, hits, k, 1.0, 0.0);
+            const trace::BundleMoments m = measure(w, directSteps_, field, b, hits, k, 1.0, 0.0, region.litPoints);
             out[a].energy[w] = m.energy;
             out[a].y[w] = m.centroidY;
         }
@@ -100,7 +100,7 @@ Traced EntryTracer::trace(const std::vector<Task>& tasks) {
                 t.k.resize(t.corners.rays.size());
                 tracer_.trace(atLambda_[w], steps_[g], t.centres.rays, t.c);
                 tracer_.trace(atLambda_[w], steps_[g], t.corners.rays, t.k);
-                moments.push_back(measure(w, steps_[g], field, t.centres, t.c, t.k, scale, fitOptions_.maxRadiusMm));
+                moments.push_back(measure(w, steps_[g], field, t.centres, t.c, t.k, scale, fitOptions_.maxRadiusMm, regions[p].litPoints));
                 views.push_back({&t.centres, &t.c, &t.k});
             }
             const trace::BundleMoments m = trace::combineMoments(moments);
@@ -114,6 +114,10 @@ Traced EntryTracer::trace(const std::vector<Task>& tasks) {
             e.gaussian = f.gaussian;
             e.cos2 = f.cos2;
         }
+        // The search is kept for its pieces (where neighbouring angles look for light); its lit points
+        // have served.
+        for (std::vector<trace::PupilRegion>& parts : found.parts)
+            for (trace::PupilRegion& r : parts) std::vector<glm::dvec2>().swap(r.litPoints);
         report();
     });
     return traced;
@@ -139,9 +143,11 @@ int EntryTracer::gridFor(const trace::PupilRegion& r) const {
 
 trace::BundleMoments EntryTracer::measure(std::size_t w, const std::vector<trace::PathStep>& steps, const trace::Field& field,
                                           const trace::Bundle& b, const std::vector<trace::RayResult>& c,
-                                          const std::vector<trace::RayResult>& k, double scale, double maxRadius) const {
+                                          const std::vector<trace::RayResult>& k, double scale, double maxRadius,
+                                          std::span<const glm::dvec2> litPoints) const {
     if (s_.edgeSubdivisions <= 1) return trace::measureBundle(b, c, scale, maxRadius);
-    return trace::measureBundleResolved(tracer_, atLambda_[w], steps, frame_, field, b, c, k, s_.edgeSubdivisions, scale, maxRadius);
+    return trace::measureBundleResolved(tracer_, atLambda_[w], steps, frame_, field, b, c, k, s_.edgeSubdivisions, scale, maxRadius,
+                                        litPoints);
 }
 
 void EntryTracer::report() {

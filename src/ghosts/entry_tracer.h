@@ -63,10 +63,11 @@ public:
 private:
     /// The grid for a part of a ghost's pupil (see the definition).
     int gridFor(const trace::PupilRegion& r) const;
-    /// The bundle's moments, its vignetting edges resolved on sub-grids (TableSettings::edgeSubdivisions).
+    /// The bundle's moments, its vignetting edges (and the light between its rays that the region
+    /// search's litPoints show) resolved on sub-grids (TableSettings::edgeSubdivisions).
     trace::BundleMoments measure(std::size_t w, const std::vector<trace::PathStep>& steps, const trace::Field& field, const trace::Bundle& b,
                                  const std::vector<trace::RayResult>& c, const std::vector<trace::RayResult>& k, double scale,
-                                 double maxRadius) const;
+                                 double maxRadius, std::span<const glm::dvec2> litPoints) const;
     void report();
 
     const optics::Lens& lens_;

@@ -38,12 +38,13 @@ BundleMoments combineMoments(std::span<const BundleMoments> parts);
 /// dark cell (none of its five rays counts) into which a traced sub-grid's counted light reaches
 /// (light thinner than the grid passing between all five of its rays), and every cell whose five rays
 /// all count but whose weights differ more than two-fold (a step in the weight: a reflection turning
-/// total). Any other cell all of whose five rays count is integrated by 2/3 of its centre ray plus
+/// total), and every dark cell holding one of litPoints (points known to be lit, e.g. the region
+/// search's: light passing between all five rays of cells that no straddling cell borders). Any other cell all of whose five rays count is integrated by 2/3 of its centre ray plus
 /// 1/3 of its corners' mean (fourth order: the h^2 terms of the midpoint and trapezoid rules cancel). Counts (launched, surviving, blocked) stay
 /// those of the grid's centre rays.
 BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWavelength& L, const std::vector<PathStep>& steps,
                                     const PupilFrame& pupil, const Field& field, const Bundle& centres,
                                     const std::vector<RayResult>& centreHits, const std::vector<RayResult>& cornerHits, int subdivisions,
-                                    double scale = 1.0, double maxRadiusMm = 0.0);
+                                    double scale = 1.0, double maxRadiusMm = 0.0, std::span<const glm::dvec2> litPoints = {});
 
 } // namespace ff::trace

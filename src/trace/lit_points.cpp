@@ -70,6 +70,14 @@ LitBox litBox(const LitGrid& g) {
     return box;
 }
 
+std::vector<glm::dvec2> litPlaces(const LitGrid& g) {
+    std::vector<glm::dvec2> places;
+    for (int j = 0; j < g.b.n; ++j)
+        for (int i = 0; i < g.b.n; ++i)
+            if (g.at(i, j)) places.push_back(g.point(i, j));
+    return places;
+}
+
 // The pieces of light of a pass: the boxes of its groups of lit points linked through neighbours
 // (the eight around each), at most maxPieces of them (more: empty, the light is too broken up to
 // tell its pieces apart at this spacing).

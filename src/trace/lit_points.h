@@ -52,6 +52,9 @@ LitGrid litGrid(Bundle b, const LensAtWavelength& L, const std::vector<PathStep>
 /// The box over all of g's lit points.
 LitBox litBox(const LitGrid& g);
 
+/// The places of g's lit points.
+std::vector<glm::dvec2> litPlaces(const LitGrid& g);
+
 /// The pieces of light of a pass: the boxes of its groups of lit points linked through neighbours
 /// (the eight around each), at most maxPieces of them (more: empty, the light is too broken up to
 /// tell its pieces apart at this spacing).

@@ -106,14 +106,17 @@ public:
     // jump by a coarse cell, cutting off light, as the field angle moves them across the points. A local
     // pass over the box (two cells wider on every side, wider still while light reaches its outermost
     // points) finds the extent at its finer spacing.
-    LitBox refine(const LitBox& found) const {
+    // The lit points of the last pass that found light go to *lit, if given.
+    LitBox refine(const LitBox& found, std::vector<glm::dvec2>* lit = nullptr) const {
         double cx = 0.5 * (found.xMin + found.xMax), cy = 0.5 * (found.yMin + found.yMax);
         double h = 0.5 * std::max(found.xMax - found.xMin, found.yMax - found.yMin) + 2.0 * cell_;
         LitBox box = found;
         for (int pass = 0; pass < 4; ++pass) {
-            const LitBox local = litBox(litGrid(gridBundle(frame_, field_, kLocal, cx, cy, h, false), L_, steps_, maxRadius_));
+            const LitGrid grid = litGrid(gridBundle(frame_, field_, kLocal, cx, cy, h, false), L_, steps_, maxRadius_);
+            const LitBox local = litBox(grid);
             if (local.empty()) break;
             box = local;
+            if (lit) *lit = litPlaces(grid);
             if (!local.touchesEdge) break;
             cx = 0.5 * (local.xMin + local.xMax), cy = 0.5 * (local.yMin + local.yMax);
             h = 0.5 * std::max(local.xMax - local.xMin, local.yMax - local.yMin) + 4.0 * cell_;
@@ -125,11 +128,18 @@ public:
         return box;
     }
 
-    // One cell of margin on every side, then a square over the box.
-    PupilRegion square(const LitBox& box) const {
+    // One cell of margin on every side, then a square over the box, holding the lit points given.
+    PupilRegion square(const LitBox& box, std::vector<glm::dvec2> lit = {}) const {
         const double side = std::max(box.xMax - box.xMin, box.yMax - box.yMin) + 2.0 * cell_;
         return {0.5 * (box.xMin + box.xMax), 0.5 * (box.yMin + box.yMax), 0.5 * side, false, std::min(1.0, box.litArea / (side * side)),
-                double(box.thinPoints) / box.litPoints};
+                double(box.thinPoints) / box.litPoints, std::move(lit)};
+    }
+
+    // The square over what local passes find around a box the coarse pass found, with their lit points.
+    PupilRegion region(const LitBox& found) const {
+        std::vector<glm::dvec2> lit;
+        const LitBox box = refine(found, &lit);
+        return square(box, std::move(lit));
     }
 
     // Whether the field's light is mirror-symmetric across the line through the axis along the field's
@@ -276,15 +286,16 @@ Found findPieces(const RegionSearch& search, std::uint32_t seed) {
 std::vector<PupilRegion> partsFrom(const RegionSearch& search, const PupilFrame& frame, const Found& found) {
     if (found.all.empty()) return {{0.0, 0.0, frame.radius, true}}; // nothing gets through: the paraxial pupil
     const std::vector<LitBox> groups = mergeNear(found.pieces, kPartGapCells * search.cell());
-    if (groups.size() < 2 || groups.size() > kMaxParts) return {search.square(search.refine(found.all))};
+    if (groups.size() < 2 || groups.size() > kMaxParts) return {search.region(found.all)};
     // Each group's extent found by its own local passes.
     std::vector<PupilRegion> parts;
     std::vector<LitBox> boxes;
     bool split = true;
     for (const LitBox& g : groups) {
-        boxes.push_back(search.refine(g));
+        std::vector<glm::dvec2> lit;
+        boxes.push_back(search.refine(g, &lit));
         if (boxes.back().touchesEdge) split = false; // light beyond the local passes: the part's extent is not known
-        parts.push_back(search.square(boxes.back()));
+        parts.push_back(search.square(boxes.back(), std::move(lit)));
     }
     split = split && slideApart(parts, boxes, search.cell());
     // Light between the groups that the coarse pass stepped over would be lost to every part (the
@@ -292,7 +303,8 @@ std::vector<PupilRegion> partsFrom(const RegionSearch& search, const PupilFrame&
     // at 24.646 deg one 0.09 mm thick, which the regular local passes over the whole, 0.3 mm apart,
     // also missed). A jittered pass over all the light, twice as dense as the local passes, must find
     // every lit point within the parts, or the region is not cut.
-    const LitBox wholeBox = search.refine(found.all);
+    std::vector<glm::dvec2> wholeLit;
+    const LitBox wholeBox = search.refine(found.all, &wholeLit);
     if (split) {
         const LitGrid whole = search.check(wholeBox);
         for (int j = 0; j < whole.b.n && split; ++j)
@@ -303,7 +315,8 @@ std::vector<PupilRegion> partsFrom(const RegionSearch& search, const PupilFrame&
                                     [&](const PupilRegion& r) { return std::abs(p.x - r.cx) <= r.half && std::abs(p.y - r.cy) <= r.half; });
             }
     }
-    return split ? parts : std::vector<PupilRegion>{search.square(wholeBox)};
+    if (split) return parts;
+    return {search.square(wholeBox, std::move(wholeLit))};
 }
 
 } // namespace
@@ -314,7 +327,7 @@ PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sa
     const RegionSearch search(frame, field, L, steps, maxRadiusMm);
     const Found found = findPieces(search, 0);
     if (found.all.empty()) return {0.0, 0.0, frame.radius, true}; // nothing gets through: the paraxial pupil
-    return search.square(search.refine(found.all));
+    return search.region(found.all);
 }
 
 std::vector<PupilRegion> pupilParts(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,

@@ -17,6 +17,8 @@
 
 #include "trace/embree_tracer.h"
 
+#include <glm/vec2.hpp>
+
 #include <span>
 #include <vector>
 
@@ -68,6 +70,10 @@ struct PupilRegion {
     /// at most one point thick there (thin bands and rings, the tips of slivers), which a grid of the
     /// same spacing lets slip between its rays; 0 where not searched.
     double thinShare = 0.0;
+    /// The lit points (pupil plane, mm) of the search's last local pass over the square: light that a
+    /// grid over the square must not let slip between its rays (measureBundleResolved); empty where
+    /// not searched.
+    std::vector<glm::dvec2> litPoints = {};
 };
 
 /// Half side of the square, centred on the axis, that the region search starts from: everything that

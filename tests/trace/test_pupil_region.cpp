@@ -13,6 +13,7 @@
 #include <map>
 #include <numeric>
 #include <string>
+#include <tuple>
 
 using namespace ff;
 using namespace ff::trace;
@@ -378,6 +379,38 @@ TEST(PupilRegion, PartsSlideApartWhereASquareWouldReachOverTheOtherPiece) {
         EXPECT_LT(std::min(a.half, b.half), 2.0) << angle << " deg: the patch's square";
         for (const auto& [start, end] : lit) {
             EXPECT_TRUE(holdsStretch(parts, start, end)) << angle << " deg: light at y " << start << " to " << end << " mm outside the parts";
+        }
+    }
+}
+
+// The lit points a part carries (the region search's last local pass over it, for the grid to resolve
+// the light between its rays) lie in the part's square, and each one's ray, traced again here, arrives
+// within the counting radius: the double Gauss 50 mm's R3->R1 at 21.8406 deg (a crescent and a patch,
+// two parts) and the zoom's R9->R3 at 13.1515 deg (a disc and two slivers far from it, one part), at
+// 450 nm.
+TEST(PupilRegion, PartsCarryLitPointsOfTheirOwnSquare) {
+    for (const auto& [lens, label, angle] : {std::tuple{"double-gauss-50mm-f2.lens", "R3\u2192R1", 21.8406},
+                                             std::tuple{"zoom-70-200mm-f2.8.lens", "R9\u2192R3", 13.1515}}) {
+        const LensBench s(lens);
+        const std::vector<PathStep> steps = stepsOf(s.lens, label);
+        ASSERT_FALSE(steps.empty()) << lens;
+        const std::vector<LensAtWavelength> Ls = tableWavelengths(s);
+        const Field field{degToRad(angle), 0.0};
+        const auto parts = pupilPartsByWavelength(s.pupil, field, Sampling::Reaim, Ls, steps, test::kMaxRadius);
+        for (const PupilRegion& part : parts[2]) {
+            ASSERT_GT(part.litPoints.size(), 10u) << lens << ": the part at (" << part.cx << ", " << part.cy << ")";
+            std::vector<optics::Ray> rays;
+            for (const glm::dvec2& p : part.litPoints) {
+                EXPECT_LE(std::max(std::abs(p.x - part.cx), std::abs(p.y - part.cy)), part.half) << lens << ": (" << p.x << ", " << p.y << ")";
+                rays.push_back(gridBundle(s.pupil, field, 1, p.x, p.y, 0.0, false).rays.front());
+            }
+            std::vector<RayResult> hits(rays.size());
+            traceAnalytic(Ls[2], steps, rays, hits, Weighting::None);
+            for (std::size_t k = 0; k < hits.size(); ++k) {
+                const bool arrives = hits[k].status == optics::RayStatus::Ok &&
+                                     std::hypot(hits[k].sensorPoint.x, hits[k].sensorPoint.y) <= test::kMaxRadius;
+                EXPECT_TRUE(arrives) << lens << ": the lit point (" << part.litPoints[k].x << ", " << part.litPoints[k].y << ")";
+            }
         }
     }
 }
