@@ -96,8 +96,13 @@ public:
     }
 
     // Whether light is at this wavelength where another's search found a piece: a jittered local pass
-    // over the piece's box. The pieces of light it finds.
-    std::vector<LitBox> look(const LitBox& hint, std::size_t maxPieces) const { return litPieces(jittered(hint, kLocal), maxPieces); }
+    // over the piece's box. The pieces of light it finds; its lit points are added to lit.
+    std::vector<LitBox> look(const LitBox& hint, std::size_t maxPieces, std::vector<glm::dvec2>& lit) const {
+        const LitGrid g = jittered(hint, kLocal);
+        const std::vector<glm::dvec2> places = litPlaces(g);
+        lit.insert(lit.end(), places.begin(), places.end());
+        return litPieces(g, maxPieces);
+    }
 
     // A jittered pass over the box twice as dense as the local passes, for light they step over.
     LitGrid check(const LitBox& box) const { return jittered(box, 2 * kLocal); }
@@ -147,15 +152,20 @@ public:
     // blades are not symmetric about that line.
     bool symmetric() const { return symmetric_; }
 
+    // A point's mirror image across that line.
+    glm::dvec2 mirror(glm::dvec2 p) const {
+        const glm::dvec2 e(-std::sin(field_.azimuthRad), std::cos(field_.azimuthRad));
+        return 2.0 * (p.x * e.x + p.y * e.y) * e - p;
+    }
+
     // The box's mirror image across that line: the box over its corners' images (the same box where
     // the azimuth is a multiple of 90 deg), the same counts.
     LitBox mirror(const LitBox& b) const {
-        const glm::dvec2 e(-std::sin(field_.azimuthRad), std::cos(field_.azimuthRad));
         LitBox m = b;
         m.xMin = m.yMin = 1e300, m.xMax = m.yMax = -1e300;
         for (const glm::dvec2 p : {glm::dvec2(b.xMin, b.yMin), glm::dvec2(b.xMax, b.yMin), glm::dvec2(b.xMin, b.yMax),
                                    glm::dvec2(b.xMax, b.yMax)}) {
-            const glm::dvec2 q = 2.0 * (p.x * e.x + p.y * e.y) * e - p;
+            const glm::dvec2 q = mirror(p);
             m.xMin = std::min(m.xMin, q.x), m.xMax = std::max(m.xMax, q.x);
             m.yMin = std::min(m.yMin, q.y), m.yMax = std::max(m.yMax, q.y);
         }
@@ -248,11 +258,21 @@ namespace {
 constexpr std::size_t kMaxPieces = 64;
 
 // What a coarse pass found: its pieces of light (none where there are more than kMaxPieces, too broken
-// up to tell apart) and the box over all of it.
+// up to tell apart), the box over all of it, and the lit points of it and of the looks that added to it
+// (with their mirror images, where the light is symmetric): the parts' grids must not let the light
+// at any of them slip between their rays (PupilRegion::litPoints).
 struct Found {
     std::vector<LitBox> pieces;
     LitBox all;
+    std::vector<glm::dvec2> points;
 };
+
+// Adds a pass's lit points to what was found, with their images where the light is symmetric.
+void addPoints(const RegionSearch& search, Found& f, const std::vector<glm::dvec2>& places) {
+    f.points.insert(f.points.end(), places.begin(), places.end());
+    if (search.symmetric())
+        for (const glm::dvec2& p : places) f.points.push_back(search.mirror(p));
+}
 
 // Whether b lies within `margin` of a (their boxes, each widened by margin, overlap).
 bool near(const LitBox& a, const LitBox& b, double margin) { return gap(a, b) < margin; }
@@ -277,16 +297,24 @@ void completeBySymmetry(const RegionSearch& search, Found& f) {
 // The coarse pass's pieces, completed by symmetry.
 Found findPieces(const RegionSearch& search, std::uint32_t seed) {
     const LitGrid coarse = search.coarse(seed);
-    Found f{litPieces(coarse, kMaxPieces), litBox(coarse)};
+    Found f{litPieces(coarse, kMaxPieces), litBox(coarse), {}};
+    addPoints(search, f, litPlaces(coarse));
     completeBySymmetry(search, f);
     return f;
+}
+
+// The region with those of the points that lie in its square added to its lit points.
+PupilRegion withPoints(PupilRegion r, const std::vector<glm::dvec2>& points) {
+    for (const glm::dvec2& p : points)
+        if (std::abs(p.x - r.cx) <= r.half && std::abs(p.y - r.cy) <= r.half) r.litPoints.push_back(p);
+    return r;
 }
 
 // The parts of pupilParts from the pieces found.
 std::vector<PupilRegion> partsFrom(const RegionSearch& search, const PupilFrame& frame, const Found& found) {
     if (found.all.empty()) return {{0.0, 0.0, frame.radius, true}}; // nothing gets through: the paraxial pupil
     const std::vector<LitBox> groups = mergeNear(found.pieces, kPartGapCells * search.cell());
-    if (groups.size() < 2 || groups.size() > kMaxParts) return {search.region(found.all)};
+    if (groups.size() < 2 || groups.size() > kMaxParts) return {withPoints(search.region(found.all), found.points)};
     // Each group's extent found by its own local passes.
     std::vector<PupilRegion> parts;
     std::vector<LitBox> boxes;
@@ -305,8 +333,11 @@ std::vector<PupilRegion> partsFrom(const RegionSearch& search, const PupilFrame&
     // every lit point within the parts, or the region is not cut.
     std::vector<glm::dvec2> wholeLit;
     const LitBox wholeBox = search.refine(found.all, &wholeLit);
+    std::vector<glm::dvec2> points = found.points;
     if (split) {
         const LitGrid whole = search.check(wholeBox);
+        const std::vector<glm::dvec2> checked = litPlaces(whole);
+        points.insert(points.end(), checked.begin(), checked.end());
         for (int j = 0; j < whole.b.n && split; ++j)
             for (int i = 0; i < whole.b.n && split; ++i) {
                 if (!whole.at(i, j)) continue;
@@ -315,8 +346,11 @@ std::vector<PupilRegion> partsFrom(const RegionSearch& search, const PupilFrame&
                                     [&](const PupilRegion& r) { return std::abs(p.x - r.cx) <= r.half && std::abs(p.y - r.cy) <= r.half; });
             }
     }
-    if (split) return parts;
-    return {search.square(wholeBox, std::move(wholeLit))};
+    if (split) {
+        for (PupilRegion& part : parts) part = withPoints(std::move(part), points);
+        return parts;
+    }
+    return {withPoints(search.square(wholeBox, std::move(wholeLit)), points)};
 }
 
 } // namespace
@@ -327,7 +361,7 @@ PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sa
     const RegionSearch search(frame, field, L, steps, maxRadiusMm);
     const Found found = findPieces(search, 0);
     if (found.all.empty()) return {0.0, 0.0, frame.radius, true}; // nothing gets through: the paraxial pupil
-    return search.region(found.all);
+    return withPoints(search.region(found.all), found.points);
 }
 
 std::vector<PupilRegion> pupilParts(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
@@ -358,12 +392,14 @@ bool lookAt(const RegionSearch& search, Found& mine, std::vector<LitBox> hints) 
     hints = mergeNear(std::move(hints), kPartGapCells * search.cell());
     if (hints.size() > kMaxParts) return false;
     bool more = false;
+    std::vector<glm::dvec2> lit;
     for (const LitBox& h : hints)
-        for (const LitBox& p : search.look(h, kMaxPieces)) {
+        for (const LitBox& p : search.look(h, kMaxPieces, lit)) {
             more = more || !known(p);
             mine.pieces.push_back(p);
             mine.all.add(p);
         }
+    addPoints(search, mine, lit);
     return more;
 }
 

@@ -70,9 +70,10 @@ struct PupilRegion {
     /// at most one point thick there (thin bands and rings, the tips of slivers), which a grid of the
     /// same spacing lets slip between its rays; 0 where not searched.
     double thinShare = 0.0;
-    /// The lit points (pupil plane, mm) of the search's last local pass over the square: light that a
-    /// grid over the square must not let slip between its rays (measureBundleResolved); empty where
-    /// not searched.
+    /// The lit points (pupil plane, mm) in the square that the search's passes found (the coarse pass,
+    /// the looks, the last local pass over the square, with their mirror images where the light is
+    /// symmetric): light that a grid over the square must not let slip between its rays
+    /// (measureBundleResolved); empty where not searched.
     std::vector<glm::dvec2> litPoints = {};
 };
 
