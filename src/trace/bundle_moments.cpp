@@ -190,8 +190,9 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
     // wide, far from the rest of the light (the zoom's R9->R3 at 13.15 deg and 450 nm passes two,
     // 0.7 mm wide and 14 mm from its disc, whose light lands 17 mm from the centroid: where they fell
     // between the 32 grid's rays, 1.3 mm apart, sigma r dropped from 3.67 to 2.51 mm). The region
-    // search's local passes, twice as dense, found it; a dark cell holding one of their lit points
-    // is resolved, and the flood below follows the light from there.
+    // search's passes found it (there its local passes, twice as dense; the wide angle's R8->R4 at
+    // 4.4851 deg, a patch smaller than both spacings, only its jittered coarse pass); a dark cell
+    // holding one of their lit points is resolved, and the flood below follows the light from there.
     for (const glm::dvec2& p : litPoints) {
         const double fx = (p.x - centres.x0) / centres.cell, fy = (p.y - centres.y0) / centres.cell;
         if (!(fx >= 0.0 && fy >= 0.0 && fx < n && fy < n)) continue;

@@ -39,8 +39,10 @@ BundleMoments combineMoments(std::span<const BundleMoments> parts);
 /// (light thinner than the grid passing between all five of its rays), and every cell whose five rays
 /// all count but whose weights differ more than two-fold (a step in the weight: a reflection turning
 /// total), and every dark cell holding one of litPoints (points known to be lit, e.g. the region
-/// search's: light passing between all five rays of cells that no straddling cell borders). Any other cell all of whose five rays count is integrated by 2/3 of its centre ray plus
-/// 1/3 of its corners' mean (fourth order: the h^2 terms of the midpoint and trapezoid rules cancel). Counts (launched, surviving, blocked) stay
+/// search's: light passing between all five rays of cells that no straddling cell borders). Light in
+/// a dark cell is thin, so dark cells get sub-grids twice as dense. Any other cell all of whose five
+/// rays count is integrated by 2/3 of its centre ray plus 1/3 of its corners' mean (fourth order: the
+/// h^2 terms of the midpoint and trapezoid rules cancel). Counts (launched, surviving, blocked) stay
 /// those of the grid's centre rays.
 BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWavelength& L, const std::vector<PathStep>& steps,
                                     const PupilFrame& pupil, const Field& field, const Bundle& centres,
