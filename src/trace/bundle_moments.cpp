@@ -17,6 +17,37 @@ bool landsWithin(const RayResult& r, double maxRadius) {
 // weight, not a smooth change across the cell.
 constexpr double kWeightStep = 2.0;
 
+// The share of the sub-cell around sub-ray (si, sj) of a sub x sub grid whose light lands within
+// maxRadius, for an arriving sub-ray (0 for a lost one). The distance g = |landing point| - maxRadius
+// is smooth across the pupil where rays arrive, so the circle is a level line of g: with g's slopes
+// along the grid's two axes (per sub-cell, from the arriving neighbours, central where both arrive),
+// the sub-cell spans |gx| + |gy| of g along its gradient, and the share inside is linear in g across
+// that span (exact for a circle crossing parallel to a side). Counting whole sub-cells instead moves
+// the moments in steps of a sub-row's light as the circle sweeps across the rows: the zoom's R32->R26
+// at 10.07 deg and 650 nm lands as a line 42 mm out whose radius varies with the pupil's y alone, so
+// the circle runs along a row of 24 cells, all of whose sub-grids erred alike, and the flux moved
+// 1.6 % within 0.00001 deg.
+double circleShare(const RayResult* grid, int sub, int si, int sj, double maxRadius) {
+    const RayResult& r = grid[sj * sub + si];
+    if (r.status != optics::RayStatus::Ok) return 0.0;
+    auto radius = [](const RayResult& q) { return std::hypot(q.sensorPoint.x, q.sensorPoint.y); };
+    const double g = radius(r) - maxRadius;
+    auto slope = [&](int di, int dj) {
+        double sum = 0.0;
+        int count = 0;
+        for (const int s : {-1, 1}) {
+            const int ni = si + s * di, nj = sj + s * dj;
+            if (ni < 0 || nj < 0 || ni >= sub || nj >= sub || grid[nj * sub + ni].status != optics::RayStatus::Ok) continue;
+            sum += s * (radius(grid[nj * sub + ni]) - radius(r));
+            ++count;
+        }
+        return count > 0 ? std::abs(sum / count) : 0.0;
+    };
+    const double span = slope(1, 0) + slope(0, 1);
+    if (!(span > 0.0)) return g <= 0.0 ? 1.0 : 0.0;
+    return std::clamp(0.5 - g / span, 0.0, 1.0);
+}
+
 } // namespace
 
 BundleMoments measureSamples(std::span<const RayResult> hits, std::span<const double> areas, double scale, double maxRadius) {
@@ -214,7 +245,17 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
         }
         std::vector<RayResult> subHits(subRays.size());
         tracer.trace(L, steps, subRays, subHits);
+        // Each sub-ray stands for the share of its sub-cell that counts (see circleShare).
+        const std::size_t base = hits.size();
         hits.insert(hits.end(), subHits.begin(), subHits.end());
+        for (std::size_t q = 0; q < queue.size(); ++q) {
+            const int sub = queue[q].sub;
+            for (int sj = 0; sj < sub; ++sj)
+                for (int si = 0; si < sub; ++si) {
+                    const std::size_t s = first[q] + static_cast<std::size_t>(sj) * sub + si;
+                    areas[base + s] *= maxRadius > 0.0 ? circleShare(&subHits[first[q]], sub, si, sj, maxRadius) : 1.0;
+                }
+        }
         std::vector<Resolve> next;
         for (std::size_t q = 0; q < queue.size(); ++q) {
             const int col = static_cast<int>(queue[q].cell % static_cast<std::size_t>(n));
@@ -237,7 +278,8 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
         }
         queue = std::move(next);
     }
-    BundleMoments m = measureSamples(hits, areas, scale, maxRadius);
+    // The whole cells integrated above count wholly, and the sub-rays' areas hold their shares.
+    BundleMoments m = measureSamples(hits, areas, scale, 0.0);
     // The counts are the grid's centre rays'.
     m.launched = m.surviving = m.blocked = 0;
     for (std::size_t i = 0; i < c.size(); ++i) {

@@ -34,7 +34,9 @@ BundleMoments combineMoments(std::span<const BundleMoments> parts);
 /// rays (cornerBundle) do not share one fate — lost or arriving, landing inside maxRadiusMm or not —
 /// straddles an edge that a single centre ray counts all or nothing of, so the moments would move in
 /// steps as the field angle sweeps the edge across cells; here each such cell is re-traced on a
-/// `subdivisions` x `subdivisions` sub-grid and counted by its sub-cells, and so is, in turn, every
+/// `subdivisions` x `subdivisions` sub-grid and counted by its sub-cells (each, where the circle of
+/// maxRadiusMm crosses it, by its share inside the circle, from the slopes of its rays' distance from
+/// the axis: counting whole sub-cells moved the moments in steps of a sub-row's light), and so is, in turn, every
 /// dark cell (none of its five rays counts) into which a traced sub-grid's counted light reaches
 /// (light thinner than the grid passing between all five of its rays), and every cell whose five rays
 /// all count but whose weights differ more than two-fold (a step in the weight: a reflection turning
