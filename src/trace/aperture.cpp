@@ -1,6 +1,8 @@
 #include "trace/aperture.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace ff::trace {
@@ -21,6 +23,20 @@ bool Iris::contains(double x, double y) const {
     if (a < 0.0) a += sector;
     const double rhoMax = inradius / std::cos(a - 0.5 * sector);
     return rho2 <= rhoMax * rhoMax;
+}
+
+double Iris::margin(double x, double y) const {
+    if (blades < 3) return radius - std::hypot(x, y);
+    // The polygon is the intersection of the blades' half-planes p . n_k <= inradius, n_k the edge
+    // normals at rotation + (k + 1/2) sector.
+    const double sector = 2.0 * std::numbers::pi / blades;
+    const double inradius = circumradius * std::cos(0.5 * sector);
+    double reach = -std::numeric_limits<double>::infinity();
+    for (int k = 0; k < blades; ++k) {
+        const double phi = rotationRad + (k + 0.5) * sector;
+        reach = std::max(reach, x * std::cos(phi) + y * std::sin(phi));
+    }
+    return inradius - reach;
 }
 
 bool Iris::mirrorSymmetricAbout(double lineRad) const {

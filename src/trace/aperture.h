@@ -17,6 +17,9 @@ struct Iris {
 
     /// True when (x, y), mm from the axis in the stop plane, lies inside the opening.
     bool contains(double x, double y) const;
+    /// How far (x, y) lies inside the opening, mm: the distance to the nearest blade's edge line (the
+    /// circle for a circular iris), negative outside; contains() is margin() >= 0 up to rounding.
+    double margin(double x, double y) const;
     /// True when the opening is its own mirror image across the line through the axis at angle
     /// lineRad from +x: always for a circle; for a polygon, on the lines through its vertices and
     /// through its edges' midpoints (rotation + k pi / blades).

@@ -36,6 +36,12 @@ bool LensAtWavelength::insideAperture(std::size_t s, const glm::dvec3& p) const 
     return r <= 0.0 || p.x * p.x + p.y * p.y <= r * r;
 }
 
+double LensAtWavelength::apertureMargin(std::size_t s, const glm::dvec3& p) const {
+    if (s == stop) return iris.margin(p.x, p.y);
+    const double r = clipRadius[s];
+    return r <= 0.0 ? std::numeric_limits<double>::infinity() : r - std::hypot(p.x, p.y);
+}
+
 RayStatus applyStep(const LensAtWavelength& L, const PathStep& step, const optics::SurfaceHit& hit, optics::Ray& ray,
                     double& weight, Weighting weighting) {
     const std::size_t s = step.surface;

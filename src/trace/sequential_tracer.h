@@ -40,6 +40,9 @@ struct LensAtWavelength {
 
     /// True when a hit point at surface s lies inside its clear aperture (the iris for the stop).
     bool insideAperture(std::size_t s, const glm::dvec3& p) const;
+    /// How far a hit point at surface s lies inside its clear aperture (the iris for the stop), mm,
+    /// negative outside; +infinity for an unclipped surface.
+    double apertureMargin(std::size_t s, const glm::dvec3& p) const;
 };
 
 /// What a trace computes: the ray's fate and path with its Fresnel / coating weight, or the fate and

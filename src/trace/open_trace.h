@@ -1,0 +1,63 @@
+#pragma once
+// Where the light of a pupil cell passes between its traced rays. A ray traced with every aperture
+// open (the iris and the clear apertures ignored; a miss or total internal reflection still ends it)
+// carries, at each step, its hit's margin inside that surface's aperture: a smooth function of the
+// pupil point whose zero line is the aperture's edge there. A path's light passes where every margin
+// is non-negative (and the landing point lies within the counting radius, one more margin), so over
+// a cell small enough for the margins to be linear the lit part is the square cut by one half-plane
+// per margin: its area is exact for straight edges however thin the light between two of them, where
+// whole sub-cells counted all or nothing (a band of light 5 um thick between two apertures' edges,
+// the double Gauss 50 mm's R11->R5 at 24.69 deg, moved sigma r by 2 % as it fell on or between the
+// rows of a sub-grid 4.6 um apart). Units: mm; u, v in cells.
+
+#include "trace/embree_tracer.h"
+#include "trace/pupil_sampling.h"
+
+#include <span>
+#include <vector>
+
+namespace ff::trace {
+
+/// Rays traced with every aperture open: each ray's result as if nothing clipped it (Embree's
+/// blocking geometry, the barrel, is not traced either) and its margins, steps per ray.
+struct OpenTrace {
+    std::size_t steps = 0;
+    std::vector<RayResult> hits;
+    std::vector<double> margins; ///< [ray * steps + step], mm: +inf unclipped, NaN past the step that ended the ray
+
+    double margin(std::size_t ray, std::size_t step) const { return margins[ray * steps + step]; }
+};
+
+OpenTrace traceOpen(const LensAtWavelength& L, const std::vector<PathStep>& steps, std::span<const optics::Ray> rays);
+
+/// A linear constraint value + du u + dv v >= 0 over the cell [-1/2, 1/2]^2.
+struct HalfPlane {
+    double value = 0.0, du = 0.0, dv = 0.0;
+};
+
+/// The share of the cell [-1/2, 1/2]^2 meeting every constraint (the square clipped by each
+/// half-plane in turn, then its area).
+double feasibleShare(std::span<const HalfPlane> constraints);
+
+/// The share of each sub-cell of a sub x sub grid (row-major, t's rays from first on) whose light passes: its
+/// margins, and maxRadius - |landing point| where maxRadius > 0, each linear across the sub-cell with
+/// the slopes of its neighbours along the grid's axes (central where both were traced through that
+/// step, one-sided where one was, flat where neither). 0 where the ray's open trace ended.
+std::vector<double> subCellShares(const OpenTrace& t, std::size_t first, int sub, double maxRadius);
+
+/// Whether a cell may hold light between its five rays, all of them dark: from the open traces of its
+/// centre (t's ray first) and corners (the next four: (-,-), (+,-), (-,+), (+,+) in u, v), each margin linear across
+/// the cell with the corners' slopes, relaxed by how far the centre lies from the corners' mean (the
+/// margin's curvature across the cell). False where any of the five open traces ended.
+bool mayHoldLight(const OpenTrace& t, std::size_t first, double maxRadius);
+
+/// The cells of a grid (centre rays c of `centres`, corner rays k laid out as cornerBundle lays them)
+/// that may hold light between their five rays: of the launched cells not `taken`, those none of
+/// whose five rays counts (arrives, within maxRadius where > 0) whose rays were lost for different
+/// reasons (clipped at different steps, lost otherwise, landing beyond the circle) — two edges cross
+/// such a cell — and whose five rays' open traces leave room for light between them (mayHoldLight).
+std::vector<std::size_t> cellsWithRoomForLight(const LensAtWavelength& L, const std::vector<PathStep>& steps, const PupilFrame& pupil,
+                                               const Field& field, const Bundle& centres, const std::vector<RayResult>& c,
+                                               const std::vector<RayResult>& k, double maxRadius, const std::vector<char>& taken);
+
+} // namespace ff::trace
