@@ -46,7 +46,7 @@ struct TableSettings {
     /// Cells on a vignetting edge are re-traced on this many sub-cells per side for the moments (1: off):
     /// without it the moments move in steps as edges cross grid cells, and that noise, not the optics,
     /// would set the interpolation error.
-    int edgeSubdivisions = 8;
+    int edgeSubdivisions = 4;
     std::pair<double, double> sensorSizeMm = {36.0, 24.0}; ///< used when the lens gives none
 
     /// Every setting that changes the table, as text (part of the cache key).

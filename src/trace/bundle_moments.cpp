@@ -176,7 +176,7 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
         }
     }
     // The straddling cells' sub-grids, then those of dark cells (none of their five rays counts)
-    // into which a traced sub-grid's counted light reaches: a sub-ray on its border or corner counts,
+    // into which a traced sub-grid's light reaches: a sub-cell on its border or corner holds light,
     // the cell beyond it is dark. Light thinner than the grid can pass between all five rays of a
     // cell (the tip of a sliver, which the telephoto's R8->R3 at 6.657 deg lays in its square's
     // outermost column: 2 % of its tangential second moment was there at one angle and not the
@@ -225,29 +225,18 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
             subRays.insert(subRays.end(), sub.rays.begin(), sub.rays.end());
             areas.insert(areas.end(), sub.rays.size(), centres.cellArea / (double(r.sub) * r.sub));
         }
-        std::vector<RayResult> subHits(subRays.size());
-        tracer.trace(L, steps, subRays, subHits);
         // Each sub-ray stands for the share of its sub-cell whose light passes (open_trace.h): light
         // counted whole or not at all by sub-cells moved the moments in steps of a sub-row's light
         // wherever an edge ran along the rows (the zoom's R32->R26 at 10.07 deg and 650 nm lands as a
         // line whose distance from the axis varies with the pupil's y alone: the counting circle ran
-        // along a row of 24 cells, and the flux stepped by 1.6 % within 0.00001 deg). A sub-ray an
-        // aperture clipped whose sub-cell is partly lit stands for that part with its open trace's
-        // landing point and weight; one lost otherwise (blocked by the barrel, missing a surface,
-        // reflected totally) counts nothing.
-        const OpenTrace open = traceOpen(L, steps, subRays);
-        std::vector<double> share(subRays.size(), 0.0);
-        for (std::size_t q = 0; q < queue.size(); ++q) {
-            const std::vector<double> s = subCellShares(open, first[q], queue[q].sub, maxRadius);
-            std::copy(s.begin(), s.end(), share.begin() + static_cast<std::ptrdiff_t>(first[q]));
-        }
+        // along a row of 24 cells, and the flux stepped by 1.6 % within 0.00001 deg).
+        std::vector<int> subs;
+        for (const Resolve& r : queue) subs.push_back(r.sub);
+        const SubGridTrace traced = traceSubGrids(tracer, L, steps, subRays, first, subs, maxRadius);
+        const std::vector<double>& share = traced.share;
         const std::size_t base = hits.size();
-        for (std::size_t s = 0; s < subHits.size(); ++s) {
-            if (subHits[s].status == optics::RayStatus::Clipped && share[s] > 0.0) subHits[s] = open.hits[s];
-            else if (subHits[s].status != optics::RayStatus::Ok) share[s] = 0.0;
-            areas[base + s] *= share[s];
-        }
-        hits.insert(hits.end(), subHits.begin(), subHits.end());
+        for (std::size_t s = 0; s < subRays.size(); ++s) areas[base + s] *= share[s];
+        hits.insert(hits.end(), traced.hits.begin(), traced.hits.end());
         std::vector<Resolve> next;
         for (std::size_t q = 0; q < queue.size(); ++q) {
             const int col = static_cast<int>(queue[q].cell % static_cast<std::size_t>(n));

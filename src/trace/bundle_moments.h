@@ -34,12 +34,13 @@ BundleMoments combineMoments(std::span<const BundleMoments> parts);
 /// rays (cornerBundle) do not share one fate — lost or arriving, landing inside maxRadiusMm or not —
 /// straddles an edge that a single centre ray counts all or nothing of, so the moments would move in
 /// steps as the field angle sweeps the edge across cells; here each such cell is re-traced on a
-/// `subdivisions` x `subdivisions` sub-grid and counted by its sub-cells (each, where the circle of
-/// maxRadiusMm crosses it, by its share inside the circle, from the slopes of its rays' distance from
-/// the axis: counting whole sub-cells moved the moments in steps of a sub-row's light), and so is, in turn, every
-/// dark cell (none of its five rays counts) into which a traced sub-grid's counted light reaches
-/// (light thinner than the grid passing between all five of its rays), and every cell whose five rays
-/// all count but whose weights differ more than two-fold (a step in the weight: a reflection turning
+/// `subdivisions` x `subdivisions` sub-grid, each sub-ray standing for the lit share of its sub-cell
+/// (traceSubGrids: the sub-cell cut by each aperture's edge and the counting circle, from the open
+/// traces' margins; exact for straight edges, however thin the light between two of them). So is, in
+/// turn, every dark cell (none of its five rays counts) into which a sub-grid's light reaches (light
+/// thinner than the grid passing between all five of its rays), every dark cell whose open traces
+/// leave room for light between two edges (cellsWithRoomForLight), every cell whose five rays all
+/// count but whose weights differ more than two-fold (a step in the weight: a reflection turning
 /// total), and every dark cell holding one of litPoints (points known to be lit, e.g. the region
 /// search's: light passing between all five rays of cells that no straddling cell borders). Light in
 /// a dark cell is thin, so dark cells get sub-grids twice as dense. Any other cell all of whose five

@@ -12,36 +12,42 @@ namespace ff::trace {
 
 using optics::RayStatus;
 
+namespace {
+
+// One ray's open trace into res and margins[0, steps).
+void traceOpenRay(const LensAtWavelength& L, const std::vector<PathStep>& steps, optics::Ray ray, RayResult& res, double* margins) {
+    double weight = 1.0;
+    res = RayResult{};
+    for (std::size_t k = 0; k < steps.size(); ++k) margins[k] = std::numeric_limits<double>::quiet_NaN();
+    for (std::size_t k = 0; k < steps.size() && res.status == RayStatus::Ok; ++k) {
+        const std::size_t s = steps[k].surface;
+        const auto hit = optics::intersectSurface(L.lens->surfaces[s], L.vertexZ[s], ray, kMinStep);
+        if (!hit) {
+            res.status = RayStatus::Missed, res.lostAtStep = k;
+            break;
+        }
+        margins[k] = L.apertureMargin(s, hit->point);
+        if (const RayStatus st = applyStep(L, steps[k], *hit, ray, weight); st != RayStatus::Ok) res.status = st, res.lostAtStep = k;
+    }
+    if (res.status == RayStatus::Ok && !toSensor(L, ray)) res.status = RayStatus::Missed, res.lostAtStep = steps.size();
+    if (res.status != RayStatus::Ok) {
+        res.weight = 0.0;
+        return;
+    }
+    res.sensorPoint = ray.origin;
+    res.dir = ray.dir;
+    res.weight = weight;
+}
+
+} // namespace
+
 OpenTrace traceOpen(const LensAtWavelength& L, const std::vector<PathStep>& steps, std::span<const optics::Ray> rays) {
     OpenTrace t;
     t.steps = steps.size();
     t.hits.resize(rays.size());
-    t.margins.assign(rays.size() * steps.size(), std::numeric_limits<double>::quiet_NaN());
+    t.margins.resize(rays.size() * steps.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i) {
-            optics::Ray ray = rays[i];
-            RayResult& res = t.hits[i];
-            double weight = 1.0;
-            res.status = RayStatus::Ok;
-            for (std::size_t k = 0; k < steps.size() && res.status == RayStatus::Ok; ++k) {
-                const std::size_t s = steps[k].surface;
-                const auto hit = optics::intersectSurface(L.lens->surfaces[s], L.vertexZ[s], ray, kMinStep);
-                if (!hit) {
-                    res.status = RayStatus::Missed, res.lostAtStep = k;
-                    break;
-                }
-                t.margins[i * steps.size() + k] = L.apertureMargin(s, hit->point);
-                if (const RayStatus st = applyStep(L, steps[k], *hit, ray, weight); st != RayStatus::Ok) res.status = st, res.lostAtStep = k;
-            }
-            if (res.status == RayStatus::Ok && !toSensor(L, ray)) res.status = RayStatus::Missed, res.lostAtStep = steps.size();
-            if (res.status != RayStatus::Ok) {
-                res.weight = 0.0;
-                continue;
-            }
-            res.sensorPoint = ray.origin;
-            res.dir = ray.dir;
-            res.weight = weight;
-        }
+        for (std::size_t i = r.begin(); i < r.end(); ++i) traceOpenRay(L, steps, rays[i], t.hits[i], &t.margins[i * steps.size()]);
     });
     return t;
 }
@@ -173,6 +179,47 @@ std::vector<std::size_t> cellsWithRoomForLight(const LensAtWavelength& L, const 
     std::vector<std::size_t> out;
     for (std::size_t q = 0; q < candidates.size(); ++q)
         if (mayHoldLight(open, 5 * q, maxRadius)) out.push_back(candidates[q]);
+    return out;
+}
+
+SubGridTrace traceSubGrids(const EmbreeTracer& tracer, const LensAtWavelength& L, const std::vector<PathStep>& steps,
+                           std::span<const optics::Ray> rays, std::span<const std::size_t> first, std::span<const int> subs, double maxRadius) {
+    SubGridTrace out;
+    out.hits.resize(rays.size());
+    out.share.assign(rays.size(), 0.0);
+    std::vector<char> passes(rays.size(), 0);
+    // Grid by grid, so that the margins of one grid's rays are held at a time.
+    tbb::parallel_for(std::size_t(0), first.size(), [&](std::size_t q) {
+        const std::size_t count = static_cast<std::size_t>(subs[q]) * subs[q];
+        OpenTrace t;
+        t.steps = steps.size();
+        t.hits.resize(count);
+        t.margins.resize(count * steps.size());
+        for (std::size_t i = 0; i < count; ++i) traceOpenRay(L, steps, rays[first[q] + i], t.hits[i], &t.margins[i * steps.size()]);
+        const std::vector<double> shares = subCellShares(t, 0, subs[q], maxRadius);
+        for (std::size_t i = 0; i < count; ++i) {
+            const std::size_t r = first[q] + i;
+            RayResult& hit = out.hits[r];
+            hit = t.hits[i];
+            out.share[r] = shares[i];
+            if (hit.status != RayStatus::Ok) continue;
+            // Where an aperture clips the ray itself, it is lost there (its open trace still stands
+            // for its sub-cell's lit part, if any).
+            bool clear = true;
+            for (std::size_t k = 0; k < steps.size() && clear; ++k)
+                if (t.margin(i, k) < 0.0) clear = false;
+            passes[r] = clear;
+        }
+    });
+    // The rays every aperture passes, traced again against the blocking geometry (the barrel).
+    std::vector<std::size_t> clear;
+    std::vector<optics::Ray> again;
+    for (std::size_t r = 0; r < rays.size(); ++r)
+        if (passes[r]) clear.push_back(r), again.push_back(rays[r]);
+    std::vector<RayResult> real(again.size());
+    tracer.trace(L, steps, again, real);
+    for (std::size_t a = 0; a < clear.size(); ++a)
+        if (real[a].status != RayStatus::Ok) out.hits[clear[a]] = real[a], out.share[clear[a]] = 0.0;
     return out;
 }
 

@@ -45,6 +45,19 @@ double feasibleShare(std::span<const HalfPlane> constraints);
 /// step, one-sided where one was, flat where neither). 0 where the ray's open trace ended.
 std::vector<double> subCellShares(const OpenTrace& t, std::size_t first, int sub, double maxRadius);
 
+/// Sub-grids traced for the lit shares of their sub-cells: grid q has subs[q] x subs[q] rays (row-major)
+/// from first[q] on. Each ray is traced open and its sub-cell's share is subCellShares'; the hit is its
+/// open trace (it stands, with its landing point and weight, for its sub-cell's lit part, though an
+/// aperture clip the ray itself). The rays every aperture passes are traced again with the Embree
+/// tracer: one its blocking geometry (the barrel) stops counts nothing.
+struct SubGridTrace {
+    std::vector<RayResult> hits;
+    std::vector<double> share;
+};
+
+SubGridTrace traceSubGrids(const EmbreeTracer& tracer, const LensAtWavelength& L, const std::vector<PathStep>& steps,
+                           std::span<const optics::Ray> rays, std::span<const std::size_t> first, std::span<const int> subs, double maxRadius);
+
 /// Whether a cell may hold light between its five rays, all of them dark: from the open traces of its
 /// centre (t's ray first) and corners (the next four: (-,-), (+,-), (-,+), (+,+) in u, v), each margin linear across
 /// the cell with the corners' slopes, relaxed by how far the centre lies from the corners' mean (the

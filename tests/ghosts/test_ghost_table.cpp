@@ -372,11 +372,12 @@ TEST(GhostTable, APatchOnlyTheCoarsePassMetInterpolatesWithinItsTolerance) {
 
 // Light in a dark cell is thin (it passed between rays a cell apart), so such cells are traced on
 // sub-grids twice as dense as the straddling cells'. The double Gauss 50 mm's R11->R5 at 24.6897-
-// 24.6901 deg and 450 nm is thin light on a 256 grid; on 8 x 8 sub-grids its dark cells' light moved
-// sigma r by 2.6 % within 0.0001 deg at 24.6899 deg (its mid-angle missed by 1.2 %). On 16 x 16 the
-// step is a third of that and the entries 0.0001 deg apart (the table's finest step on this lens is
-// 0.00019 deg) interpolate to their mid-angles within the table's tolerance. (Sigma r here is still
-// about 2 % below that of a 512 grid with 16 x 16 sub-grids: light finer still.)
+// 24.6901 deg and 450 nm is thin light on a 256 grid; counting whole sub-cells of 8 x 8 sub-grids,
+// its dark cells' light moved sigma r by 2.6 % within 0.0001 deg at 24.6899 deg (its mid-angle
+// missed by 1.2 %), on 16 x 16 by a third of that, and sigma r stayed 2 % below a 512 grid's (a band
+// thinner still, below). With each sub-cell's lit share (trace/open_trace.h) the entries 0.0001 deg
+// apart (the table's finest step on this lens is 0.00019 deg) interpolate to their mid-angles within
+// the table's tolerance.
 TEST(GhostTable, ThinLightInDarkCellsInterpolatesWithinItsTolerance) {
     expectSweepWithin(sweep("double-gauss-50mm-f2.lens", "R11\u2192R5", 24.6897, 0.0001, 4, 450.0));
 }
@@ -397,10 +398,10 @@ TEST(GhostTable, LightCutByTheCountingCircleAlongARowInterpolatesWithinItsTolera
 // A band of light thinner than the sub-grids, far from the rest: the double Gauss 50 mm's R11->R5 at
 // 24.6888 deg and 450 nm passes, besides its main light, a band 5 um thick and 0.12 mm long between
 // the front lens's rim and the last surface's, whose light lands 3 mm from the centroid (5 % of
-// sigma r^2). Dark cells holding it were resolved only where the region search had met it, and their
-// 16 x 16 sub-grids (4.6 um apart) put zero, one or two rows across it: sigma r stepped by 1.2 %
-// within 0.00003 deg (its mid-angle missed by 0.61 %). Dark cells whose rays' open traces leave room
-// for light between two edges are now resolved, and each sub-cell counts its lit share
+// sigma r^2). Dark cells holding it were resolved only where the region search had met it, and the
+// 16 x 16 sub-grids then used (4.6 um apart) put zero, one or two rows across it: sigma r stepped by
+// 1.2 % within 0.00003 deg (its mid-angle missed by 0.61 %). Dark cells whose rays' open traces
+// leave room for light between two edges are now resolved, and each sub-cell counts its lit share
 // (trace/open_trace.h): entries 0.00003 deg apart interpolate to their mid-angles within the table's
 // tolerance, by the builder's measure.
 TEST(GhostTable, ABandThinnerThanTheSubGridsInterpolatesWithinItsTolerance) {
