@@ -407,3 +407,16 @@ TEST(GhostTable, LightCutByTheCountingCircleAlongARowInterpolatesWithinItsTolera
 TEST(GhostTable, ABandThinnerThanTheSubGridsInterpolatesWithinItsTolerance) {
     expectSweepWithin(sweep("double-gauss-50mm-f2.lens", "R11\u2192R5", 24.68876, 0.00003, 4, 450.0));
 }
+
+// A step in the weight beside a vignetting edge: the double Gauss 50 mm's R11->R7 at 13.1127 deg and
+// 650 nm has its weight step (a reflection turning total) along the border between the outermost
+// columns of its square's cells, where the front lens's rim cuts its light. The cells of the outer
+// column straddle the rim; none of their arriving rays lies beyond the step, so their 4 x 4 sub-grids
+// counted the step's light at the wrong weight, and the flux stepped by 1.7 % within 0.00002 deg as
+// the square moved (its mid-angle missed by 0.8 %). Straddling cells beside a cell whose rays show
+// a step are resolved as densely as that cell (trace::measureBundleResolved): entries 0.00003 deg
+// apart interpolate to their mid-angles within the table's tolerance, by the builder's measure and
+// in flux.
+TEST(GhostTable, AStepInTheWeightBesideAnEdgeInterpolatesWithinItsTolerance) {
+    expectSweepWithin(sweep("double-gauss-50mm-f2.lens", "R11\u2192R7", 13.11266, 0.00003, 4, 650.0), true);
+}
