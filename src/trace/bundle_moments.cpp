@@ -174,7 +174,8 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
             for (int dj = -1; dj <= 1; ++dj)
                 for (int di = -1; di <= 1; ++di) {
                     const int ni = i + di, nj = j + dj;
-                    if (ni >= 0 && nj >= 0 && ni < n && nj < n && shown[static_cast<std::size_t>(nj) * n + ni] == kWeightStepCell) e = kWeightStepCell;
+                    if (ni < 0 || nj < 0 || ni >= n || nj >= n) continue;
+                    if (shown[static_cast<std::size_t>(nj) * n + ni] == kWeightStepCell) e = kWeightStepCell;
                 }
         }
     std::vector<RayResult> hits;

@@ -52,7 +52,7 @@ OpenTrace traceOpen(const LensAtWavelength& L, const std::vector<PathStep>& step
     return t;
 }
 
-double feasibleShare(std::span<const HalfPlane> constraints) {
+double feasibleShare(std::span<const HalfPlane> constraints, glm::dvec2* centroid) {
     // A convex polygon stays convex under each cut; the square has 4 vertices and each cut adds at
     // most one.
     std::vector<std::array<double, 2>> poly{{-0.5, -0.5}, {0.5, -0.5}, {0.5, 0.5}, {-0.5, 0.5}}, next;
@@ -72,12 +72,15 @@ double feasibleShare(std::span<const HalfPlane> constraints) {
         poly.swap(next);
         if (poly.size() < 3) return 0.0;
     }
-    double twice = 0.0;
+    double twice = 0.0, cu = 0.0, cv = 0.0;
     for (std::size_t a = 0; a < poly.size(); ++a) {
         const std::array<double, 2>& p = poly[a];
         const std::array<double, 2>& q = poly[(a + 1) % poly.size()];
-        twice += p[0] * q[1] - q[0] * p[1];
+        const double cross = p[0] * q[1] - q[0] * p[1];
+        twice += cross;
+        cu += (p[0] + q[0]) * cross, cv += (p[1] + q[1]) * cross;
     }
+    if (centroid && twice > 0.0) *centroid = glm::dvec2(cu / (3.0 * twice), cv / (3.0 * twice));
     return std::clamp(0.5 * twice, 0.0, 1.0);
 }
 
@@ -93,9 +96,10 @@ double marginOf(const OpenTrace& t, std::size_t i, std::size_t k, double maxRadi
 
 } // namespace
 
-std::vector<double> subCellShares(const OpenTrace& t, std::size_t first, int sub, double maxRadius) {
+std::vector<double> subCellShares(const OpenTrace& t, std::size_t first, int sub, double maxRadius, std::vector<glm::dvec2>* centroids) {
     const std::size_t count = static_cast<std::size_t>(sub) * sub;
     std::vector<double> shares(count, 0.0);
+    if (centroids) centroids->assign(count, glm::dvec2(0.0));
     std::vector<HalfPlane> cut;
     for (int sj = 0; sj < sub; ++sj)
         for (int si = 0; si < sub; ++si) {
@@ -126,7 +130,7 @@ std::vector<double> subCellShares(const OpenTrace& t, std::size_t first, int sub
                 if (m <= -span) out = true;
                 cut.push_back(h);
             }
-            if (!out) shares[i - first] = feasibleShare(cut);
+            if (!out) shares[i - first] = feasibleShare(cut, centroids ? &(*centroids)[i - first] : nullptr);
         }
     return shares;
 }
@@ -187,39 +191,47 @@ SubGridTrace traceSubGrids(const EmbreeTracer& tracer, const LensAtWavelength& L
     SubGridTrace out;
     out.hits.resize(rays.size());
     out.share.assign(rays.size(), 0.0);
-    std::vector<char> passes(rays.size(), 0);
+    // The ray traced by the Embree tracer for each sub-cell with light: the sub-ray itself where every
+    // aperture passes it, else one through the centroid of the sub-cell's lit part.
+    std::vector<optics::Ray> probes(rays.size());
+    std::vector<char> probed(rays.size(), 0);
     // Grid by grid, so that the margins of one grid's rays are held at a time.
     tbb::parallel_for(std::size_t(0), first.size(), [&](std::size_t q) {
-        const std::size_t count = static_cast<std::size_t>(subs[q]) * subs[q];
+        const int sub = subs[q];
+        const std::size_t count = static_cast<std::size_t>(sub) * sub;
         OpenTrace t;
         t.steps = steps.size();
         t.hits.resize(count);
         t.margins.resize(count * steps.size());
         for (std::size_t i = 0; i < count; ++i) traceOpenRay(L, steps, rays[first[q] + i], t.hits[i], &t.margins[i * steps.size()]);
-        const std::vector<double> shares = subCellShares(t, 0, subs[q], maxRadius);
+        std::vector<glm::dvec2> centroids;
+        const std::vector<double> shares = subCellShares(t, 0, sub, maxRadius, &centroids);
+        // The sub-cell's side: the rays of a grid are parallel, their origins a sub-cell apart.
+        const double side = sub > 1 ? rays[first[q] + 1].origin.x - rays[first[q]].origin.x : 0.0;
         for (std::size_t i = 0; i < count; ++i) {
             const std::size_t r = first[q] + i;
-            RayResult& hit = out.hits[r];
-            hit = t.hits[i];
             out.share[r] = shares[i];
-            if (hit.status != RayStatus::Ok) continue;
-            // Where an aperture clips the ray itself, it is lost there (its open trace still stands
-            // for its sub-cell's lit part, if any).
+            if (!(shares[i] > 0.0)) continue;
             bool clear = true;
-            for (std::size_t k = 0; k < steps.size() && clear; ++k)
-                if (t.margin(i, k) < 0.0) clear = false;
-            passes[r] = clear;
+            for (std::size_t k = 0; k <= steps.size() && clear; ++k)
+                if (marginOf(t, i, k, maxRadius) < 0.0) clear = false;
+            probes[r] = rays[r];
+            if (!clear) probes[r].origin += glm::dvec3(centroids[i].x * side, centroids[i].y * side, 0.0);
+            probed[r] = 1;
         }
     });
-    // The rays every aperture passes, traced again against the blocking geometry (the barrel).
-    std::vector<std::size_t> clear;
+    std::vector<std::size_t> which;
     std::vector<optics::Ray> again;
     for (std::size_t r = 0; r < rays.size(); ++r)
-        if (passes[r]) clear.push_back(r), again.push_back(rays[r]);
+        if (probed[r]) which.push_back(r), again.push_back(probes[r]);
     std::vector<RayResult> real(again.size());
     tracer.trace(L, steps, again, real);
-    for (std::size_t a = 0; a < clear.size(); ++a)
-        if (real[a].status != RayStatus::Ok) out.hits[clear[a]] = real[a], out.share[clear[a]] = 0.0;
+    for (std::size_t a = 0; a < which.size(); ++a) {
+        out.hits[which[a]] = real[a];
+        const bool within =
+            maxRadius <= 0.0 || std::hypot(real[a].sensorPoint.x, real[a].sensorPoint.y) <= maxRadius;
+        if (real[a].status != RayStatus::Ok || !within) out.share[which[a]] = 0.0;
+    }
     return out;
 }
 

@@ -36,20 +36,27 @@ struct HalfPlane {
 };
 
 /// The share of the cell [-1/2, 1/2]^2 meeting every constraint (the square clipped by each
-/// half-plane in turn, then its area).
-double feasibleShare(std::span<const HalfPlane> constraints);
+/// half-plane in turn, then its area), and where given and the share is not 0, the centroid of that
+/// part (u, v).
+double feasibleShare(std::span<const HalfPlane> constraints, glm::dvec2* centroid = nullptr);
 
 /// The share of each sub-cell of a sub x sub grid (row-major, t's rays from first on) whose light passes: its
 /// margins, and maxRadius - |landing point| where maxRadius > 0, each linear across the sub-cell with
 /// the slopes of its neighbours along the grid's axes (central where both were traced through that
-/// step, one-sided where one was, flat where neither). 0 where the ray's open trace ended.
-std::vector<double> subCellShares(const OpenTrace& t, std::size_t first, int sub, double maxRadius);
+/// step, one-sided where one was, flat where neither). 0 where the ray's open trace ended. Where
+/// centroids is given, it receives each lit part's centroid (u, v in sub-cells from the sub-ray).
+std::vector<double> subCellShares(const OpenTrace& t, std::size_t first, int sub, double maxRadius,
+                                  std::vector<glm::dvec2>* centroids = nullptr);
 
-/// Sub-grids traced for the lit shares of their sub-cells: grid q has subs[q] x subs[q] rays (row-major)
-/// from first[q] on. Each ray is traced open and its sub-cell's share is subCellShares'; the hit is its
-/// open trace (it stands, with its landing point and weight, for its sub-cell's lit part, though an
-/// aperture clip the ray itself). The rays every aperture passes are traced again with the Embree
-/// tracer: one its blocking geometry (the barrel) stops counts nothing.
+/// Sub-grids traced for the lit shares of their sub-cells: grid q has subs[q] x subs[q] rays (row-major,
+/// parallel, as gridBundle lays them) from first[q] on. Each ray is traced open and its sub-cell's
+/// share is subCellShares'. The light of each sub-cell with a share is then traced by the Embree
+/// tracer: through the sub-ray itself where every aperture passes it and it lands within maxRadius,
+/// else through the centroid of the sub-cell's lit part. That ray's hit stands for the lit part (its
+/// landing point and weight); where it does not arrive or lands beyond maxRadius (the barrel, which
+/// the open trace does not know, blocks it; or the margins are far from linear across the sub-cell,
+/// as near a fold of the landing map, where a ray of the wide angle's R17->R16 at 45.03 deg landed
+/// 510 mm out) the share is 0.
 struct SubGridTrace {
     std::vector<RayResult> hits;
     std::vector<double> share;
