@@ -43,9 +43,10 @@ struct TableSettings {
     double maxAngleDeg = 0.0;            ///< 0: the field of the sensor's half-diagonal plus 5 %
     double interpolationTolerance = 0.005;
     int maxAngles = 64; ///< the refinement's budget: traced entries per ghost, on average
-    /// Cells on a vignetting edge are re-traced on this many sub-cells per side for the moments (1: off):
-    /// without it the moments move in steps as edges cross grid cells, and that noise, not the optics,
-    /// would set the interpolation error.
+    /// Cells on a vignetting edge are re-traced on this many sub-cells per side for the moments, each
+    /// sub-ray standing for its sub-cell's lit share (1: off; dark cells get twice as many, steps in
+    /// the weight four times): without it the moments move in steps as edges cross grid cells, and
+    /// that noise, not the optics, would set the interpolation error.
     int edgeSubdivisions = 4;
     std::pair<double, double> sensorSizeMm = {36.0, 24.0}; ///< used when the lens gives none
 

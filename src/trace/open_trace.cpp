@@ -192,7 +192,8 @@ SubGridTrace traceSubGrids(const EmbreeTracer& tracer, const LensAtWavelength& L
     out.hits.resize(rays.size());
     out.share.assign(rays.size(), 0.0);
     // The ray traced by the Embree tracer for each sub-cell with light: the sub-ray itself where every
-    // aperture passes it, else one through the centroid of the sub-cell's lit part.
+    // aperture passes it and it lands within the circle, else one through the centroid of the
+    // sub-cell's lit part. (Sub-cells without light keep an empty hit: their share is 0.)
     std::vector<optics::Ray> probes(rays.size());
     std::vector<char> probed(rays.size(), 0);
     // Grid by grid, so that the margins of one grid's rays are held at a time.
