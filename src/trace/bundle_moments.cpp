@@ -8,12 +8,11 @@
 
 namespace ff::trace {
 
-namespace {
-
-// Whether a ray's landing point is within maxRadius of the axis (0: no limit).
 bool landsWithin(const RayResult& r, double maxRadius) {
     return maxRadius <= 0.0 || r.sensorPoint.x * r.sensorPoint.x + r.sensorPoint.y * r.sensorPoint.y <= maxRadius * maxRadius;
 }
+
+namespace {
 
 // Counted rays of one cell whose weights differ by more than this factor straddle a step in the
 // weight, not a smooth change across the cell.

@@ -1,5 +1,7 @@
 #include "trace/open_trace.h"
 
+#include "trace/bundle_moments.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -15,28 +17,9 @@ using optics::RayStatus;
 namespace {
 
 // One ray's open trace into res and margins[0, steps).
-void traceOpenRay(const LensAtWavelength& L, const std::vector<PathStep>& steps, optics::Ray ray, RayResult& res, double* margins) {
-    double weight = 1.0;
-    res = RayResult{};
-    for (std::size_t k = 0; k < steps.size(); ++k) margins[k] = std::numeric_limits<double>::quiet_NaN();
-    for (std::size_t k = 0; k < steps.size() && res.status == RayStatus::Ok; ++k) {
-        const std::size_t s = steps[k].surface;
-        const auto hit = optics::intersectSurface(L.lens->surfaces[s], L.vertexZ[s], ray, kMinStep);
-        if (!hit) {
-            res.status = RayStatus::Missed, res.lostAtStep = k;
-            break;
-        }
-        margins[k] = L.apertureMargin(s, hit->point);
-        if (const RayStatus st = applyStep(L, steps[k], *hit, ray, weight); st != RayStatus::Ok) res.status = st, res.lostAtStep = k;
-    }
-    if (res.status == RayStatus::Ok && !toSensor(L, ray)) res.status = RayStatus::Missed, res.lostAtStep = steps.size();
-    if (res.status != RayStatus::Ok) {
-        res.weight = 0.0;
-        return;
-    }
-    res.sensorPoint = ray.origin;
-    res.dir = ray.dir;
-    res.weight = weight;
+void traceOpenRay(const LensAtWavelength& L, const std::vector<PathStep>& steps, const optics::Ray& ray, RayResult& res, double* margins) {
+    const SequentialResult r = traceSequential(L, steps, ray, Weighting::Fresnel, margins);
+    res = RayResult{r.status, r.lostAtStep, r.status == RayStatus::Ok ? r.ray.origin : glm::dvec3(0.0), r.ray.dir, r.weight};
 }
 
 } // namespace
@@ -53,6 +36,10 @@ OpenTrace traceOpen(const LensAtWavelength& L, const std::vector<PathStep>& step
 }
 
 double feasibleShare(std::span<const HalfPlane> constraints, glm::dvec2* centroid) {
+    if (constraints.empty()) { // the whole square (most sub-cells)
+        if (centroid) *centroid = glm::dvec2(0.0);
+        return 1.0;
+    }
     // A convex polygon stays convex under each cut; the square has 4 vertices and each cut adds at
     // most one.
     std::vector<std::array<double, 2>> poly{{-0.5, -0.5}, {0.5, -0.5}, {0.5, 0.5}, {-0.5, 0.5}}, next;
@@ -153,9 +140,7 @@ bool mayHoldLight(const OpenTrace& t, std::size_t first, double maxRadius) {
 std::vector<std::size_t> cellsWithRoomForLight(const LensAtWavelength& L, const std::vector<PathStep>& steps, const PupilFrame& pupil,
                                                const Field& field, const Bundle& centres, const std::vector<RayResult>& c,
                                                const std::vector<RayResult>& k, double maxRadius, const std::vector<char>& taken) {
-    auto counted = [&](const RayResult& r) {
-        return r.status == RayStatus::Ok && (maxRadius <= 0.0 || std::hypot(r.sensorPoint.x, r.sensorPoint.y) <= maxRadius);
-    };
+    auto counted = [&](const RayResult& r) { return r.status == RayStatus::Ok && landsWithin(r, maxRadius); };
     // Why a dark ray is dark: the step and way it was lost, or (-1) landing beyond the circle.
     auto reason = [](const RayResult& r) {
         return r.status == RayStatus::Ok ? -1L : static_cast<long>(r.status) * 100000L + static_cast<long>(r.lostAtStep);
@@ -229,9 +214,7 @@ SubGridTrace traceSubGrids(const EmbreeTracer& tracer, const LensAtWavelength& L
     tracer.trace(L, steps, again, real);
     for (std::size_t a = 0; a < which.size(); ++a) {
         out.hits[which[a]] = real[a];
-        const bool within =
-            maxRadius <= 0.0 || std::hypot(real[a].sensorPoint.x, real[a].sensorPoint.y) <= maxRadius;
-        if (real[a].status != RayStatus::Ok || !within) out.share[which[a]] = 0.0;
+        if (real[a].status != RayStatus::Ok || !landsWithin(real[a], maxRadius)) out.share[which[a]] = 0.0;
     }
     return out;
 }

@@ -68,7 +68,11 @@ struct SequentialResult {
     double weight = 0.0;          ///< product of the Fresnel/coating factors (0 when lost)
 };
 
+/// With openMargins (steps.size() of them), every aperture is left open: nothing clips the ray (a
+/// miss or total internal reflection still ends it), and openMargins[k] receives how far step k's hit
+/// lies inside its surface's aperture (LensAtWavelength::apertureMargin), NaN past the step that
+/// ended the ray (trace/open_trace.h).
 SequentialResult traceSequential(const LensAtWavelength& lens, const std::vector<PathStep>& steps, optics::Ray ray,
-                                 Weighting weighting = Weighting::Fresnel);
+                                 Weighting weighting = Weighting::Fresnel, double* openMargins = nullptr);
 
 } // namespace ff::trace
