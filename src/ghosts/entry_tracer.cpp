@@ -60,9 +60,10 @@ void EntryTracer::traceDirect(const std::vector<double>& anglesDeg) {
     for (std::size_t a = 0; a < todo.size(); ++a) direct_.emplace(todo[a], std::move(out[a]));
 }
 
-bool EntryTracer::hintsFindLight(std::size_t ghost, double angleDeg, const trace::PupilSearch& known, const trace::PupilHints& hints) const {
+bool EntryTracer::hintsFindLight(std::size_t ghost, double angleDeg, const trace::PupilSearch& known, const trace::PupilHints& hints,
+                                 bool lookCloser) const {
     const trace::Field field{degToRad(angleDeg), 0.0};
-    return trace::hintsFindLight(frame_, field, s_.sampling, atLambda_, steps_[ghost], fitOptions_.maxRadiusMm, known, hints);
+    return trace::hintsFindLight(frame_, field, s_.sampling, atLambda_, steps_[ghost], fitOptions_.maxRadiusMm, known, hints, lookCloser);
 }
 
 Traced EntryTracer::trace(const std::vector<Task>& tasks) {
@@ -84,7 +85,8 @@ Traced EntryTracer::trace(const std::vector<Task>& tasks) {
         // where they found light, and look where the ghost's neighbouring angles found it
         // (trace::searchPupil).
         trace::PupilSearch& found = traced.found[task];
-        found = trace::searchPupil(frame_, field, s_.sampling, atLambda_, steps_[g], fitOptions_.maxRadiusMm, tasks[task].hints);
+        found = trace::searchPupil(frame_, field, s_.sampling, atLambda_, steps_[g], fitOptions_.maxRadiusMm, tasks[task].hints,
+                                    tasks[task].lookCloser);
         for (std::size_t w = 0; w < nW; ++w) {
             if (d.energy[w] <= 0.0) continue;
             const std::vector<trace::PupilRegion>& regions = found.parts[w];

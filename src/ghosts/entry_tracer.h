@@ -26,6 +26,7 @@ struct Task {
     std::size_t ghost = 0;
     double angleDeg = 0.0;
     trace::PupilHints hints;
+    bool lookCloser = false; ///< at the hints (trace::searchPupil)
 };
 
 // A task's entry, [wavelength], and what its search found.
@@ -55,7 +56,8 @@ public:
 
     /// Whether looking where the hints say finds light at this ghost and angle that `known`, its
     /// search there, did not (trace::hintsFindLight).
-    bool hintsFindLight(std::size_t ghost, double angleDeg, const trace::PupilSearch& known, const trace::PupilHints& hints) const;
+    bool hintsFindLight(std::size_t ghost, double angleDeg, const trace::PupilSearch& known, const trace::PupilHints& hints,
+                        bool lookCloser = false) const;
 
     /// Every task's entry and search (direct images traced first where missing).
     Traced trace(const std::vector<Task>& tasks);

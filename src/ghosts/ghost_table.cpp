@@ -4,10 +4,9 @@
 #include "core/text.h"
 #include "core/units.h"
 #include "ghosts/entry_tracer.h"
+#include "ghosts/table_refinement.h"
 #include "optics/paraxial.h"
 #include "trace/traced_flare.h"
-
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <chrono>
@@ -17,7 +16,7 @@
 namespace ff::ghosts {
 
 std::string TableSettings::key() const {
-    std::string k = "table-v19 lambda";
+    std::string k = "table-v20 lambda";
     for (double l : wavelengthsNm) k += " " + text::roundTrip(l);
     k += " sampling " + std::to_string(static_cast<int>(sampling)) + " grid " + std::to_string(grid) + " sensor " +
          std::to_string(static_cast<int>(sensor)) + " coating " + std::to_string(static_cast<int>(coating)) + " max " +
@@ -29,138 +28,6 @@ std::string TableSettings::key() const {
 
 namespace {
 
-// Linear interpolation weight of angle a between table angles (index, fraction).
-std::pair<std::size_t, double> locate(const std::vector<double>& angles, double a) {
-    if (angles.size() < 2 || a <= angles.front()) return {0, 0.0};
-    if (a >= angles.back()) return {angles.size() - 2, 1.0};
-    const auto it = std::upper_bound(angles.begin(), angles.end(), a);
-    const std::size_t i = static_cast<std::size_t>(it - angles.begin()) - 1;
-    return {i, (a - angles[i]) / (angles[i + 1] - angles[i])};
-}
-
-double lerp(double a, double b, double t) { return a + (b - a) * t; }
-
-ProfileFit lerp(const ProfileFit& a, const ProfileFit& b, double t) {
-    return {lerp(a.widthR, b.widthR, t), lerp(a.widthT, b.widthT, t), lerp(a.peak, b.peak, t), lerp(a.error, b.error, t)};
-}
-
-// Where the ghost is dark at one end of the interval (it is switched on or off within it), its shape
-// is the lit end's and only its light fades: interpolating its centroid and widths towards those of
-// no light would shrink it onto the axis.
-TableEntry lerp(const TableEntry& a, const TableEntry& b, double t) {
-    if ((a.flux <= 0.0) != (b.flux <= 0.0)) {
-        const bool fromB = a.flux <= 0.0;
-        TableEntry e = fromB ? b : a;
-        const double fade = fromB ? t : 1.0 - t;
-        e.flux *= fade;
-        e.gaussian.peak *= fade;
-        e.cos2.peak *= fade;
-        e.surviving = lerp(a.surviving, b.surviving, t);
-        return e;
-    }
-    TableEntry e;
-    e.centroidY = lerp(a.centroidY, b.centroidY, t);
-    e.sigmaR = lerp(a.sigmaR, b.sigmaR, t);
-    e.sigmaT = lerp(a.sigmaT, b.sigmaT, t);
-    e.flux = lerp(a.flux, b.flux, t);
-    e.surviving = lerp(a.surviving, b.surviving, t);
-    e.gaussian = lerp(a.gaussian, b.gaussian, t);
-    e.cos2 = lerp(a.cos2, b.cos2, t);
-    return e;
-}
-
-// A ghost's angles while the table is refined: its traced entries and the intervals between them.
-// Each interval is either measured (the error of interpolating at its mid-angle) or waiting to be,
-// with its parent's error kept as the estimate should the budget run out first.
-struct Interval {
-    bool measured = false;
-    bool relevant = false; ///< the ghost carried >= 1 % of the strongest ghost's flux at the mid-angle
-    double error = 0.0;    ///< measured error, or the parent's while not measured
-};
-
-struct GhostNodes {
-    std::vector<double> angles;
-    std::vector<std::vector<TableEntry>> rows; ///< [angle][wavelength]
-    std::vector<trace::PupilSearch> found;     ///< [angle]: where its search found light
-    std::vector<Interval> intervals;
-
-    double fluxAt(std::size_t w, double a) const {
-        const auto [i, t] = locate(angles, a);
-        return angles.size() < 2 ? rows[0][w].flux : lerp(rows[i][w].flux, rows[i + 1][w].flux, t);
-    }
-};
-
-// An interval of a ghost to measure, by its priority.
-struct Todo {
-    std::size_t ghost, interval;
-    double priority;
-};
-
-// An entry of a ghost: (ghost, index of its angle).
-using Node = std::pair<std::size_t, std::size_t>;
-
-// Light a mid-angle's search found far from everything a neighbouring entry's search found was
-// stepped over there, or is not there: where looking for it finds it (EntryTracer::hintsFindLight,
-// the looks alone), the entry is traced again, told where to look, while the budget lasts. A piece
-// of light is so carried along the angles where it is, whichever angle's search met it first.
-// Returns the entries traced again.
-std::vector<Node> retraceNeighbours(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const std::vector<Todo>& todo, const Traced& mids,
-                                    std::size_t budget, std::size_t& spent) {
-    std::map<Node, trace::PupilHints> hints;
-    for (std::size_t k = 0; k < todo.size(); ++k)
-        for (const std::size_t e : {todo[k].interval, todo[k].interval + 1}) {
-            const trace::PupilHints away = trace::piecesAwayFrom(mids.found[k], nodes[todo[k].ghost].found[e]);
-            if (std::all_of(away.begin(), away.end(), [](const auto& boxes) { return boxes.empty(); })) continue;
-            trace::PupilHints& h = hints[{todo[k].ghost, e}];
-            h.resize(away.size());
-            for (std::size_t w = 0; w < away.size(); ++w) h[w].insert(h[w].end(), away[w].begin(), away[w].end());
-        }
-    std::vector<std::pair<Node, trace::PupilHints>> candidates(hints.begin(), hints.end());
-    std::vector<char> finds(candidates.size(), 0);
-    tbb::parallel_for(std::size_t(0), candidates.size(), [&](std::size_t c) {
-        const auto& [node, h] = candidates[c];
-        const GhostNodes& n = nodes[node.first];
-        finds[c] = tracer.hintsFindLight(node.first, n.angles[node.second], n.found[node.second], h);
-    });
-    std::vector<Task> again;
-    std::vector<Node> which;
-    for (std::size_t c = 0; c < candidates.size() && spent + again.size() < budget; ++c) {
-        if (!finds[c]) continue;
-        const auto& [node, h] = candidates[c];
-        again.push_back({node.first, nodes[node.first].angles[node.second], h});
-        which.push_back(node);
-    }
-    if (again.empty()) return which;
-    Traced traced = tracer.trace(again);
-    spent += again.size();
-    for (std::size_t j = 0; j < again.size(); ++j) {
-        GhostNodes& n = nodes[which[j].first];
-        n.rows[which[j].second] = std::move(traced.rows[j]);
-        n.found[which[j].second] = std::move(traced.found[j]);
-    }
-    return which;
-}
-
-// Relative error of interpolating one ghost at a mid-angle (see the header), the worst over the
-// wavelengths at which it carries at least 1 % of the strongest ghost's flux there. floorMm keeps
-// the centroid's scale from vanishing for tightly focused ghosts near the axis. Returns the error
-// and whether any wavelength counted.
-std::pair<double, bool> midError(const std::vector<TableEntry>& lo, const std::vector<TableEntry>& hi, const std::vector<TableEntry>& mid,
-                                 const std::vector<double>& strongest, double floorMm) {
-    double worst = 0.0;
-    bool relevant = false;
-    for (std::size_t w = 0; w < mid.size(); ++w) {
-        const TableEntry& t = mid[w];
-        if (t.flux < 0.01 * strongest[w] || t.sigmaR <= 0.0) continue;
-        relevant = true;
-        const TableEntry i = lerp(lo[w], hi[w], 0.5);
-        worst = std::max(worst, std::abs(i.centroidY - t.centroidY) / std::max({std::abs(t.centroidY), t.sigmaR, floorMm}));
-        worst = std::max(worst, std::abs(i.sigmaR - t.sigmaR) / t.sigmaR);
-        if (t.sigmaT > 0.0) worst = std::max(worst, std::abs(i.sigmaT - t.sigmaT) / t.sigmaT);
-    }
-    return {worst, relevant};
-}
-
 void requireSymmetric(const optics::Lens& lens) {
     if (!lens.rotationallySymmetric())
         throw Error(ErrorKind::Input, SourceLocation{lens.file}, "the lens has anamorphic surfaces; a ghost table needs a rotationally symmetric lens");
@@ -171,9 +38,8 @@ void requireSymmetric(const optics::Lens& lens) {
 // square-root kinks (a part of a ghost vignetted away: double Gauss 50 mm R3->R1 at 650 nm loses a
 // patch of its pupil at 22.395 deg, and its sigma r falls from 6.8 to 3.2 mm over the preceding
 // 0.12 deg) improve by only sqrt(2) per halving: at 1/8192 of the field the double Gauss 50 mm kept
-// intervals 9.7 % off. What fails at this floor: far pieces of light vanishing (a second moment
-// dominated by a piece whose flux goes to zero is missed by linear interpolation by a fixed share
-// however short the interval), and steps in the traced entries themselves.
+// intervals 9.7 % off. What fails at this floor is then handled there (refineFinestIntervals):
+// pieces of light an entry's search lost are carried to it from its neighbour, and kinks get a knot.
 constexpr double kFinestDivision = 131072.0;
 
 double defaultMaxAngle(const optics::Lens& lens, const TableSettings& s, double sensorZ) {
@@ -193,12 +59,12 @@ TableEntry GhostTable::at(std::size_t ghost, std::size_t w, double a) const {
     const TableGhost& g = ghosts[ghost];
     const auto [i, t] = locate(g.anglesDeg, a);
     const auto& row = g.entries[w];
-    return g.anglesDeg.size() < 2 ? row[0] : lerp(row[i], row[i + 1], t);
+    return g.anglesDeg.size() < 2 ? row[0] : interpolate(row[i], row[i + 1], t);
 }
 
 double GhostTable::directAt(std::size_t w, double a) const {
     const auto [i, t] = locate(anglesDeg, a);
-    return anglesDeg.size() < 2 ? directY[w][0] : lerp(directY[w][i], directY[w][i + 1], t);
+    return anglesDeg.size() < 2 ? directY[w][0] : directY[w][i] + (directY[w][i + 1] - directY[w][i]) * t;
 }
 
 double GhostTable::magnification(std::size_t ghost, std::size_t w, double a) const {
@@ -244,11 +110,12 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
     t.wavelengthsNm = s.wavelengthsNm;
     const double maxAngle = s.maxAngleDeg > 0.0 ? s.maxAngleDeg : defaultMaxAngle(lens, s, t.sensorZ);
     const std::size_t nW = s.wavelengthsNm.size(), nG = tracer.pairs().size();
-    const double minStep = maxAngle / kFinestDivision, floorMm = 0.01 * 0.5 * t.sensorSizeMm.second;
-
-    // Every ghost starts on the same 9 uniform angles; each then refines its own intervals. The
-    // budget counts traced entries: maxAngles per ghost on average.
+    // The budget counts traced entries (traced again too): maxAngles per ghost on average.
     const std::size_t budget = static_cast<std::size_t>(std::max(s.maxAngles, 9)) * nG;
+    const RefinementLimits limits{s.interpolationTolerance, maxAngle / kFinestDivision, 0.01 * 0.5 * t.sensorSizeMm.second, budget};
+    const double minStep = limits.minStep, floorMm = limits.floorMm;
+
+    // Every ghost starts on the same 9 uniform angles; each then refines its own intervals.
     tracer.setTotalWork(budget);
     std::vector<GhostNodes> nodes(nG);
     {
@@ -286,7 +153,11 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
                 return a.ghost != b.ghost ? a.ghost < b.ghost : a.interval < b.interval;
             });
         }
-        if (todo.empty()) break;
+        if (todo.empty()) {
+            // What still fails is at the finest step (table_refinement.cpp).
+            if (refineFinestIntervals(tracer, nodes, limits, spent)) continue;
+            break;
+        }
         // Each mid-angle's search looks where its two neighbours' searches found light.
         std::vector<Task> tasks;
         for (const Todo& d : todo) {
@@ -304,10 +175,8 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
         // The strongest ghost's flux at each mid-angle and wavelength: traced where this round
         // traced it, interpolated from the ghost's entries elsewhere.
         std::map<double, std::vector<double>> strongest;
-        for (const Task& task : tasks) strongest.emplace(task.angleDeg, std::vector<double>(nW, 0.0));
-        for (auto& [angle, flux] : strongest)
-            for (const GhostNodes& n : nodes)
-                for (std::size_t w = 0; w < nW; ++w) flux[w] = std::max(flux[w], n.fluxAt(w, angle));
+        for (const Task& task : tasks)
+            if (!strongest.count(task.angleDeg)) strongest.emplace(task.angleDeg, strongestFlux(nodes, task.angleDeg, nW));
         for (std::size_t k = 0; k < tasks.size(); ++k)
             for (std::size_t w = 0; w < nW; ++w) {
                 double& flux = strongest[tasks[k].angleDeg][w];
@@ -322,7 +191,7 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
         for (std::size_t k = 0; k < todo.size(); ++k) {
             const GhostNodes& n = nodes[todo[k].ghost];
             const std::size_t i = todo[k].interval;
-            errors[k] = midError(n.rows[i], n.rows[i + 1], mids.rows[k], strongest[tasks[k].angleDeg], floorMm);
+            errors[k] = midError(n.rows[i], n.rows[i + 1], mids.rows[k], 0.5, strongest[tasks[k].angleDeg], floorMm);
             for (const std::size_t e : {i, i + 1})
                 if (const auto it = estimates.find({todo[k].ghost, e}); it != estimates.end())
                     it->second = std::max(it->second, errors[k].first);
@@ -354,6 +223,7 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
                     for (const std::size_t e : {i, i + 1})
                         if (const auto it = estimates.find({g, e}); it != estimates.end()) {
                             kept.measured = false;
+                            kept.compared = false;
                             kept.error = std::max(kept.error, it->second);
                         }
                     next.intervals.push_back(kept);

@@ -97,9 +97,21 @@ public:
 
     // Whether light is at this wavelength where another's search found a piece: a jittered local pass
     // over the piece's box. The pieces of light it finds; its lit points are added to lit.
-    std::vector<LitBox> look(const LitBox& hint, std::size_t maxPieces, std::vector<glm::dvec2>& lit) const {
-        const LitGrid g = jittered(hint, kLocal);
-        const std::vector<glm::dvec2> places = litPlaces(g);
+    // A piece much smaller than a coarse cell (a patch of light shrinking to nothing as the field
+    // angle moves: the wide angle's R6->R1 near 5.5163 deg at 450 nm, 0.09 mm across, that a pass 70
+    // um apart meets at some angles only) falls between the points of a pass two coarse cells wider
+    // than it on every side: told to look closer, where that pass finds nothing, a second one looks
+    // over the piece's box and as much again on every side.
+    std::vector<LitBox> look(const LitBox& hint, std::size_t maxPieces, std::vector<glm::dvec2>& lit, bool closer = false) const {
+        LitGrid g = jittered(hint, kLocal);
+        std::vector<glm::dvec2> places = litPlaces(g);
+        const double side = std::max(hint.xMax - hint.xMin, hint.yMax - hint.yMin);
+        if (closer && places.empty() && side < cell_) {
+            const double h = 1.5 * std::max(side, 0.1 * cell_);
+            g = litGrid(gridBundle(frame_, field_, kLocal, 0.5 * (hint.xMin + hint.xMax), 0.5 * (hint.yMin + hint.yMax), h, false), L_,
+                        steps_, maxRadius_, kLookSeed);
+            places = litPlaces(g);
+        }
         lit.insert(lit.end(), places.begin(), places.end());
         return litPieces(g, maxPieces);
     }
@@ -382,7 +394,7 @@ bool tooBroken(const Found& f) { return f.pieces.empty() && !f.all.empty(); }
 // Looks at the hints (pieces of light found elsewhere) lying far from every piece `mine` holds, unless
 // they fall in more groups than a region is cut into, and adds the pieces of light found there.
 // Returns whether any of those lies far from every piece `mine` held before.
-bool lookAt(const RegionSearch& search, Found& mine, std::vector<LitBox> hints) {
+bool lookAt(const RegionSearch& search, Found& mine, std::vector<LitBox> hints, bool closer = false) {
     const double margin = 2.0 * search.cell();
     const std::vector<LitBox> before = mine.pieces;
     const auto known = [&](const LitBox& p) {
@@ -394,7 +406,7 @@ bool lookAt(const RegionSearch& search, Found& mine, std::vector<LitBox> hints) 
     bool more = false;
     std::vector<glm::dvec2> lit;
     for (const LitBox& h : hints)
-        for (const LitBox& p : search.look(h, kMaxPieces, lit)) {
+        for (const LitBox& p : search.look(h, kMaxPieces, lit, closer)) {
             more = more || !known(p);
             mine.pieces.push_back(p);
             mine.all.add(p);
@@ -412,7 +424,7 @@ std::vector<LitBox> litBoxes(const std::vector<PupilBox>& boxes) {
 } // namespace
 
 PupilSearch searchPupil(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> Ls,
-                        const std::vector<PathStep>& steps, double maxRadiusMm, const PupilHints& hints) {
+                        const std::vector<PathStep>& steps, double maxRadiusMm, const PupilHints& hints, bool lookCloser) {
     PupilSearch out;
     out.pieces.assign(Ls.size(), {});
     out.tooBroken.assign(Ls.size(), 0);
@@ -439,7 +451,7 @@ PupilSearch searchPupil(const PupilFrame& frame, const Field& field, Sampling sa
             for (std::size_t v = 0; v < Ls.size(); ++v)
                 if (v != w) shared.insert(shared.end(), found[v].pieces.begin(), found[v].pieces.end());
             lookAt(searches[w], mine, std::move(shared));
-            if (w < hints.size() && lookAt(searches[w], mine, litBoxes(hints[w]))) out.hintsFoundLight = true;
+            if (w < hints.size() && lookAt(searches[w], mine, litBoxes(hints[w]), lookCloser)) out.hintsFoundLight = true;
         }
         completeBySymmetry(searches[w], mine); // what the looks found, too
         out.parts.push_back(partsFrom(searches[w], frame, mine));
@@ -456,7 +468,8 @@ std::vector<std::vector<PupilRegion>> pupilPartsByWavelength(const PupilFrame& f
 }
 
 bool hintsFindLight(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> Ls,
-                    const std::vector<PathStep>& steps, double maxRadiusMm, const PupilSearch& known, const PupilHints& hints) {
+                    const std::vector<PathStep>& steps, double maxRadiusMm, const PupilSearch& known, const PupilHints& hints,
+                    bool lookCloser) {
     if (sampling == Sampling::ParaxialGrid) return false;
     for (std::size_t w = 0; w < Ls.size() && w < hints.size(); ++w) {
         if (hints[w].empty() || (w < known.tooBroken.size() && known.tooBroken[w])) continue;
@@ -464,7 +477,7 @@ bool hintsFindLight(const PupilFrame& frame, const Field& field, Sampling sampli
         Found mine;
         if (w < known.pieces.size()) mine.pieces = litBoxes(known.pieces[w]);
         for (const LitBox& p : mine.pieces) mine.all.extend(p);
-        if (lookAt(search, mine, litBoxes(hints[w]))) return true;
+        if (lookAt(search, mine, litBoxes(hints[w]), lookCloser)) return true;
     }
     return false;
 }

@@ -147,15 +147,19 @@ struct PupilSearch {
 /// the rest of its light, 0.14 mm across at 5.515 deg and gone at 5.5167 deg, a third of its radial
 /// spread, found at some of those angles). hints[w] (empty: none) are boxes where light was found at
 /// wavelength w; those far from everything this search found are looked at on the finer passes that
-/// serve the wavelengths' hints to one another.
+/// serve the wavelengths' hints to one another. lookCloser: where such a pass finds nothing at a hint
+/// smaller than a coarse cell, one as dense looks over the hint's box alone (for a piece shrinking to
+/// nothing, traced at the finest step of a ghost table).
 PupilSearch searchPupil(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> Ls,
-                        const std::vector<PathStep>& steps, double maxRadiusMm = 0.0, const PupilHints& hints = {});
+                        const std::vector<PathStep>& steps, double maxRadiusMm = 0.0, const PupilHints& hints = {},
+                        bool lookCloser = false);
 
 /// Whether the hints' looks of searchPupil find light far from what `known` (searchPupil's result at
 /// this field, without these hints) found: the looks alone, without the coarse passes, to tell cheaply
-/// whether searching again with the hints would find more.
+/// whether searching again with the hints (and lookCloser) would find more.
 bool hintsFindLight(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> Ls,
-                    const std::vector<PathStep>& steps, double maxRadiusMm, const PupilSearch& known, const PupilHints& hints);
+                    const std::vector<PathStep>& steps, double maxRadiusMm, const PupilSearch& known, const PupilHints& hints,
+                    bool lookCloser = false);
 
 /// The pieces `from` found that lie far from every piece `of` found, [wavelength][piece] (none at a
 /// wavelength where `of`'s light was too broken up to compare).

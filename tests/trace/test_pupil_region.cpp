@@ -512,3 +512,33 @@ TEST(PupilRegion, LooksWhereANeighbouringAngleFoundLight) {
         std::printf("%.4f deg: patch %.4f..%.4f mm, %s alone\n", angle, lit.back().first, lit.back().second, missed ? "missed" : "found");
     }
 }
+
+// Further on the patch shrinks to nothing at 5.5165 deg; at 5.5161-5.5164 deg it is 0.08 to 0.03 mm
+// across, smaller than the spacing of the looks at the hints (64 points over the hint's box and two
+// coarse cells, 1.1 mm, on every side: 70 um apart), which step over it at some of these angles.
+// Told to look closer, as the ghost table's finest step does, the search at each of them finds it
+// where the search at 5.5160 deg (told by 5.512 deg's) found it.
+TEST(PupilRegion, LooksCloserAtAPieceShrinkingToNothing) {
+    const LensBench s("wide-angle-16.7mm-f4.lens");
+    const std::vector<PathStep> steps = stepsOf(s.lens, "R6\u2192R1");
+    ASSERT_FALSE(steps.empty());
+    const std::vector<LensAtWavelength> Ls = tableWavelengths(s);
+    const PupilSearch first = searchPupil(s.pupil, Field{degToRad(5.512), 0.0}, Sampling::Reaim, Ls, steps, test::kMaxRadius);
+    const PupilSearch neighbour =
+        searchPupil(s.pupil, Field{degToRad(5.5160), 0.0}, Sampling::Reaim, Ls, steps, test::kMaxRadius, first.pieces);
+    int plainMissed = 0;
+    for (double angle : {5.5161, 5.5162, 5.5163, 5.5164}) {
+        const Field field{degToRad(angle), 0.0};
+        const auto lit = litAlongY(s, steps, field, searchHalfSize(s.pupil, field), &Ls[2]);
+        ASSERT_GE(lit.size(), 2u) << angle << " deg";
+        const auto [start, end] = lit.back();
+        EXPECT_GT(start - lit.front().second, 10.0) << angle << " deg: the patch lies far from the rest";
+        EXPECT_LT(end - start, 0.09) << angle << " deg: the patch";
+        const PupilSearch closer =
+            searchPupil(s.pupil, field, Sampling::Reaim, Ls, steps, test::kMaxRadius, neighbour.pieces, /*lookCloser=*/true);
+        EXPECT_TRUE(holdsStretch(closer.parts[2], start, end)) << angle << " deg: the patch at y " << start << " to " << end << " mm";
+        const PupilSearch plain = searchPupil(s.pupil, field, Sampling::Reaim, Ls, steps, test::kMaxRadius, neighbour.pieces);
+        plainMissed += !holdsStretch(plain.parts[2], start, end);
+    }
+    std::printf("the looks at the hints alone missed the patch at %d of 4 angles\n", plainMissed);
+}

@@ -1,0 +1,72 @@
+#include "ghosts/table_refinement.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+using namespace ff::ghosts;
+
+namespace {
+
+// One wavelength's entries of a ghost at angles 5.0, 5.1, 5.2, 5.3 deg, whose light holds a far
+// piece with flux falling linearly to zero at `vanishes` deg: with flux share f at distance d from the
+// centroid, the piece adds f d^2 to the radial second moment, so sigma r^2 = base + slope x (vanishes
+// - a) before and base after. The centroid moves linearly (its shift by the piece left out: the
+// lines through it agree), sigma t stays.
+GhostNodes vanishingPiece(double vanishes) {
+    GhostNodes n;
+    for (int i = 0; i < 4; ++i) {
+        const double a = 5.0 + 0.1 * i;
+        TableEntry e;
+        e.flux = 1e-4;
+        e.centroidY = 2.5 + 0.1 * (a - 5.0);
+        e.sigmaR = std::sqrt(0.025 + 0.4 * std::max(0.0, vanishes - a));
+        e.sigmaT = 0.25;
+        n.angles.push_back(a);
+        n.rows.push_back({e});
+    }
+    return n;
+}
+
+} // namespace
+
+// The knot of a failing interval at the finest step goes where the second moment's two lines meet:
+// exactly at the angle where the piece vanishes, wherever in the interval that is.
+TEST(TableRefinement, AKnotGoesWhereAFarPieceVanishes) {
+    for (const double vanishes : {5.137, 5.112, 5.188}) {
+        const GhostNodes n = vanishingPiece(vanishes);
+        EXPECT_NEAR(kinkAngle(n, 1, {1e-4}, 0.12), vanishes, 1e-9);
+    }
+}
+
+// Where the entries beside the interval are missing, dark, or their lines meet outside it (here
+// all on one line: no kink), the knot is the mid-angle.
+TEST(TableRefinement, AKnotFallsBackToTheMidAngle) {
+    const GhostNodes kinked = vanishingPiece(5.137);
+    EXPECT_DOUBLE_EQ(kinkAngle(kinked, 0, {1e-4}, 0.12), 5.05); // no entry before the first
+    EXPECT_DOUBLE_EQ(kinkAngle(kinked, 2, {1e-4}, 0.12), 5.25); // none after the last
+    GhostNodes dark = kinked;
+    dark.rows[3][0] = TableEntry{};
+    EXPECT_DOUBLE_EQ(kinkAngle(dark, 1, {1e-4}, 0.12), 5.15);
+    const GhostNodes straight = vanishingPiece(6.0); // the piece stays through all four angles
+    EXPECT_DOUBLE_EQ(kinkAngle(straight, 1, {1e-4}, 0.12), 5.15);
+    // A ghost under 1 % of the strongest there is not followed.
+    EXPECT_DOUBLE_EQ(kinkAngle(kinked, 1, {1.0}, 0.12), 5.15);
+}
+
+// The error of interpolating at a fraction of an interval: none for entries on one line, and for a
+// spread off by 2 % at the quarter-angle, 2 % relative to the entry's own.
+TEST(TableRefinement, MidErrorAtAFractionOfTheInterval) {
+    const GhostNodes n = vanishingPiece(6.0);
+    std::vector<TableEntry> quarter = {n.rows[1][0]};
+    quarter[0].centroidY = 0.75 * n.rows[1][0].centroidY + 0.25 * n.rows[2][0].centroidY;
+    quarter[0].sigmaR = 0.75 * n.rows[1][0].sigmaR + 0.25 * n.rows[2][0].sigmaR;
+    auto [e, relevant] = midError(n.rows[1], n.rows[2], quarter, 0.25, {1e-4}, 0.12);
+    EXPECT_TRUE(relevant);
+    EXPECT_NEAR(e, 0.0, 1e-12);
+    const double exact = quarter[0].sigmaR;
+    quarter[0].sigmaR = exact / 1.02;
+    std::tie(e, relevant) = midError(n.rows[1], n.rows[2], quarter, 0.25, {1e-4}, 0.12);
+    EXPECT_NEAR(e, 0.02, 1e-9);
+}
