@@ -478,27 +478,43 @@ TEST(PupilRegion, KeepsTheMirrorSymmetryOfTheLight) {
     }
 }
 
+namespace {
+
+// The wide angle's R6->R1 at the table's wavelengths, and its searches.
+struct WideR6R1 {
+    LensBench s{"wide-angle-16.7mm-f4.lens"};
+    std::vector<PathStep> steps = stepsOf(s.lens, "R6\u2192R1");
+    std::vector<LensAtWavelength> Ls = tableWavelengths(s);
+
+    PupilSearch search(double angleDeg, const PupilHints& hints = {}, bool lookCloser = false) const {
+        return searchPupil(s.pupil, Field{degToRad(angleDeg), 0.0}, Sampling::Reaim, Ls, steps, test::kMaxRadius, hints, lookCloser);
+    }
+};
+
+} // namespace
+
 // The wide angle's R6->R1 at 450 nm passes, 13 mm above the rest of its light in the pupil, a patch
-// that shrinks to nothing near 5.5167 deg (found here by the fine scan up x = 0). At 5.5150-5.5160
+// that shrinks to nothing near 5.5165 deg (found here by the fine scan up x = 0). At 5.5150-5.5160
 // deg it is under 0.15 mm across and the searches' coarse points (0.28 mm apart) step over it at
 // 450 nm; at 5.512 deg they meet it. Told where the search at 5.512 deg found light, the
 // searches at these angles look there and their parts hold the patch; and the looks alone
 // (hintsFindLight), at the pieces 5.512 deg found that the search here lacks, tell that searching
 // again would find more.
 TEST(PupilRegion, LooksWhereANeighbouringAngleFoundLight) {
-    const LensBench s("wide-angle-16.7mm-f4.lens");
-    const std::vector<PathStep> steps = stepsOf(s.lens, "R6\u2192R1");
+    const WideR6R1 r;
+    const LensBench& s = r.s;
+    const std::vector<PathStep>& steps = r.steps;
     ASSERT_FALSE(steps.empty());
-    const std::vector<LensAtWavelength> Ls = tableWavelengths(s);
-    const PupilSearch neighbour = searchPupil(s.pupil, Field{degToRad(5.512), 0.0}, Sampling::Reaim, Ls, steps, test::kMaxRadius);
+    const std::vector<LensAtWavelength>& Ls = r.Ls;
+    const PupilSearch neighbour = r.search(5.512);
     for (double angle : {5.5150, 5.5155, 5.5160}) {
         const Field field{degToRad(angle), 0.0};
         const auto lit = litAlongY(s, steps, field, searchHalfSize(s.pupil, field), &Ls[2]);
         ASSERT_GE(lit.size(), 2u) << angle << " deg";
         EXPECT_GT(lit.back().first - lit.front().second, 10.0) << angle << " deg: the patch lies far from the rest";
         EXPECT_LT(lit.back().second - lit.back().first, 0.15) << angle << " deg: the patch";
-        const PupilSearch alone = searchPupil(s.pupil, field, Sampling::Reaim, Ls, steps, test::kMaxRadius);
-        const PupilSearch told = searchPupil(s.pupil, field, Sampling::Reaim, Ls, steps, test::kMaxRadius, neighbour.pieces);
+        const PupilSearch alone = r.search(angle);
+        const PupilSearch told = r.search(angle, neighbour.pieces);
         EXPECT_TRUE(told.hintsFoundLight) << angle << " deg";
         for (const auto& [start, end] : lit) {
             EXPECT_TRUE(holdsStretch(told.parts[2], start, end))
@@ -519,25 +535,20 @@ TEST(PupilRegion, LooksWhereANeighbouringAngleFoundLight) {
 // Told to look closer, as the ghost table's finest step does, the search at each of them finds it
 // where the search at 5.5160 deg (told by 5.512 deg's) found it.
 TEST(PupilRegion, LooksCloserAtAPieceShrinkingToNothing) {
-    const LensBench s("wide-angle-16.7mm-f4.lens");
-    const std::vector<PathStep> steps = stepsOf(s.lens, "R6\u2192R1");
-    ASSERT_FALSE(steps.empty());
-    const std::vector<LensAtWavelength> Ls = tableWavelengths(s);
-    const PupilSearch first = searchPupil(s.pupil, Field{degToRad(5.512), 0.0}, Sampling::Reaim, Ls, steps, test::kMaxRadius);
-    const PupilSearch neighbour =
-        searchPupil(s.pupil, Field{degToRad(5.5160), 0.0}, Sampling::Reaim, Ls, steps, test::kMaxRadius, first.pieces);
+    const WideR6R1 r;
+    ASSERT_FALSE(r.steps.empty());
+    const PupilSearch neighbour = r.search(5.5160, r.search(5.512).pieces);
     int plainMissed = 0;
     for (double angle : {5.5161, 5.5162, 5.5163, 5.5164}) {
         const Field field{degToRad(angle), 0.0};
-        const auto lit = litAlongY(s, steps, field, searchHalfSize(s.pupil, field), &Ls[2]);
+        const auto lit = litAlongY(r.s, r.steps, field, searchHalfSize(r.s.pupil, field), &r.Ls[2]);
         ASSERT_GE(lit.size(), 2u) << angle << " deg";
         const auto [start, end] = lit.back();
         EXPECT_GT(start - lit.front().second, 10.0) << angle << " deg: the patch lies far from the rest";
         EXPECT_LT(end - start, 0.09) << angle << " deg: the patch";
-        const PupilSearch closer =
-            searchPupil(s.pupil, field, Sampling::Reaim, Ls, steps, test::kMaxRadius, neighbour.pieces, /*lookCloser=*/true);
+        const PupilSearch closer = r.search(angle, neighbour.pieces, /*lookCloser=*/true);
         EXPECT_TRUE(holdsStretch(closer.parts[2], start, end)) << angle << " deg: the patch at y " << start << " to " << end << " mm";
-        const PupilSearch plain = searchPupil(s.pupil, field, Sampling::Reaim, Ls, steps, test::kMaxRadius, neighbour.pieces);
+        const PupilSearch plain = r.search(angle, neighbour.pieces);
         plainMissed += !holdsStretch(plain.parts[2], start, end);
     }
     std::printf("the looks at the hints alone missed the patch at %d of 4 angles\n", plainMissed);
