@@ -113,7 +113,6 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
     // The budget counts traced entries (traced again too): maxAngles per ghost on average.
     const std::size_t budget = static_cast<std::size_t>(std::max(s.maxAngles, 9)) * nG;
     const RefinementLimits limits{s.interpolationTolerance, maxAngle / kFinestDivision, 0.01 * 0.5 * t.sensorSizeMm.second, budget};
-    const double minStep = limits.minStep, floorMm = limits.floorMm;
 
     // Every ghost starts on the same 9 uniform angles; each then refines its own intervals.
     tracer.setTotalWork(budget);
@@ -142,7 +141,7 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
             const GhostNodes& n = nodes[g];
             for (std::size_t i = 0; i < n.intervals.size(); ++i) {
                 const double width = n.angles[i + 1] - n.angles[i];
-                if (!n.intervals[i].measured && width > minStep) todo.push_back({g, i, n.intervals[i].error * width});
+                if (!n.intervals[i].measured && width > limits.minStep) todo.push_back({g, i, n.intervals[i].error * width});
             }
         }
         const std::size_t room = budget > spent ? budget - spent : 0;
@@ -191,7 +190,7 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
         for (std::size_t k = 0; k < todo.size(); ++k) {
             const GhostNodes& n = nodes[todo[k].ghost];
             const std::size_t i = todo[k].interval;
-            errors[k] = midError(n.rows[i], n.rows[i + 1], mids.rows[k], 0.5, strongest[tasks[k].angleDeg], floorMm);
+            errors[k] = midError(n.rows[i], n.rows[i + 1], mids.rows[k], 0.5, strongest[tasks[k].angleDeg], limits.floorMm);
             for (const std::size_t e : {i, i + 1})
                 if (const auto it = estimates.find({todo[k].ghost, e}); it != estimates.end())
                     it->second = std::max(it->second, errors[k].first);

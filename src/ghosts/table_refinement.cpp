@@ -136,20 +136,19 @@ bool splitAtKinks(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const Ref
     }
     for (std::size_t k = knots.size(); k-- > 0;) {
         GhostNodes& n = nodes[knots[k].ghost];
-        const std::size_t i = knots[k].interval;
-        const auto at = [&](std::size_t j) { return static_cast<std::ptrdiff_t>(j); };
+        const auto i = static_cast<std::ptrdiff_t>(knots[k].interval);
         std::vector<Interval> parts;
         for (const std::size_t side : {0, 1}) {
             const auto [e, relevant] = errors[2 * k + side];
             const Interval part{e <= limits.tolerance, relevant, e, false, true};
             parts.insert(parts.end(), {part, part});
         }
-        n.intervals.erase(n.intervals.begin() + at(i));
-        n.intervals.insert(n.intervals.begin() + at(i), parts.begin(), parts.end());
+        n.intervals.erase(n.intervals.begin() + i);
+        n.intervals.insert(n.intervals.begin() + i, parts.begin(), parts.end());
         for (std::size_t j = 3; j-- > 0;) {
-            n.angles.insert(n.angles.begin() + at(i + 1), tasks[3 * k + j].angleDeg);
-            n.rows.insert(n.rows.begin() + at(i + 1), std::move(traced.rows[3 * k + j]));
-            n.found.insert(n.found.begin() + at(i + 1), std::move(traced.found[3 * k + j]));
+            n.angles.insert(n.angles.begin() + i + 1, tasks[3 * k + j].angleDeg);
+            n.rows.insert(n.rows.begin() + i + 1, std::move(traced.rows[3 * k + j]));
+            n.found.insert(n.found.begin() + i + 1, std::move(traced.found[3 * k + j]));
         }
     }
     return true;
