@@ -478,6 +478,45 @@ TEST(PupilRegion, KeepsTheMirrorSymmetryOfTheLight) {
     }
 }
 
+// The wide angle's R4->R2 at 550 nm (21.30-21.4175 deg, counting radius) passes, 17.5 mm above the
+// rest of its light in the pupil, a band about 6 mm long across x = 0, thinner than the searches'
+// local spacing, whose ends send light 4 mm to either side of the ghost's centre. The local passes
+// meet the band at some of its points and not others: the box over those stopped short of one end,
+// the part's square held one end and not the other, and the ghost's tangential spread fell 1.9 %.
+// The band's part mirrors onto itself, and every point of a fine analytic pass over the band whose
+// ray arrives lies in a part.
+TEST(PupilRegion, PartsHoldBothEndsOfABandAcrossTheMirrorLine) {
+    const LensBench s("wide-angle-16.7mm-f4.lens");
+    const std::vector<PathStep> steps = stepsOf(s.lens, "R4\u2192R2");
+    ASSERT_FALSE(steps.empty());
+    const std::vector<LensAtWavelength> Ls = tableWavelengths(s);
+    for (double angle : {21.30, 21.36, 21.4066, 21.41745}) {
+        const Field field{degToRad(angle), 0.0};
+        const auto parts = pupilPartsByWavelength(s.pupil, field, Sampling::Reaim, Ls, steps, test::kMaxRadius);
+        expectMirrored(parts[1], angle);
+        // 1024 x 1024 points 8 um apart over [-4, 4] x [13.5, 21.5] mm: the band and none of the rest.
+        const Bundle b = gridBundle(s.pupil, field, 1024, 0.0, 17.5, 4.0, false);
+        std::vector<RayResult> hits(b.rays.size());
+        traceAnalytic(Ls[1], steps, b.rays, hits);
+        int lit = 0, outside = 0;
+        double xMin = 0.0, xMax = 0.0;
+        for (std::size_t k = 0; k < hits.size(); ++k) {
+            const RayResult& r = hits[k];
+            const double x = b.x0 + (static_cast<double>(k % 1024) + 0.5) * b.cell, y = b.y0 + (static_cast<double>(k / 1024) + 0.5) * b.cell;
+            if (r.status != optics::RayStatus::Ok || std::hypot(r.sensorPoint.x, r.sensorPoint.y) > test::kMaxRadius) continue;
+            ++lit;
+            xMin = std::min(xMin, x), xMax = std::max(xMax, x);
+            outside += std::none_of(parts[1].begin(), parts[1].end(),
+                                    [&](const PupilRegion& p) { return std::abs(x - p.cx) <= p.half && std::abs(y - p.cy) <= p.half; });
+        }
+        EXPECT_GT(lit, 0) << angle << " deg";
+        EXPECT_LT(xMin, -2.9) << angle << " deg: the band";
+        EXPECT_GT(xMax, 2.9) << angle << " deg: the band";
+        EXPECT_EQ(outside, 0) << angle << " deg: of " << lit << " lit points of the band";
+        std::printf("%.4f deg: band x %.3f..%.3f mm, %d lit points\n", angle, xMin, xMax, lit);
+    }
+}
+
 namespace {
 
 // The wide angle's R6->R1 at the table's wavelengths, and its searches.
