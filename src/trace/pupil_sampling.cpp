@@ -145,9 +145,9 @@ public:
         // Where the light is its own mirror image, so is light that crosses the mirror line: its box
         // holds its image. The passes meet a band thinner than their spacing at some of its points
         // and not others, and the box over those can stop short of one end (the wide angle's R4->R2
-        // at 550 nm, 21.30-21.4175 deg: a band 6 mm long across the line, whose box stopped 1.8 mm
-        // short of one end; that end's light, 4.2 mm from the ghost's centre, fell outside the grid
-        // and sigma t was 1.9 % short).
+        // at 550 nm, 21.4066-21.4175 deg: a band 6.2 mm long across the line and 60 um thick, whose
+        // part's square reached x = -4.06 mm on one side and 2.65 mm on the other; the light beyond,
+        // landing 4 mm from the ghost's centre, was lost and sigma t was 1.9 % short).
         if (symmetric_) {
             const LitBox image = mirror(box);
             if (gap(box, image) < 0.0) box.extend(image);
