@@ -75,8 +75,22 @@ ghosts::GhostTable loadTable(const optics::Lens& lens, const TableOptions& table
     bool cached = false;
     ghosts::GhostTable t = ghosts::tableFor(lens, table.settings(), useCache, progress, reporter, &cached);
     if (bar) std::fprintf(stderr, "\n");
-    if (!g.quiet && !cached)
+    if (!g.quiet && !cached) {
         std::fprintf(stderr, "fourierflare: built the ghost table in %.1f s%s\n", t.buildSeconds, useCache ? " (cached for next time)" : "");
+        const ghosts::BuildReport& b = t.build;
+        std::fprintf(stderr, "fourierflare: %zu traces of a budget of %zu%s in %zu rounds:", b.traces(), b.budget,
+                     b.budgetSpent ? " (spent)" : "", b.rounds);
+        const char* separator = " ";
+        for (const auto& [name, step] : {std::pair{"start", b.start}, {"mid-angles", b.midAngles}, {"neighbours", b.neighbours},
+                                         {"carried", b.carried}, {"knots", b.knots}}) {
+            std::fprintf(stderr, "%s%s %zu (%.0f s)", separator, name, step.traces, step.seconds);
+            separator = ", ";
+        }
+        std::fprintf(stderr, "\n");
+        if (!b.worst.ghost.empty())
+            std::fprintf(stderr, "fourierflare: the worst interval: %s at %.7f to %.7f deg (%.2f %%)\n", b.worst.ghost.c_str(), b.worst.fromDeg,
+                         b.worst.toDeg, 100.0 * b.worst.error);
+    }
     if (fromCache) *fromCache = cached;
     return t;
 }

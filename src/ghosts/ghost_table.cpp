@@ -16,7 +16,7 @@
 namespace ff::ghosts {
 
 std::string TableSettings::key() const {
-    std::string k = "table-v21 lambda";
+    std::string k = "table-v22 lambda";
     for (double l : wavelengthsNm) k += " " + text::roundTrip(l);
     k += " sampling " + std::to_string(static_cast<int>(sampling)) + " grid " + std::to_string(grid) + " sensor " +
          std::to_string(static_cast<int>(sensor)) + " coating " + std::to_string(static_cast<int>(coating)) + " max " +
@@ -38,7 +38,7 @@ void requireSymmetric(const optics::Lens& lens) {
 // square-root kinks (a part of a ghost vignetted away: double Gauss 50 mm R3->R1 at 650 nm loses a
 // patch of its pupil at 22.395 deg, and its sigma r falls from 6.8 to 3.2 mm over the preceding
 // 0.12 deg) improve by only sqrt(2) per halving: at 1/8192 of the field the double Gauss 50 mm kept
-// intervals 9.7 % off. What fails at this floor is then handled there (refineFinestIntervals):
+// intervals 9.7 % off. What fails at this floor is then handled there (table_refinement.h):
 // pieces of light an entry's search lost are carried to it from its neighbour, and kinks get a knot.
 constexpr double kFinestDivision = 131072.0;
 
@@ -51,6 +51,17 @@ double defaultMaxAngle(const optics::Lens& lens, const TableSettings& s, double 
         // The chief ray cannot reach the corner: fall back to the paraxial field.
         return std::min(80.0, radToDeg(std::atan(halfDiagonal / std::abs(optics::paraxialEfl(lens, lines::d)))));
     }
+}
+
+// Runs one step of the refinement, adding the traces it spent and its time to the report's step.
+template <typename F>
+auto timed(BuildReport::Step& step, std::size_t& spent, F&& f) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::size_t before = spent;
+    auto result = f();
+    step.traces += spent - before;
+    step.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
 }
 
 } // namespace
@@ -116,12 +127,18 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
 
     // Every ghost starts on the same 9 uniform angles; each then refines its own intervals.
     tracer.setTotalWork(budget);
+    BuildReport& report = t.build;
+    report.budget = budget;
+    std::size_t spent = 0;
     std::vector<GhostNodes> nodes(nG);
     {
         std::vector<Task> tasks;
         for (std::size_t g = 0; g < nG; ++g)
             for (int i = 0; i <= 8; ++i) tasks.push_back({g, maxAngle * i / 8.0, {}});
-        Traced traced = tracer.trace(tasks);
+        Traced traced = timed(report.start, spent, [&] {
+            spent += tasks.size();
+            return tracer.trace(tasks);
+        });
         for (std::size_t k = 0; k < tasks.size(); ++k) {
             GhostNodes& n = nodes[tasks[k].ghost];
             n.angles.push_back(tasks[k].angleDeg);
@@ -130,8 +147,7 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
         }
         for (GhostNodes& n : nodes) n.intervals.assign(n.angles.size() - 1, Interval{});
     }
-    std::size_t spent = 9 * nG;
-    for (;;) {
+    for (;; ++report.rounds) {
         // Unmeasured intervals wider than the finest step, of any ghost; when the budget cannot take
         // them all, the ones with the largest estimate x width go first (the rest keep their
         // estimate): a light falls in an interval in proportion to its width, and an interval astride
@@ -153,8 +169,10 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
             });
         }
         if (todo.empty()) {
-            // What still fails is at the finest step (table_refinement.cpp).
-            if (refineFinestIntervals(tracer, nodes, limits, spent)) continue;
+            // What still fails is at the finest step (table_refinement.h).
+            if (spent < budget && (timed(report.carried, spent, [&] { return carryPieces(tracer, nodes, limits, spent); }) ||
+                                   timed(report.knots, spent, [&] { return splitAtKinks(tracer, nodes, limits, spent); })))
+                continue;
             break;
         }
         // Each mid-angle's search looks where its two neighbours' searches found light.
@@ -167,9 +185,12 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
                 hints[w].insert(hints[w].end(), other[w].begin(), other[w].end());
             tasks.push_back({d.ghost, 0.5 * (n.angles[d.interval] + n.angles[d.interval + 1]), std::move(hints)});
         }
-        Traced mids = tracer.trace(tasks);
-        spent += tasks.size();
-        const std::vector<Node> retraced = retraceNeighbours(tracer, nodes, todo, mids, budget, spent);
+        Traced mids = timed(report.midAngles, spent, [&] {
+            spent += tasks.size();
+            return tracer.trace(tasks);
+        });
+        const std::vector<Node> retraced =
+            timed(report.neighbours, spent, [&] { return retraceNeighbours(tracer, nodes, todo, mids, budget, spent); });
 
         // The strongest ghost's flux at each mid-angle and wavelength: traced where this round
         // traced it, interpolated from the ghost's entries elsewhere.
@@ -232,18 +253,23 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
         }
     }
     tracer.finish();
+    report.budgetSpent = spent >= budget;
 
     // The errors of the final intervals of ghosts that counted there.
     std::vector<double> errors;
     double field = 0.0, fieldWithin = 0.0;
-    for (const GhostNodes& n : nodes)
+    for (std::size_t g = 0; g < nG; ++g) {
+        const GhostNodes& n = nodes[g];
         for (std::size_t i = 0; i < n.intervals.size(); ++i) {
             if (!n.intervals[i].relevant) continue;
             errors.push_back(n.intervals[i].error);
+            if (n.intervals[i].error > report.worst.error)
+                report.worst = {tracer.pairs()[g].label(), n.angles[i], n.angles[i + 1], n.intervals[i].error};
             const double width = n.angles[i + 1] - n.angles[i];
             field += width;
             if (n.intervals[i].error <= s.interpolationTolerance) fieldWithin += width;
         }
+    }
     t.withinTolerance = field > 0.0 ? fieldWithin / field : 1.0;
     std::sort(errors.begin(), errors.end());
     t.interpolationError = errors.empty() ? 0.0 : errors.back();

@@ -68,6 +68,30 @@ struct TableGhost {
     std::vector<std::vector<TableEntry>> entries; ///< [wavelength][angle]
 };
 
+/// Where a build spent its traces (entries traced, traced again too) and its time, by step of the
+/// refinement: the 9 starting angles, the mid-angles of intervals wider than the finest step, the
+/// neighbours traced again where a mid-angle found light they lacked, and at the finest step the
+/// pieces carried between neighbouring entries and the knots at kinks (each with the looks deciding
+/// whether tracing again finds light). Reported by the builder, not stored with the table.
+struct BuildReport {
+    struct Step {
+        std::size_t traces = 0;
+        double seconds = 0.0;
+    };
+    /// The interval whose interpolation error is the table's worst.
+    struct Interval {
+        std::string ghost;
+        double fromDeg = 0.0, toDeg = 0.0, error = 0.0;
+    };
+    Step start, midAngles, neighbours, carried, knots;
+    Interval worst;
+    std::size_t budget = 0; ///< traces the build could spend
+    std::size_t rounds = 0; ///< rounds of the refinement after the start
+    bool budgetSpent = false;
+
+    std::size_t traces() const { return start.traces + midAngles.traces + neighbours.traces + carried.traces + knots.traces; }
+};
+
 struct GhostTable {
     int schemaVersion = 2;
     std::string lensName, lensFile, lensHash, settingsKey;
@@ -86,6 +110,7 @@ struct GhostTable {
     /// chance that a light, placed at random, meets a ghost that interpolates within it.
     double withinTolerance = 1.0;
     double buildSeconds = 0.0;
+    BuildReport build; ///< where the build's traces and time went (empty for a table read back)
 
     /// Linear interpolation of a ghost's entry at angleDeg between its own angles (clamped to them).
     /// Where the ghost is dark at one end of the interval, it keeps the lit end's shape (centroid,

@@ -45,6 +45,8 @@ std::optional<std::pair<double, bool>> parentError(const std::vector<GhostNodes>
     return midError(n.rows[j - 1], n.rows[j + 1], n.rows[j], 0.5, strongest, floorMm);
 }
 
+} // namespace
+
 // Carries pieces of light between the two entries of every failing interval at the finest step not
 // yet compared: each entry is traced again where the other's pieces, far from its own, are found
 // there. The intervals beside an entry traced again wait to be measured again; at the finest step
@@ -55,7 +57,8 @@ bool carryPieces(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const Refi
         GhostNodes& n = nodes[g];
         for (std::size_t i = 0; i < n.intervals.size(); ++i) {
             Interval& v = n.intervals[i];
-            if (v.compared || !v.relevant || v.error <= limits.tolerance || n.width(i) > limits.minStep) continue;
+            if (v.compared || v.carried >= kMaxCarried || !v.relevant || v.error <= limits.tolerance || n.width(i) > limits.minStep)
+                continue;
             v.compared = true;
             for (const auto& [e, other] : {std::pair{i, i + 1}, std::pair{i + 1, i}}) {
                 const trace::PupilHints away = trace::piecesAwayFrom(n.found[other], n.found[e]);
@@ -72,6 +75,7 @@ bool carryPieces(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const Refi
             v.measured = false;
             v.compared = false;
             if (n.width(i) > limits.minStep) continue;
+            ++v.carried;
             std::optional<std::pair<double, bool>> estimate;
             for (const std::size_t e : {i, i + 1})
                 if (const auto p = parentError(nodes, g, e, limits.floorMm); p && (!estimate || p->first > estimate->first)) estimate = p;
@@ -153,8 +157,6 @@ bool splitAtKinks(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const Ref
     }
     return true;
 }
-
-} // namespace
 
 TableEntry interpolate(const TableEntry& a, const TableEntry& b, double t) {
     // Where the ghost is dark at one end of the interval (it is switched on or off within it), its
@@ -254,8 +256,14 @@ std::vector<Node> retraceWithHints(EntryTracer& tracer, std::vector<GhostNodes>&
     std::vector<Node> which;
     for (std::size_t c = 0; c < candidates.size() && spent + again.size() < budget; ++c) {
         if (!finds[c]) continue;
+        // The pieces its search found before go with the new hints: an entry given a piece by one
+        // neighbour would otherwise lose one its other neighbour gave it, and the zoom's entries at
+        // the finest step handed such pieces back and forth, six traces a round, for as long as the
+        // budget lasted (tens of thousands of traces).
         const auto& [node, h] = candidates[c];
-        again.push_back({node.first, nodes[node.first].angles[node.second], h, lookCloser});
+        trace::PupilHints all = h;
+        append(all, nodes[node.first].found[node.second].pieces);
+        again.push_back({node.first, nodes[node.first].angles[node.second], std::move(all), lookCloser});
         which.push_back(node);
     }
     if (again.empty()) return which;
@@ -278,16 +286,6 @@ std::vector<Node> retraceNeighbours(EntryTracer& tracer, std::vector<GhostNodes>
             if (!empty(away)) append(hints[{todo[k].ghost, e}], away);
         }
     return retraceWithHints(tracer, nodes, hints, false, budget, spent);
-}
-
-// Once every interval wider than the finest step is measured (or the budget is spent), what fails
-// at the finest step fails for one of two reasons that bisecting further would fix slowly or never:
-// a piece of light one entry's search found and its neighbour's lost (that neighbour's entry is
-// wrong, not the interpolation), or a kink inside the interval. Pieces are carried first; only where
-// none is carried are kinks split.
-bool refineFinestIntervals(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const RefinementLimits& limits, std::size_t& spent) {
-    if (spent >= limits.budget) return false;
-    return carryPieces(tracer, nodes, limits, spent) || splitAtKinks(tracer, nodes, limits, spent);
 }
 
 } // namespace ff::ghosts

@@ -28,7 +28,13 @@ struct Interval {
     double error = 0.0;    ///< measured error, or the parent's while not measured
     bool compared = false; ///< at the finest step: its two entries' pieces of light have been compared
     bool knotted = false;  ///< a part of an interval split at its kink (never split there again)
+    int carried = 0;       ///< times an entry of it was traced again at the finest step (at most kMaxCarried)
 };
+
+/// An interval at the finest step is compared at most this many times after one of its entries was
+/// traced again there: a piece is carried along the entries as far as it lasts, but two entries that
+/// kept handing pieces back and forth would spend the whole budget, a few traces a round.
+constexpr int kMaxCarried = 8;
 
 /// A ghost's angles while the table is refined: its traced entries and the intervals between them.
 struct GhostNodes {
@@ -76,7 +82,9 @@ std::pair<double, bool> midError(const std::vector<TableEntry>& lo, const std::v
 double kinkAngle(const GhostNodes& n, std::size_t i, const std::vector<double>& strongest, double floorMm);
 
 /// Traces again, told where to look, the entries whose hints find light their search did not
-/// (EntryTracer::hintsFindLight, the looks alone), while the budget lasts. Returns those entries.
+/// (EntryTracer::hintsFindLight, the looks alone), while the budget lasts. An entry traced again is
+/// told where it found light before, too, so that it keeps what earlier hints gave it. Returns those
+/// entries.
 std::vector<Node> retraceWithHints(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const std::map<Node, trace::PupilHints>& hints,
                                    bool lookCloser, std::size_t budget, std::size_t& spent);
 
@@ -86,10 +94,20 @@ std::vector<Node> retraceWithHints(EntryTracer& tracer, std::vector<GhostNodes>&
 std::vector<Node> retraceNeighbours(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const std::vector<Todo>& todo, const Traced& mids,
                                     std::size_t budget, std::size_t& spent);
 
-/// The work left once no interval wider than the finest step waits (see the definition): carries
-/// pieces of light between the two entries of failing intervals at the finest step, or, where none is
-/// carried, splits each failing one at its kink. Returns whether anything was traced; intervals wider
-/// than the finest step beside an entry traced again are left to be measured again.
-bool refineFinestIntervals(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const RefinementLimits& limits, std::size_t& spent);
+/// The work left once no interval wider than the finest step waits fails for one of two reasons that
+/// bisecting further would fix slowly or never: a piece of light one entry's search found and its
+/// neighbour's lost (that neighbour's entry is wrong, not the interpolation), or a kink inside the
+/// interval. Pieces are carried first (carryPieces); only where none is carried are kinks split
+/// (splitAtKinks). Each returns whether it traced anything.
+
+/// Carries pieces of light between the two entries of every failing interval at the finest step not
+/// yet compared: each entry is traced again where the other's pieces, far from its own, are found
+/// there. Intervals wider than the finest step beside an entry traced again are left to be measured
+/// again; those at the finest step have their error estimated again from the entries as they are now.
+bool carryPieces(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const RefinementLimits& limits, std::size_t& spent);
+
+/// Splits every failing interval at the finest step, not split so before, at its kink (kinkAngle)
+/// and measures both parts at their mid-angles: three entries each, while the budget lasts.
+bool splitAtKinks(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const RefinementLimits& limits, std::size_t& spent);
 
 } // namespace ff::ghosts

@@ -46,6 +46,24 @@ TEST(GhostTable, CoversEveryGhostAndInterpolatesThroughItsEntries) {
     // Every ghost keeps the 9 starting angles and refines its own within the budget: 13 per ghost
     // on average.
     EXPECT_LE(t.entryCount(), 13u * t.ghosts.size());
+    // The build's report accounts for every trace: each entry was traced once as a starting angle, a
+    // mid-angle or a knot's (traced again as a neighbour or a carried piece besides), within the budget.
+    const BuildReport& r = t.build;
+    EXPECT_EQ(r.budget, 13u * 15u);
+    EXPECT_EQ(r.start.traces, 9u * 15u);
+    EXPECT_EQ(t.entryCount(), r.start.traces + r.midAngles.traces + r.knots.traces);
+    EXPECT_LE(r.traces(), r.budget);
+    EXPECT_EQ(r.budgetSpent, r.traces() == r.budget);
+    EXPECT_GT(r.rounds, 0u);
+    EXPECT_GT(r.start.seconds, 0.0);
+    // It names the worst interval: two neighbouring angles of that ghost.
+    EXPECT_DOUBLE_EQ(r.worst.error, t.interpolationError);
+    const auto named = std::find_if(t.ghosts.begin(), t.ghosts.end(), [&](const TableGhost& g) { return g.pair.label() == r.worst.ghost; });
+    ASSERT_NE(named, t.ghosts.end()) << r.worst.ghost;
+    const auto from = std::find(named->anglesDeg.begin(), named->anglesDeg.end(), r.worst.fromDeg);
+    ASSERT_NE(from, named->anglesDeg.end());
+    ASSERT_NE(from + 1, named->anglesDeg.end());
+    EXPECT_EQ(*(from + 1), r.worst.toDeg);
     for (const TableGhost& g : t.ghosts) {
         ASSERT_GE(g.anglesDeg.size(), 9u);
         EXPECT_EQ(g.anglesDeg.front(), 0.0);
@@ -180,6 +198,7 @@ TEST(GhostTable, InterpolatesWithinItsToleranceBetweenEntries) {
     const GhostTable t = buildGhostTable(lens, s);
     // Every interval passed: the refinement stopped before its budget.
     EXPECT_LT(t.entryCount(), static_cast<std::size_t>(s.maxAngles) * t.ghosts.size());
+    EXPECT_FALSE(t.build.budgetSpent);
     EXPECT_LE(t.interpolationError, s.interpolationTolerance);
 
     std::vector<double> mids;
