@@ -94,11 +94,11 @@ std::vector<Node> retraceWithHints(EntryTracer& tracer, std::vector<GhostNodes>&
 std::vector<Node> retraceNeighbours(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const std::vector<Todo>& todo, const Traced& mids,
                                     std::size_t budget, std::size_t& spent);
 
-/// The work left once no interval wider than the finest step waits fails for one of two reasons that
-/// bisecting further would fix slowly or never: a piece of light one entry's search found and its
-/// neighbour's lost (that neighbour's entry is wrong, not the interpolation), or a kink inside the
-/// interval. Pieces are carried first (carryPieces); only where none is carried are kinks split
-/// (splitAtKinks). Each returns whether it traced anything.
+// At the finest step. What fails once no interval wider than the finest step waits fails for one of
+// two reasons that bisecting further would fix slowly or never: a piece of light one entry's search
+// found and its neighbour's lost (that neighbour's entry is wrong, not the interpolation), or a kink
+// inside the interval. Pieces are carried first (carryPieces); only where none is carried are kinks
+// split (splitAtKinks). Each returns whether it traced anything.
 
 /// Carries pieces of light between the two entries of every failing interval at the finest step not
 /// yet compared: each entry is traced again where the other's pieces, far from its own, are found
