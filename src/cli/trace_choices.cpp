@@ -82,10 +82,11 @@ ghosts::GhostTable loadTable(const optics::Lens& lens, const TableOptions& table
                      b.budgetSpent ? " (spent)" : "", b.rounds);
         const char* separator = " ";
         for (const auto& [name, step] : {std::pair{"start", b.start}, {"mid-angles", b.midAngles}, {"neighbours", b.neighbours},
-                                         {"carried", b.carried}, {"knots", b.knots}}) {
+                                         {"carried", b.carried}, {"knots", b.knots}, {"finer grids", b.finer}}) {
             std::fprintf(stderr, "%s%s %zu (%.0f s)", separator, name, step.traces, step.seconds);
             separator = ", ";
         }
+        if (b.finerGhosts > 0) std::fprintf(stderr, " for %zu ghost%s", b.finerGhosts, b.finerGhosts == 1 ? "" : "s");
         std::fprintf(stderr, "\n");
         if (!b.worst.ghost.empty())
             std::fprintf(stderr, "fourierflare: the worst interval: %s at %.7f to %.7f deg (%.2f %%)\n", b.worst.ghost.c_str(), b.worst.fromDeg,

@@ -96,7 +96,7 @@ Traced EntryTracer::trace(const std::vector<Task>& tasks) {
             std::vector<BundlePart> views;
             for (std::size_t p = 0; p < regions.size(); ++p) {
                 PartTrace& t = parts[p];
-                t.centres = trace::regionBundle(frame_, field, regions[p], gridFor(regions[p]));
+                t.centres = trace::regionBundle(frame_, field, regions[p], gridFor(regions[p], tasks[task].gridScale));
                 t.corners = trace::cornerBundle(frame_, field, t.centres);
                 t.c.resize(t.centres.rays.size());
                 t.k.resize(t.corners.rays.size());
@@ -134,12 +134,13 @@ Traced EntryTracer::trace(const std::vector<Task>& tasks) {
 // grid over its 7 mm square had two or three rays across it, and its tangential spread missed
 // the mid-angles by up to 0.68 %; on 512, 0.07 %). Either way the moments would move in steps as
 // the field angle moves the light across the rays.
-int EntryTracer::gridFor(const trace::PupilRegion& r) const {
+int EntryTracer::gridFor(const trace::PupilRegion& r, int scale) const {
     constexpr double kMinLit = 0.1, kMaxThin = 0.05, kAllThin = 0.5;
-    if (r.thinShare > kAllThin) return 16 * s_.grid;
-    if (r.thinShare > kMaxThin) return 8 * s_.grid;
-    int n = s_.grid;
-    for (double lit = r.litFraction; lit < kMinLit && n < 4 * s_.grid; lit *= 4.0) n *= 2;
+    const int base = scale * s_.grid;
+    if (r.thinShare > kAllThin) return 16 * base;
+    if (r.thinShare > kMaxThin) return 8 * base;
+    int n = base;
+    for (double lit = r.litFraction; lit < kMinLit && n < 4 * base; lit *= 4.0) n *= 2;
     return n;
 }
 

@@ -27,6 +27,7 @@ struct Task {
     double angleDeg = 0.0;
     trace::PupilHints hints;
     bool lookCloser = false; ///< at the hints (trace::searchPupil)
+    int gridScale = 1;       ///< the ghost's grids are this many times the table's (GhostNodes::gridScale)
 };
 
 // A task's entry, [wavelength], and what its search found.
@@ -63,8 +64,8 @@ public:
     Traced trace(const std::vector<Task>& tasks);
 
 private:
-    /// The grid for a part of a ghost's pupil (see the definition).
-    int gridFor(const trace::PupilRegion& r) const;
+    /// The grid for a part of a ghost's pupil (see the definition), times scale.
+    int gridFor(const trace::PupilRegion& r, int scale = 1) const;
     /// The bundle's moments, its vignetting edges (and the light between its rays that the region
     /// search's litPoints show) resolved on sub-grids (TableSettings::edgeSubdivisions).
     trace::BundleMoments measure(std::size_t w, const std::vector<trace::PathStep>& steps, const trace::Field& field, const trace::Bundle& b,

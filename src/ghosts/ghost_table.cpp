@@ -16,7 +16,7 @@
 namespace ff::ghosts {
 
 std::string TableSettings::key() const {
-    std::string k = "table-v22 lambda";
+    std::string k = "table-v23 lambda";
     for (double l : wavelengthsNm) k += " " + text::roundTrip(l);
     k += " sampling " + std::to_string(static_cast<int>(sampling)) + " grid " + std::to_string(grid) + " sensor " +
          std::to_string(static_cast<int>(sensor)) + " coating " + std::to_string(static_cast<int>(coating)) + " max " +
@@ -148,7 +148,8 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
         for (GhostNodes& n : nodes) n.intervals.assign(n.angles.size() - 1, Interval{});
     }
     for (;; ++report.rounds) {
-        // Unmeasured intervals wider than the finest step, of any ghost; when the budget cannot take
+        // Unmeasured intervals wider than the finest step (or of a ghost traced again on a finer
+        // grid: Interval::remeasure), of any ghost; when the budget cannot take
         // them all, the ones with the largest estimate x width go first (the rest keep their
         // estimate): a light falls in an interval in proportion to its width, and an interval astride
         // a kink (a part of a ghost vignetted away) cannot take the whole budget.
@@ -157,7 +158,7 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
             const GhostNodes& n = nodes[g];
             for (std::size_t i = 0; i < n.intervals.size(); ++i) {
                 const double width = n.angles[i + 1] - n.angles[i];
-                if (!n.intervals[i].measured && width > limits.minStep) todo.push_back({g, i, n.intervals[i].error * width});
+                if (!n.intervals[i].measured && (width > limits.minStep || n.intervals[i].remeasure)) todo.push_back({g, i, n.intervals[i].error * width});
             }
         }
         const std::size_t room = budget > spent ? budget - spent : 0;
@@ -171,7 +172,8 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
         if (todo.empty()) {
             // What still fails is at the finest step (table_refinement.h).
             if (spent < budget && (timed(report.carried, spent, [&] { return carryPieces(tracer, nodes, limits, spent); }) ||
-                                   timed(report.knots, spent, [&] { return splitAtKinks(tracer, nodes, limits, spent); })))
+                                   timed(report.knots, spent, [&] { return splitAtKinks(tracer, nodes, limits, spent); }) ||
+                                   timed(report.finer, spent, [&] { return traceFiner(tracer, nodes, limits, spent); })))
                 continue;
             break;
         }
@@ -183,7 +185,7 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
             const trace::PupilHints& other = n.found[d.interval + 1].pieces;
             for (std::size_t w = 0; w < hints.size() && w < other.size(); ++w)
                 hints[w].insert(hints[w].end(), other[w].begin(), other[w].end());
-            tasks.push_back({d.ghost, 0.5 * (n.angles[d.interval] + n.angles[d.interval + 1]), std::move(hints)});
+            tasks.push_back({d.ghost, 0.5 * (n.angles[d.interval] + n.angles[d.interval + 1]), std::move(hints), false, n.gridScale});
         }
         Traced mids = timed(report.midAngles, spent, [&] {
             spent += tasks.size();
@@ -254,6 +256,7 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
     }
     tracer.finish();
     report.budgetSpent = spent >= budget;
+    report.finerGhosts = static_cast<std::size_t>(std::count_if(nodes.begin(), nodes.end(), [](const GhostNodes& n) { return n.gridScale > 1; }));
 
     // The errors of the final intervals of ghosts that counted there.
     std::vector<double> errors;

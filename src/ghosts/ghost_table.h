@@ -71,8 +71,9 @@ struct TableGhost {
 /// Where a build spent its traces (entries traced, traced again too) and its time, by step of the
 /// refinement: the 9 starting angles, the mid-angles of intervals wider than the finest step, the
 /// neighbours traced again where a mid-angle found light they lacked, and at the finest step the
-/// pieces carried between neighbouring entries and the knots at kinks (each with the looks deciding
-/// whether tracing again finds light). Reported by the builder, not stored with the table.
+/// pieces carried between neighbouring entries, the knots at kinks (each with the looks deciding
+/// whether tracing again finds light) and the ghosts traced again on finer grids. Reported by the
+/// builder, not stored with the table.
 struct BuildReport {
     struct Step {
         std::size_t traces = 0;
@@ -84,12 +85,14 @@ struct BuildReport {
         double fromDeg = 0.0, toDeg = 0.0, error = 0.0;
     };
     Step start, midAngles, neighbours, carried, knots;
+    Step finer;                  ///< entries of ghosts traced again on finer grids
+    std::size_t finerGhosts = 0; ///< ghosts whose grids were refined
     Interval worst;
     std::size_t budget = 0; ///< traces the build could spend
     std::size_t rounds = 0; ///< rounds of the refinement after the start
     bool budgetSpent = false;
 
-    std::size_t traces() const { return start.traces + midAngles.traces + neighbours.traces + carried.traces + knots.traces; }
+    std::size_t traces() const { return start.traces + midAngles.traces + neighbours.traces + carried.traces + knots.traces + finer.traces; }
 };
 
 struct GhostTable {

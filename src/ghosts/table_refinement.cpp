@@ -119,7 +119,7 @@ bool splitAtKinks(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const Ref
         k.angle = kinkAngle(n, k.interval, strongestFlux(nodes, 0.5 * (lo + hi), nW), limits.floorMm);
         trace::PupilHints hints = n.found[k.interval].pieces;
         append(hints, n.found[k.interval + 1].pieces);
-        for (const double a : {0.5 * (lo + k.angle), k.angle, 0.5 * (k.angle + hi)}) tasks.push_back({k.ghost, a, hints, true});
+        for (const double a : {0.5 * (lo + k.angle), k.angle, 0.5 * (k.angle + hi)}) tasks.push_back({k.ghost, a, hints, true, n.gridScale});
     }
     Traced traced = tracer.trace(tasks);
     spent += tasks.size();
@@ -153,6 +153,59 @@ bool splitAtKinks(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const Ref
             n.angles.insert(n.angles.begin() + i + 1, tasks[3 * k + j].angleDeg);
             n.rows.insert(n.rows.begin() + i + 1, std::move(traced.rows[3 * k + j]));
             n.found.insert(n.found.begin() + i + 1, std::move(traced.found[3 * k + j]));
+        }
+    }
+    return true;
+}
+
+// Traces every entry of each ghost with a failing interval at the finest step again on grids twice
+// as fine, worst ghost first. Such an interval may join two entries each measured too coarsely: the
+// zoom's R9->R3 at 450 nm kept a step of sigma r from 3.816 to 3.862 mm between 13.1183289 and
+// 13.1183628 deg (0.59 % at the mid-angle), where a brute-force pass over the whole pupil
+// (4096 x 4096 rays) finds 3.838 mm at both; its 32 grid, 1.3 mm cells over a ghost lit on 12 % of
+// its square, erred by -0.65 to +0.62 % over 12.9-13.3 deg, alike over stretches of angle (which
+// the interpolation error cannot see) and stepping where the light crossed the rays. On the 64 grid
+// the same entries are within 0.13 % of the brute force. Each entry is told where it found light
+// before; every interval of the ghost is measured again, from entries on one grid.
+bool traceFiner(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const RefinementLimits& limits, std::size_t& spent) {
+    std::vector<std::pair<double, std::size_t>> failing; // (worst error, ghost)
+    for (std::size_t g = 0; g < nodes.size(); ++g) {
+        const GhostNodes& n = nodes[g];
+        if (n.gridScale >= kMaxGridScale) continue;
+        double worst = 0.0;
+        for (std::size_t i = 0; i < n.intervals.size(); ++i) {
+            const Interval& v = n.intervals[i];
+            if (v.relevant && v.error > limits.tolerance && n.width(i) <= limits.minStep) worst = std::max(worst, v.error);
+        }
+        if (worst > 0.0) failing.push_back({worst, g});
+    }
+    std::stable_sort(failing.begin(), failing.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    std::vector<Task> tasks;
+    std::vector<std::size_t> chosen;
+    for (const auto& [error, g] : failing) {
+        const GhostNodes& n = nodes[g];
+        if (spent + tasks.size() + n.angles.size() > limits.budget) continue;
+        chosen.push_back(g);
+        for (std::size_t j = 0; j < n.angles.size(); ++j) tasks.push_back({g, n.angles[j], n.found[j].pieces, true, 2 * n.gridScale});
+    }
+    if (tasks.empty()) return false;
+    Traced traced = tracer.trace(tasks);
+    spent += tasks.size();
+    std::size_t k = 0;
+    for (const std::size_t g : chosen) {
+        GhostNodes& n = nodes[g];
+        n.gridScale *= 2;
+        for (std::size_t j = 0; j < n.angles.size(); ++j, ++k) {
+            n.rows[j] = std::move(traced.rows[k]);
+            n.found[j] = std::move(traced.found[k]);
+        }
+        for (Interval& v : n.intervals) {
+            Interval again;
+            again.relevant = v.relevant;
+            again.error = v.error; // the estimate until measured again
+            again.knotted = v.knotted;
+            again.remeasure = true;
+            v = again;
         }
     }
     return true;
@@ -263,7 +316,7 @@ std::vector<Node> retraceWithHints(EntryTracer& tracer, std::vector<GhostNodes>&
         const auto& [node, h] = candidates[c];
         trace::PupilHints all = h;
         append(all, nodes[node.first].found[node.second].pieces);
-        again.push_back({node.first, nodes[node.first].angles[node.second], std::move(all), lookCloser});
+        again.push_back({node.first, nodes[node.first].angles[node.second], std::move(all), lookCloser, nodes[node.first].gridScale});
         which.push_back(node);
     }
     if (again.empty()) return which;

@@ -29,6 +29,7 @@ struct Interval {
     bool compared = false; ///< at the finest step: its two entries' pieces of light have been compared
     bool knotted = false;  ///< a part of an interval split at its kink (never split there again)
     int carried = 0;       ///< times an entry of it was traced again at the finest step (at most kMaxCarried)
+    bool remeasure = false; ///< measured even at the finest step (its entries were traced on a finer grid)
 };
 
 /// An interval at the finest step is compared at most this many times after one of its entries was
@@ -42,6 +43,7 @@ struct GhostNodes {
     std::vector<std::vector<TableEntry>> rows; ///< [angle][wavelength]
     std::vector<trace::PupilSearch> found;     ///< [angle]: where its search found light
     std::vector<Interval> intervals;
+    int gridScale = 1; ///< its entries' grids are this many times the table's (traceFiner)
 
     double fluxAt(std::size_t w, double a) const;
     double width(std::size_t interval) const { return angles[interval + 1] - angles[interval]; }
@@ -95,10 +97,12 @@ std::vector<Node> retraceNeighbours(EntryTracer& tracer, std::vector<GhostNodes>
                                     std::size_t budget, std::size_t& spent);
 
 // At the finest step. What fails once no interval wider than the finest step waits fails for one of
-// two reasons that bisecting further would fix slowly or never: a piece of light one entry's search
-// found and its neighbour's lost (that neighbour's entry is wrong, not the interpolation), or a kink
-// inside the interval. Pieces are carried first (carryPieces); only where none is carried are kinks
-// split (splitAtKinks). Each returns whether it traced anything.
+// three reasons that bisecting further would fix slowly or never: a piece of light one entry's search
+// found and its neighbour's lost (that neighbour's entry is wrong, not the interpolation), a kink
+// inside the interval, or entries measured too coarsely (their grid's error, which moves in steps as
+// the field angle moves the light across the rays). Pieces are carried first (carryPieces); only
+// where none is carried are kinks split (splitAtKinks); only where no kink is left to split are
+// ghosts traced on a finer grid (traceFiner). Each returns whether it traced anything.
 
 /// Carries pieces of light between the two entries of every failing interval at the finest step not
 /// yet compared: each entry is traced again where the other's pieces, far from its own, are found
@@ -109,5 +113,14 @@ bool carryPieces(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const Refi
 /// Splits every failing interval at the finest step, not split so before, at its kink (kinkAngle)
 /// and measures both parts at their mid-angles: three entries each, while the budget lasts.
 bool splitAtKinks(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const RefinementLimits& limits, std::size_t& spent);
+
+/// A ghost's grid is doubled at most this many times.
+constexpr int kMaxGridScale = 2;
+
+/// Traces again, on grids twice as fine, every entry of each ghost with a failing interval at the
+/// finest step (worst first, while the budget lasts; each ghost at most up to kMaxGridScale), and
+/// leaves all its intervals to be measured again, those at the finest step too (Interval::remeasure):
+/// errors measured on the coarser entries no longer hold.
+bool traceFiner(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const RefinementLimits& limits, std::size_t& spent);
 
 } // namespace ff::ghosts
