@@ -226,6 +226,7 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
             const std::size_t g = todo[k].ghost;
             GhostNodes& n = nodes[g];
             GhostNodes next;
+            next.gridScale = n.gridScale;
             for (std::size_t i = 0; i < n.angles.size(); ++i) {
                 next.angles.push_back(n.angles[i]);
                 next.rows.push_back(std::move(n.rows[i]));
