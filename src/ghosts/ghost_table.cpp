@@ -148,17 +148,18 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
         for (GhostNodes& n : nodes) n.intervals.assign(n.angles.size() - 1, Interval{});
     }
     for (;; ++report.rounds) {
-        // Unmeasured intervals wider than the finest step (or of a ghost traced again on a finer
-        // grid: Interval::remeasure), of any ghost; when the budget cannot take
-        // them all, the ones with the largest estimate x width go first (the rest keep their
-        // estimate): a light falls in an interval in proportion to its width, and an interval astride
-        // a kink (a part of a ghost vignetted away) cannot take the whole budget.
+        // Unmeasured intervals wider than the finest step (at the finest step too where their ghost
+        // was traced again on a finer grid: Interval::remeasure), of any ghost; when the budget
+        // cannot take them all, the ones with the largest estimate x width go first (the rest keep
+        // their estimate): a light falls in an interval in proportion to its width, and an interval
+        // astride a kink (a part of a ghost vignetted away) cannot take the whole budget.
         std::vector<Todo> todo;
         for (std::size_t g = 0; g < nG; ++g) {
             const GhostNodes& n = nodes[g];
             for (std::size_t i = 0; i < n.intervals.size(); ++i) {
                 const double width = n.angles[i + 1] - n.angles[i];
-                if (!n.intervals[i].measured && (width > limits.minStep || n.intervals[i].remeasure)) todo.push_back({g, i, n.intervals[i].error * width});
+                const Interval& v = n.intervals[i];
+                if (!v.measured && (width > limits.minStep || v.remeasure)) todo.push_back({g, i, v.error * width});
             }
         }
         const std::size_t room = budget > spent ? budget - spent : 0;
@@ -257,7 +258,7 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
     }
     tracer.finish();
     report.budgetSpent = spent >= budget;
-    report.finerGhosts = static_cast<std::size_t>(std::count_if(nodes.begin(), nodes.end(), [](const GhostNodes& n) { return n.gridScale > 1; }));
+    for (const GhostNodes& n : nodes) report.finerGhosts += n.gridScale > 1;
 
     // The errors of the final intervals of ghosts that counted there.
     std::vector<double> errors;
