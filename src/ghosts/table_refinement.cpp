@@ -45,6 +45,13 @@ std::optional<std::pair<double, bool>> parentError(const std::vector<GhostNodes>
     return midError(n.rows[j - 1], n.rows[j + 1], n.rows[j], 0.5, strongest, floorMm);
 }
 
+// Whether interval i of a ghost fails at the finest step: it counts, errs over the tolerance and
+// is too narrow to bisect.
+bool failsAtFinestStep(const GhostNodes& n, std::size_t i, const RefinementLimits& limits) {
+    const Interval& v = n.intervals[i];
+    return v.relevant && v.error > limits.tolerance && n.width(i) <= limits.minStep;
+}
+
 } // namespace
 
 // Carries pieces of light between the two entries of every failing interval at the finest step not
@@ -57,7 +64,7 @@ bool carryPieces(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const Refi
         GhostNodes& n = nodes[g];
         for (std::size_t i = 0; i < n.intervals.size(); ++i) {
             Interval& v = n.intervals[i];
-            if (v.compared || v.carried >= kMaxCarried || !v.relevant || v.error <= limits.tolerance || n.width(i) > limits.minStep)
+            if (v.compared || v.carried >= kMaxCarried || !failsAtFinestStep(n, i, limits))
                 continue;
             v.compared = true;
             for (const auto& [e, other] : {std::pair{i, i + 1}, std::pair{i + 1, i}}) {
@@ -100,7 +107,7 @@ bool splitAtKinks(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const Ref
         const GhostNodes& n = nodes[g];
         for (std::size_t i = 0; i < n.intervals.size(); ++i) {
             const Interval& v = n.intervals[i];
-            if (!v.knotted && v.relevant && v.error > limits.tolerance && n.width(i) <= limits.minStep) knots.push_back({g, i, v.error, 0.0});
+            if (!v.knotted && failsAtFinestStep(n, i, limits)) knots.push_back({g, i, v.error, 0.0});
         }
     }
     const std::size_t room = limits.budget > spent ? (limits.budget - spent) / 3 : 0;
@@ -173,10 +180,8 @@ bool traceFiner(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const Refin
         const GhostNodes& n = nodes[g];
         if (n.gridScale >= kMaxGridScale) continue;
         double worst = 0.0;
-        for (std::size_t i = 0; i < n.intervals.size(); ++i) {
-            const Interval& v = n.intervals[i];
-            if (v.relevant && v.error > limits.tolerance && n.width(i) <= limits.minStep) worst = std::max(worst, v.error);
-        }
+        for (std::size_t i = 0; i < n.intervals.size(); ++i)
+            if (failsAtFinestStep(n, i, limits)) worst = std::max(worst, n.intervals[i].error);
         if (worst > 0.0) failing.push_back({worst, g});
     }
     std::stable_sort(failing.begin(), failing.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
