@@ -38,7 +38,7 @@ struct CompareOptions {
     std::string size;
     std::string ns = "16,32,64,128,256";
     std::string output;
-    int grid = 64, tableGrid = 32;
+    int grid = 32, tableGrid = 32;
     std::string sensorSize, zoom;
     FourierOptions fourier;
 };

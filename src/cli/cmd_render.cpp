@@ -36,7 +36,8 @@ struct RenderOptions {
     std::vector<std::string> probes;
     int spectral = 0;
     std::string sampling = "reaim";
-    int grid = 64, tableGrid = 32;
+    int grid = 32, tableGrid = 32;
+    double refine = 1.0;
     std::string sensor = "file";
     std::string coating = "file";
     std::string sensorSize;
@@ -117,6 +118,7 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
         t.spectralSamples = o.spectral;
         t.sampling = samplingFrom(o.sampling);
         t.grid = o.grid;
+        t.refinement = o.refine;
         t.sensor = sensorFrom(o.sensor);
         t.coating = coatingFrom(o.coating);
         if (o.mode == "traced") {
@@ -135,9 +137,12 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
             }
             image = std::move(traced.image);
             meta.push_back({"fourierflare:grid", std::to_string(o.grid) + " " + o.sampling});
+            meta.push_back({"fourierflare:refine", text::fixed(o.refine, 3)});
+            meta.push_back({"fourierflare:refinement", traced.describeRefinement()});
             summary = "traced " + std::to_string(traced.ghostCount) + " ghosts at " + std::to_string(traced.wavelengths) + " wavelengths for " +
                       std::to_string(std::max<std::size_t>(lights.size(), 1)) + " light(s); ghost flux relative to the direct image, summed "
-                      "over wavelengths: " + text::scientific(traced.inFrame, 4) + " in the frame, " + text::scientific(traced.outside, 4) + " outside";
+                      "over wavelengths: " + text::scientific(traced.inFrame, 4) + " in the frame, " + text::scientific(traced.outside, 4) + " outside; " +
+                      traced.describeRefinement();
         } else {
             TableOptions table;
             table.grid = o.tableGrid;
@@ -205,7 +210,9 @@ void addRenderCommand(CLI::App& app, GlobalOptions& global) {
     cmd->add_option("--spectral", o->spectral, "Trace N wavelengths over 400-700 nm through the CIE 1931 matching functions (8-16); 0 = 450/550/650 nm")
         ->check(CLI::IsMember({0, 8, 9, 10, 11, 12, 13, 14, 15, 16}));
     cmd->add_option("--sampling", o->sampling, "Pupil sampling: reaim or paraxial-grid")->check(CLI::IsMember({"reaim", "paraxial-grid"}));
-    cmd->add_option("--grid", o->grid, "Rays per side of each ghost's pupil grid (traced mode)")->check(CLI::Range(2, 1024));
+    cmd->add_option("--grid", o->grid, "Cells per side of each ghost's starting pupil grid, refined adaptively (traced mode)")->check(CLI::Range(2, 1024));
+    cmd->add_option("--refine", o->refine, "Refinement factor R of the traced mode: starting grid x R, every refinement tolerance / R (1, 2, 4...)")
+        ->check(CLI::Range(1.0, 16.0));
     cmd->add_option("--table-grid", o->tableGrid, "Rays per side of each ghost's pupil grid for the ghost table (fitted, fourier)")->check(CLI::Range(4, 512));
     cmd->add_option("--sensor", o->sensor, "Sensor plane: file (the last thickness) or paraxial")->check(CLI::IsMember({"file", "paraxial"}));
     cmd->add_option("--coating", o->coating, "Coatings: file, none or mgf2")->check(CLI::IsMember({"file", "none", "mgf2"}));

@@ -156,9 +156,21 @@ void addTraced(TracedScene& scene, const trace::TracedFlare& f, const std::array
     scene.ghostCount = f.ghostCount;
     scene.wavelengths = f.wavelengthsNm.size();
     for (const auto& s : f.stats) scene.inFrame += s.deposited, scene.outside += s.offImage;
+    scene.samples += f.samples;
+    scene.culled += f.culled;
+    scene.budgetHits += f.budgetHits;
+    scene.culledShare = std::max(scene.culledShare, f.culledShare);
+    scene.maxDepth = std::max(scene.maxDepth, f.maxDepth);
 }
 
 } // namespace
+
+std::string TracedScene::describeRefinement() const {
+    std::string s = std::to_string(samples) + " rays, refined to depth " + std::to_string(maxDepth) + "; culled " + std::to_string(culled) +
+                    " ghost(s) holding " + text::scientific(culledShare, 2) + " of the ghost flux";
+    if (budgetHits) s += "; the ray budget stopped " + std::to_string(budgetHits) + " ghost refinement(s)";
+    return s;
+}
 
 TracedScene renderTracedField(const optics::Lens& lens, const trace::TracedFlareOptions& o) {
     TracedScene scene;

@@ -154,6 +154,25 @@ private:
 
 } // namespace
 
+void depositPolygon(std::span<const Vec2> poly, double e, const ImageFrame& frame, std::vector<double>& image, RasterStats& stats) {
+    Rasterizer r(frame, image, stats);
+    if (poly.empty() || e == 0.0) return;
+    // A fan from the first vertex, each triangle's share of the energy by its area.
+    double total = 0.0;
+    for (std::size_t i = 1; i + 1 < poly.size(); ++i) total += std::abs(cross(poly[0], poly[i], poly[i + 1]));
+    if (!(total > 0.0)) {
+        Vec2 mean(0.0);
+        for (const Vec2& p : poly) mean += p;
+        mean /= static_cast<double>(poly.size());
+        r.point(mean.x, mean.y, e);
+        return;
+    }
+    for (std::size_t i = 1; i + 1 < poly.size(); ++i) {
+        const double a = std::abs(cross(poly[0], poly[i], poly[i + 1]));
+        if (a > 0.0) r.triangle({poly[0], poly[i], poly[i + 1]}, e * a / total);
+    }
+}
+
 Bundle cornerBundle(const PupilFrame& frame, const Field& field, const Bundle& centres) {
     // n + 1 corner rays per side over the same square: a grid of n + 1 cells of the same size whose
     // centres sit on the corners, i.e. shifted by half a cell.

@@ -22,6 +22,8 @@
 
 #include <glm/vec2.hpp>
 
+#include <span>
+
 #include <vector>
 
 namespace ff::trace {
@@ -46,6 +48,12 @@ struct RasterStats {
     double offImage = 0.0;   ///< energy that landed outside it
     std::size_t quads = 0, splats = 0;
 };
+
+/// Deposits energy e uniformly over the polygon `poly` (pixel coordinates, vertices in order,
+/// star-shaped from its first vertex: drawn as the fan of triangles from it) with exact pixel-area
+/// coverage; a polygon of zero area (a point, a segment) becomes a bilinear splat
+/// at its vertices' mean. Energy landing outside the frame is counted in stats.offImage, not drawn.
+void depositPolygon(std::span<const glm::dvec2> poly, double e, const ImageFrame& frame, std::vector<double>& image, RasterStats& stats);
 
 /// The four corner positions of every cell of a bundle: a grid of (n+1) x (n+1) rays.
 Bundle cornerBundle(const PupilFrame& frame, const Field& field, const Bundle& centres);

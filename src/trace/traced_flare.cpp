@@ -4,12 +4,14 @@
 #include "core/text.h"
 #include "core/units.h"
 #include "optics/paraxial.h"
-#include "trace/bundle_moments.h"
+#include "trace/adaptive_grid.h"
 
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <numeric>
 
 namespace ff::trace {
 
@@ -48,48 +50,6 @@ void colourWeights(int n, std::vector<double>& lambdas, std::vector<std::array<d
         for (int c = 0; c < 3; ++c) w[c] /= white[c];
 }
 
-namespace {
-
-constexpr int kEdgeRefinement = 4; // sub-grid per side for cells on a vignetting edge
-
-// Re-traces every flagged cell on a kEdgeRefinement^2 sub-grid (all cells in one batch) and draws
-// the sub-cells with the usual rules.
-void refineEdgeCells(const EmbreeTracer& tracer, const LensAtWavelength& L, const std::vector<PathStep>& steps,
-                     const PupilFrame& pupil, const Field& field, const Bundle& centres, const std::vector<RayResult>& centreHits,
-                     const std::vector<char>& edge,
-                     double scale, const ImageFrame& frame, std::vector<double>& image, RasterStats& stats) {
-    std::vector<Bundle> subC, subK;
-    std::vector<std::optional<std::pair<glm::dvec2, glm::dvec2>>> parentJacobian;
-    for (int j = 0; j < centres.n; ++j)
-        for (int i = 0; i < centres.n; ++i) {
-            if (!edge[static_cast<std::size_t>(j) * centres.n + i]) continue;
-            glm::dvec2 du, dv;
-            if (cellJacobian(centres, centreHits, frame, i, j, du, dv)) parentJacobian.emplace_back(std::make_pair(du / double(kEdgeRefinement), dv / double(kEdgeRefinement)));
-            else parentJacobian.emplace_back(std::nullopt);
-            const double cx = centres.x0 + (i + 0.5) * centres.cell, cy = centres.y0 + (j + 0.5) * centres.cell;
-            subC.push_back(gridBundle(pupil, field, kEdgeRefinement, cx, cy, 0.5 * centres.cell, false));
-            subK.push_back(cornerBundle(pupil, field, subC.back()));
-        }
-    if (subC.empty()) return;
-    std::vector<optics::Ray> rays;
-    for (std::size_t s = 0; s < subC.size(); ++s) {
-        rays.insert(rays.end(), subC[s].rays.begin(), subC[s].rays.end());
-        rays.insert(rays.end(), subK[s].rays.begin(), subK[s].rays.end());
-    }
-    std::vector<RayResult> hits(rays.size());
-    tracer.trace(L, steps, rays, hits);
-    std::size_t offset = 0;
-    for (std::size_t s = 0; s < subC.size(); ++s) {
-        const std::vector<RayResult> c(hits.begin() + static_cast<long>(offset), hits.begin() + static_cast<long>(offset + subC[s].rays.size()));
-        offset += subC[s].rays.size();
-        const std::vector<RayResult> k(hits.begin() + static_cast<long>(offset), hits.begin() + static_cast<long>(offset + subK[s].rays.size()));
-        offset += subK[s].rays.size();
-        rasterizeCells(subC[s], c, k, scale, frame, image, stats, {}, parentJacobian[s] ? &*parentJacobian[s] : nullptr);
-    }
-}
-
-} // namespace
-
 TracedFlare renderTracedFlare(const optics::Lens& lensIn, const TracedFlareOptions& o) {
     const optics::Lens lens = withCoating(lensIn, o.coating);
     const double sensorZ = sensorPlaneZ(lens, o.sensor);
@@ -104,9 +64,12 @@ TracedFlare renderTracedFlare(const optics::Lens& lensIn, const TracedFlareOptio
     const LensAtWavelength geometry(lens, lines::d, sensorZ);
     const EmbreeTracer tracer(geometry);
     const std::size_t pixels = static_cast<std::size_t>(o.frame.width) * o.frame.height;
+    const std::size_t W = out.wavelengthsNm.size(), G = ghosts.size();
+    RefineSettings settings = RefineSettings::refined(o.refinement);
+    if (!o.adaptive) settings.maxDepth = 0;
+    const int n = static_cast<int>(std::lround(o.grid * o.refinement));
+    if (n < 2 || n > 4096) throw Error(ErrorKind::Usage, "the starting grid x the refinement must be 2 to 4096 cells per side");
 
-    // One flux image per wavelength, rendered in parallel; each is filled in a fixed order, so the
-    // result does not depend on the number of threads.
     // Each path's pupil region, found once for all wavelengths: over the regions at the shortest and
     // the longest.
     const auto [shortest, longest] = std::minmax_element(out.wavelengthsNm.begin(), out.wavelengthsNm.end());
@@ -119,30 +82,80 @@ TracedFlare renderTracedFlare(const optics::Lens& lensIn, const TracedFlareOptio
         ghostSteps.push_back(pathSteps(lens, g));
         regions.push_back(bandRegion(pupil, o.field, o.sampling, ends, ghostSteps.back()));
     }
+    std::vector<LensAtWavelength> Ls;
+    Ls.reserve(W);
+    for (double l : out.wavelengthsNm) Ls.emplace_back(lens, l, sensorZ);
 
-    std::vector<std::vector<double>> layers(out.wavelengthsNm.size());
-    out.stats.resize(out.wavelengthsNm.size());
-    tbb::parallel_for(std::size_t(0), out.wavelengthsNm.size(), [&](std::size_t w) {
-        const LensAtWavelength L(lens, out.wavelengthsNm[w], sensorZ);
-        layers[w].assign(pixels, 0.0);
-        // The direct image's energy normalises the flux.
-        const Bundle direct = regionBundle(pupil, o.field, directRegion, o.grid);
-        std::vector<RayResult> hits(direct.rays.size());
-        tracer.trace(L, directSteps, direct.rays, hits);
-        const double directEnergy = measureBundle(direct, hits).energy;
-        if (directEnergy <= 0.0) return; // the source is fully vignetted: no flare
-        for (std::size_t gi = 0; gi < ghosts.size(); ++gi) {
-            const auto& steps = ghostSteps[gi];
-            const Bundle centres = regionBundle(pupil, o.field, regions[gi], o.grid);
-            const Bundle corners = cornerBundle(pupil, o.field, centres);
-            std::vector<RayResult> c(centres.rays.size()), k(corners.rays.size());
-            tracer.trace(L, steps, centres.rays, c);
-            tracer.trace(L, steps, corners.rays, k);
-            const std::vector<char> edge = edgeCells(centres, c, k);
-            rasterizeCells(centres, c, k, 1.0 / directEnergy, o.frame, layers[w], out.stats[w], edge);
-            refineEdgeCells(tracer, L, steps, pupil, o.field, centres, c, edge, 1.0 / directEnergy, o.frame, layers[w], out.stats[w]);
+    const glm::dvec3 dir = fieldDirection(o.field, pupil.eflSign);
+    const double back = (pupil.z - pupil.startZ) / dir.z; // from the pupil plane back to the start plane
+    auto sampler = [&](const LensAtWavelength& L, const std::vector<PathStep>& steps) -> PupilSampler {
+        return [&, lp = &L, sp = &steps](std::span<const glm::dvec2> pts, std::span<PupilSample> res) {
+            std::vector<optics::Ray> rays(pts.size());
+            for (std::size_t i = 0; i < pts.size(); ++i) rays[i] = {glm::dvec3(pts[i], pupil.z) - back * dir, dir};
+            std::vector<RayResult> hits(pts.size());
+            tracer.trace(*lp, *sp, rays, hits);
+            for (std::size_t i = 0; i < pts.size(); ++i)
+                res[i] = {o.frame.sensorToPixel(hits[i].sensorPoint.x, hits[i].sensorPoint.y), hits[i].weight,
+                          hits[i].status == optics::RayStatus::Ok};
+        };
+    };
+    auto startGrid = [&](const PupilRegion& r, const RefineSettings& s, PupilSampler sm) {
+        const Bundle b = regionBundle(pupil, o.field, r, n); // the grid's square and launched cells
+        return std::make_unique<AdaptiveGrid>(n, b.x0, b.y0, b.cell, b.launched, s, std::move(sm));
+    };
+
+    // Pass 1, every path on its starting grid: the direct image's energy (its vignetting edges
+    // resolved) normalises each wavelength, and the ghosts' energies decide which are culled.
+    std::vector<double> directEnergy(W, 0.0);
+    std::vector<std::vector<std::unique_ptr<AdaptiveGrid>>> grids(W);
+    for (auto& g : grids) g.resize(G);
+    tbb::parallel_for(std::size_t(0), W * (G + 1), [&](std::size_t t) {
+        const std::size_t w = t / (G + 1), g = t % (G + 1);
+        if (g == G) {
+            auto direct = startGrid(directRegion, RefineSettings::energyOnly(), sampler(Ls[w], directSteps));
+            direct->refine();
+            directEnergy[w] = direct->energy();
+        } else {
+            grids[w][g] = startGrid(regions[g], settings, sampler(Ls[w], ghostSteps[g]));
         }
     });
+    std::vector<double> ghostFlux(G, 0.0);
+    for (std::size_t w = 0; w < W; ++w)
+        if (directEnergy[w] > 0.0)
+            for (std::size_t g = 0; g < G; ++g) ghostFlux[g] += grids[w][g]->energy() / directEnergy[w];
+    const double strongest = G ? *std::max_element(ghostFlux.begin(), ghostFlux.end()) : 0.0;
+    const double total = std::accumulate(ghostFlux.begin(), ghostFlux.end(), 0.0);
+    std::vector<char> culled(G, 0);
+    double culledFlux = 0.0;
+    for (std::size_t g = 0; g < G; ++g)
+        if (ghostFlux[g] < o.cullFraction * strongest) {
+            culled[g] = 1;
+            ++out.culled;
+            culledFlux += ghostFlux[g];
+        }
+    out.culledShare = total > 0.0 ? culledFlux / total : 0.0;
+
+    // Pass 2, per wavelength in parallel: each ghost refined and drawn in ghost order, so the image
+    // does not depend on the number of threads (the tracing inside is parallel too).
+    std::vector<std::vector<double>> layers(W);
+    out.stats.resize(W);
+    std::vector<AdaptiveStats> ghostStats(W * G);
+    tbb::parallel_for(std::size_t(0), W, [&](std::size_t w) {
+        layers[w].assign(pixels, 0.0);
+        if (directEnergy[w] <= 0.0) return; // the source is fully vignetted: no flare
+        for (std::size_t g = 0; g < G; ++g) {
+            std::unique_ptr<AdaptiveGrid> grid = std::move(grids[w][g]);
+            if (culled[g]) continue;
+            grid->refine(o.frame.width, o.frame.height);
+            grid->draw(1.0 / directEnergy[w], o.frame, layers[w], out.stats[w]);
+            ghostStats[w * G + g] = grid->stats();
+        }
+    });
+    for (const AdaptiveStats& s : ghostStats) {
+        out.samples += s.samples;
+        out.budgetHits += s.budgetHit;
+        out.maxDepth = std::max(out.maxDepth, s.depth);
+    }
 
     out.rgb.assign(pixels * 3, 0.0f);
     for (std::size_t p = 0; p < pixels; ++p)
