@@ -56,6 +56,7 @@ RefineSettings RefineSettings::refined(double R) {
     RefineSettings s;
     s.stopPx /= R;
     s.foldStopPx /= R;
+    s.edgeStopPx /= R;
     s.linearRel /= R;
     s.weightRel /= R;
     s.maxDepth += static_cast<int>(std::lround(std::log2(R)));
@@ -77,7 +78,6 @@ AdaptiveGrid::AdaptiveGrid(int n, double x0, double y0, double cellMm, const std
         throw Error(ErrorKind::Usage, "adaptive grid: " + std::to_string(n) + " cells per side and " + std::to_string(settings.maxDepth) +
                                           " levels of refinement exceed its lattice");
     S_ = 1u << (settings.maxDepth + 2);
-    index_.reserve(static_cast<std::size_t>(n + 1) * (n + 1) * 3);
     for (int j = 0; j <= n; ++j)
         for (int i = 0; i <= n; ++i) sampleAt(i * S_, j * S_);
     for (int j = 0; j < n; ++j)
@@ -112,14 +112,38 @@ AdaptiveGrid::AdaptiveGrid(int n, double x0, double y0, double cellMm, const std
         if (c.extentPx < 0.0) c.extentPx = typical;
 }
 
+namespace {
+
+constexpr std::uint64_t kEmpty = ~std::uint64_t(0);
+
+std::size_t slotOf(std::uint64_t key, std::size_t mask) {
+    return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> 20) & mask; // Fibonacci hashing
+}
+
+} // namespace
+
 std::uint32_t AdaptiveGrid::sampleAt(std::uint32_t X, std::uint32_t Y) {
-    const std::uint64_t key = (static_cast<std::uint64_t>(X) << 32) | Y;
-    const auto [it, added] = index_.try_emplace(key, static_cast<std::uint32_t>(samples_.size()));
-    if (added) {
-        samples_.emplace_back();
-        queued_.push_back({x0_ + cellMm_ * X / S_, y0_ + cellMm_ * Y / S_});
+    if (2 * (indexed_ + 1) > index_.size()) {
+        std::vector<std::pair<std::uint64_t, std::uint32_t>> old(std::max<std::size_t>(1024, 2 * index_.size()), {kEmpty, 0});
+        old.swap(index_);
+        const std::size_t mask = index_.size() - 1;
+        for (const auto& e : old)
+            if (e.first != kEmpty) {
+                std::size_t i = slotOf(e.first, mask);
+                while (index_[i].first != kEmpty) i = (i + 1) & mask;
+                index_[i] = e;
+            }
     }
-    return it->second;
+    const std::uint64_t key = (static_cast<std::uint64_t>(X) << 32) | Y;
+    const std::size_t mask = index_.size() - 1;
+    std::size_t i = slotOf(key, mask);
+    for (; index_[i].first != kEmpty; i = (i + 1) & mask)
+        if (index_[i].first == key) return index_[i].second;
+    index_[i] = {key, static_cast<std::uint32_t>(samples_.size())};
+    ++indexed_;
+    samples_.emplace_back();
+    queued_.push_back({x0_ + cellMm_ * X / S_, y0_ + cellMm_ * Y / S_});
+    return index_[i].second;
 }
 
 void AdaptiveGrid::traceQueued() {
@@ -165,6 +189,13 @@ double AdaptiveGrid::footprintExtent(const Cell& c) const {
     return arrived < 2 ? -1.0 : std::max(hi.x - lo.x, hi.y - lo.y);
 }
 
+// Whether the corners' fates change exactly twice around the cell: one edge crosses it.
+bool AdaptiveGrid::crossedOnce(const Cell& c) const {
+    int changes = 0;
+    for (int i = 0; i < 4; ++i) changes += samples_[c.s[i]].ok != samples_[c.s[(i + 1) % 4]].ok;
+    return changes == 2;
+}
+
 bool AdaptiveGrid::wantsSplit(const Cell& c) const {
     if (c.level >= settings_.maxDepth) return false;
     int arrived = 0;
@@ -177,7 +208,7 @@ bool AdaptiveGrid::wantsSplit(const Cell& c) const {
     const Vec2 m = samples_[c.s[4]].px;
     if (!mixed && !fanConsistent(k, m)) return true;
     if (c.extentPx <= settings_.stopPx) return false;
-    if (mixed) return true;
+    if (mixed) return c.extentPx > settings_.edgeStopPx || !crossedOnce(c);
     const double d = glm::length(m - 0.25 * (k[0] + k[1] + k[2] + k[3]));
     if (d > settings_.linearRel * c.extentPx) return true;
     const double wm = samples_[c.s[4]].weight;
@@ -248,6 +279,69 @@ void AdaptiveGrid::refine(int frameWidth, int frameHeight) {
         }
         frontier.swap(next);
     }
+    if (!settings_.fatesOnly) cutEdges();
+}
+
+// Leaves crossed by one vignetting edge, larger than stopPx: the edge is found on each crossed side
+// by bisection to half of stopPx, and the leaf becomes the lit polygon (its arriving corners and the
+// two crossings), its energy that polygon's pupil area x the mean weight of its arriving samples.
+void AdaptiveGrid::cutEdges() {
+    for (std::size_t ci = 0; ci < cells_.size(); ++ci) {
+        Cell& c = cells_[ci];
+        if (c.firstChild >= 0 || c.extentPx <= settings_.stopPx || !crossedOnce(c) || offFrame(c)) continue;
+        int arrived = 0;
+        for (std::uint32_t k : c.s) arrived += samples_[k].ok;
+        if (arrived == 5) continue;
+        int rounds = 0;
+        while (c.extentPx / std::ldexp(1.0, rounds) > 0.5 * settings_.stopPx && (c.size >> (rounds + 1)) > 0) ++rounds;
+        Cut cut;
+        cut.cell = ci;
+        const std::uint32_t X[4] = {c.X, c.X + c.size, c.X + c.size, c.X}, Y[4] = {c.Y, c.Y, c.Y + c.size, c.Y + c.size};
+        int n = 0;
+        for (int i = 0; i < 4; ++i) {
+            const int j = (i + 1) % 4;
+            if (samples_[c.s[i]].ok == samples_[c.s[j]].ok) continue;
+            const int a = samples_[c.s[i]].ok ? i : j, b = a == i ? j : i;
+            cut.x[n++] = {i, X[a], Y[a], X[b], Y[b], c.s[a], rounds};
+        }
+        c.cut = static_cast<std::int32_t>(cuts_.size());
+        cuts_.push_back(cut);
+    }
+    for (bool more = !cuts_.empty(); more;) {
+        std::vector<std::pair<Crossing*, std::uint32_t>> pending;
+        for (Cut& cut : cuts_)
+            for (Crossing& x : cut.x)
+                if (x.rounds > 0) pending.emplace_back(&x, sampleAt((x.aX + x.bX) / 2, (x.aY + x.bY) / 2));
+        traceQueued();
+        more = false;
+        for (auto& [x, k] : pending) {
+            const std::uint32_t mX = (x->aX + x->bX) / 2, mY = (x->aY + x->bY) / 2;
+            if (samples_[k].ok) x->aX = mX, x->aY = mY, x->aSample = k;
+            else x->bX = mX, x->bY = mY;
+            --x->rounds;
+            more = more || x->rounds > 0;
+        }
+    }
+    for (const Cut& cut : cuts_) {
+        Cell& c = cells_[cut.cell];
+        const double X[4] = {0.0, 1.0, 1.0, 0.0}, Y[4] = {0.0, 0.0, 1.0, 1.0}; // corners in cell units
+        std::vector<Vec2> poly;
+        double w = 0.0;
+        int count = 0;
+        for (int i = 0; i < 4; ++i) {
+            if (samples_[c.s[i]].ok) poly.emplace_back(X[i], Y[i]), w += samples_[c.s[i]].weight, ++count;
+            for (const Crossing& x : cut.x)
+                if (x.side == i) {
+                    poly.emplace_back((0.5 * (x.aX + x.bX) - c.X) / c.size, (0.5 * (x.aY + x.bY) - c.Y) / c.size);
+                    w += samples_[x.aSample].weight, ++count;
+                }
+        }
+        if (samples_[c.s[4]].ok) w += samples_[c.s[4]].weight, ++count;
+        double area = 0.0;
+        for (std::size_t i = 0; i < poly.size(); ++i) area += cross(Vec2(0.0), poly[i], poly[(i + 1) % poly.size()]);
+        const double side = cellMm_ * c.size / S_;
+        c.energy = 0.5 * std::abs(area) * side * side * w / count;
+    }
 }
 
 double AdaptiveGrid::energy() const {
@@ -291,8 +385,19 @@ void AdaptiveGrid::draw(double scale, const ImageFrame& frame, std::vector<doubl
             }
             continue;
         }
-        for (std::uint32_t s : c.s)
-            if (samples_[s].ok) poly.push_back(samples_[s].px);
+        if (c.cut >= 0) {
+            // The lit polygon: the arriving corners and, on the crossed sides, the last arriving
+            // point of the bisection.
+            const Cut& cut = cuts_[static_cast<std::size_t>(c.cut)];
+            for (int i = 0; i < 4; ++i) {
+                if (samples_[c.s[i]].ok) poly.push_back(samples_[c.s[i]].px);
+                for (const Crossing& x : cut.x)
+                    if (x.side == i) poly.push_back(samples_[x.aSample].px);
+            }
+        } else {
+            for (std::uint32_t s : c.s)
+                if (samples_[s].ok) poly.push_back(samples_[s].px);
+        }
         depositPolygon(convexHull(std::move(poly)), e, frame, image, stats);
     }
 }

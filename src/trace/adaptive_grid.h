@@ -39,7 +39,6 @@
 #include <cstdint>
 #include <functional>
 #include <span>
-#include <unordered_map>
 #include <vector>
 
 namespace ff::trace {
@@ -59,6 +58,7 @@ using PupilSampler = std::function<void(std::span<const glm::dvec2> pupilMm, std
 struct RefineSettings {
     double stopPx = 1.0;     ///< footprints this small (pixels, largest side of the box over the arriving samples) are leaves
     double foldStopPx = 0.125; ///< the same for a folded cell (a caustic's brightest pixels are made of them)
+    double edgeStopPx = 4.0; ///< a cell crossed by one vignetting edge this small is cut along it, not split
     double linearRel = 0.01; ///< centre's distance from the corners' mean, as a share of the footprint's extent, that splits a cell
     double weightRel = 0.02; ///< centre weight against the corners' mean, relative
     int maxDepth = 10;       ///< levels below the starting grid
@@ -102,6 +102,18 @@ private:
         int level = 0;
         double energy = 0.0;
         double extentPx = 0.0; ///< footprint's extent, or an estimate from the parent where under two samples arrive
+        std::int32_t cut = -1; ///< index in cuts_ of a cell cut along one vignetting edge
+    };
+    /// Where one vignetting edge crosses a cell's side: bisected between a lattice point whose ray
+    /// arrives (a) and one whose ray is lost (b).
+    struct Crossing {
+        int side = 0; ///< the cell side from corner `side` to corner `side + 1`
+        std::uint32_t aX = 0, aY = 0, bX = 0, bY = 0, aSample = 0;
+        int rounds = 0; ///< bisection steps left
+    };
+    struct Cut {
+        std::size_t cell = 0;
+        Crossing x[2];
     };
 
     std::uint32_t sampleAt(std::uint32_t X, std::uint32_t Y);
@@ -110,6 +122,8 @@ private:
     double footprintExtent(const Cell& c) const;
     bool wantsSplit(const Cell& c) const;
     bool offFrame(const Cell& c) const;
+    bool crossedOnce(const Cell& c) const;
+    void cutEdges();
     void split(std::size_t cell);
 
     int n_;
@@ -119,10 +133,14 @@ private:
     int frameW_ = 0, frameH_ = 0; ///< the image (pixels) whose footprints matter; 0: unbounded
     PupilSampler sampler_;
     std::vector<PupilSample> samples_;
-    std::unordered_map<std::uint64_t, std::uint32_t> index_;
+    /// Sample index by lattice point: open addressing, linear probing, a power-of-two table kept
+    /// under half full (key ~0: empty).
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> index_;
+    std::size_t indexed_ = 0;
     std::vector<glm::dvec2> queued_; ///< pupil points of samples created but not traced yet
     std::size_t queuedFrom_ = 0;     ///< index of the first queued sample
     std::vector<Cell> cells_;
+    std::vector<Cut> cuts_;
     AdaptiveStats stats_;
 };
 

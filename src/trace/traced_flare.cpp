@@ -135,20 +135,27 @@ TracedFlare renderTracedFlare(const optics::Lens& lensIn, const TracedFlareOptio
         }
     out.culledShare = total > 0.0 ? culledFlux / total : 0.0;
 
-    // Pass 2, per wavelength in parallel: each ghost refined and drawn in ghost order, so the image
-    // does not depend on the number of threads (the tracing inside is parallel too).
+    // Pass 2, per wavelength in parallel: the ghosts refined in parallel a few at a time, then drawn
+    // in ghost order, so the image does not depend on the number of threads.
     std::vector<std::vector<double>> layers(W);
     out.stats.resize(W);
     std::vector<AdaptiveStats> ghostStats(W * G);
+    constexpr std::size_t kChunk = 8; // ghosts refined at once per wavelength: bounds the memory held
     tbb::parallel_for(std::size_t(0), W, [&](std::size_t w) {
         layers[w].assign(pixels, 0.0);
         if (directEnergy[w] <= 0.0) return; // the source is fully vignetted: no flare
-        for (std::size_t g = 0; g < G; ++g) {
-            std::unique_ptr<AdaptiveGrid> grid = std::move(grids[w][g]);
-            if (culled[g]) continue;
-            grid->refine(o.frame.width, o.frame.height);
-            grid->draw(1.0 / directEnergy[w], o.frame, layers[w], out.stats[w]);
-            ghostStats[w * G + g] = grid->stats();
+        for (std::size_t g0 = 0; g0 < G; g0 += kChunk) {
+            const std::size_t g1 = std::min(G, g0 + kChunk);
+            tbb::parallel_for(g0, g1, [&](std::size_t g) {
+                if (culled[g]) grids[w][g].reset();
+                else grids[w][g]->refine(o.frame.width, o.frame.height);
+            });
+            for (std::size_t g = g0; g < g1; ++g) {
+                const std::unique_ptr<AdaptiveGrid> grid = std::move(grids[w][g]);
+                if (!grid) continue;
+                grid->draw(1.0 / directEnergy[w], o.frame, layers[w], out.stats[w]);
+                ghostStats[w * G + g] = grid->stats();
+            }
         }
     });
     for (const AdaptiveStats& s : ghostStats) {
