@@ -72,12 +72,25 @@ RefineSettings RefineSettings::energyOnly() {
 }
 
 AdaptiveGrid::AdaptiveGrid(int n, double x0, double y0, double cellMm, const std::vector<char>& launched, const RefineSettings& settings,
-                           PupilSampler sampler)
+                           PupilSampler sampler, std::span<const glm::dvec2> litHints)
     : n_(n), x0_(x0), y0_(y0), cellMm_(cellMm), S_(0), settings_(settings), sampler_(std::move(sampler)) {
     if (n < 1 || settings.maxDepth < 0 || settings.maxDepth > 20 || (static_cast<std::uint64_t>(n) << (settings.maxDepth + 2)) >= (1ull << 31))
         throw Error(ErrorKind::Usage, "adaptive grid: " + std::to_string(n) + " cells per side and " + std::to_string(settings.maxDepth) +
                                           " levels of refinement exceed its lattice");
     S_ = 1u << (settings.maxDepth + 2);
+    // Bucket the hints by starting cell (counting sort).
+    hintStart_.assign(static_cast<std::size_t>(n) * n + 1, 0);
+    std::vector<std::pair<std::size_t, glm::dvec2>> inside;
+    for (const glm::dvec2& p : litHints) {
+        const glm::dvec2 q = (p - glm::dvec2(x0, y0)) / cellMm;
+        if (!(q.x >= 0.0 && q.y >= 0.0 && q.x < n && q.y < n)) continue;
+        inside.emplace_back(static_cast<std::size_t>(q.y) * n + static_cast<std::size_t>(q.x), q * double(S_));
+        ++hintStart_[inside.back().first + 1];
+    }
+    for (std::size_t k = 1; k < hintStart_.size(); ++k) hintStart_[k] += hintStart_[k - 1];
+    hints_.resize(inside.size());
+    std::vector<std::uint32_t> fill(hintStart_.begin(), hintStart_.end() - 1);
+    for (const auto& [k, q] : inside) hints_[fill[k]++] = q;
     for (int j = 0; j <= n; ++j)
         for (int i = 0; i <= n; ++i) sampleAt(i * S_, j * S_);
     for (int j = 0; j < n; ++j)
@@ -171,6 +184,7 @@ bool AdaptiveGrid::offFrame(const Cell& c) const {
             lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
             hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
         }
+    if (lo.x > hi.x) return false; // nothing arrived: no footprint to judge
     const double g = c.extentPx;
     return hi.x + g < 0.0 || hi.y + g < 0.0 || lo.x - g > frameW_ || lo.y - g > frameH_;
 }
@@ -196,11 +210,18 @@ bool AdaptiveGrid::crossedOnce(const Cell& c) const {
     return changes == 2;
 }
 
+bool AdaptiveGrid::holdsHint(const Cell& c) const {
+    const std::size_t k = static_cast<std::size_t>(c.Y / S_) * n_ + c.X / S_;
+    for (std::uint32_t h = hintStart_[k]; h < hintStart_[k + 1]; ++h)
+        if (hints_[h].x >= c.X && hints_[h].y >= c.Y && hints_[h].x < c.X + c.size && hints_[h].y < c.Y + c.size) return true;
+    return false;
+}
+
 bool AdaptiveGrid::wantsSplit(const Cell& c) const {
     if (c.level >= settings_.maxDepth) return false;
     int arrived = 0;
     for (std::uint32_t k : c.s) arrived += samples_[k].ok;
-    if (arrived == 0) return false;
+    if (arrived == 0) return (settings_.fatesOnly || (c.extentPx > settings_.stopPx && !offFrame(c))) && holdsHint(c);
     const bool mixed = arrived < 5;
     if (settings_.fatesOnly) return mixed;
     if (c.extentPx <= settings_.foldStopPx || offFrame(c)) return false;
@@ -282,18 +303,27 @@ void AdaptiveGrid::refine(int frameWidth, int frameHeight) {
     if (!settings_.fatesOnly) cutEdges();
 }
 
+glm::dvec2 AdaptiveGrid::crossingPx(const Crossing& x) const {
+    const Vec2& a = samples_[x.aSample].px;
+    // Lattice distances along the side (one of the two coordinates is constant on it).
+    const double walked = std::abs(double(x.aX) - x.cornerX) + std::abs(double(x.aY) - x.cornerY);
+    const double halfStep = 0.5 * (std::abs(double(x.bX) - x.aX) + std::abs(double(x.bY) - x.aY));
+    if (walked <= 0.0) return a;
+    return a + (a - samples_[x.cornerSample].px) * (halfStep / walked);
+}
+
 // Leaves crossed by one vignetting edge, larger than stopPx: the edge is found on each crossed side
-// by bisection to half of stopPx, and the leaf becomes the lit polygon (its arriving corners and the
+// by bisection to an eighth of stopPx, and the leaf becomes the lit polygon (its arriving corners and the
 // two crossings), its energy that polygon's pupil area x the mean weight of its arriving samples.
 void AdaptiveGrid::cutEdges() {
     for (std::size_t ci = 0; ci < cells_.size(); ++ci) {
         Cell& c = cells_[ci];
-        if (c.firstChild >= 0 || c.extentPx <= settings_.stopPx || !crossedOnce(c) || offFrame(c)) continue;
+        if (c.firstChild >= 0 || c.extentPx <= 0.25 * settings_.stopPx || !crossedOnce(c) || offFrame(c)) continue;
         int arrived = 0;
         for (std::uint32_t k : c.s) arrived += samples_[k].ok;
         if (arrived == 5) continue;
         int rounds = 0;
-        while (c.extentPx / std::ldexp(1.0, rounds) > 0.5 * settings_.stopPx && (c.size >> (rounds + 1)) > 0) ++rounds;
+        while (c.extentPx / std::ldexp(1.0, rounds) > 0.125 * settings_.stopPx && (c.size >> (rounds + 1)) > 0) ++rounds;
         Cut cut;
         cut.cell = ci;
         const std::uint32_t X[4] = {c.X, c.X + c.size, c.X + c.size, c.X}, Y[4] = {c.Y, c.Y, c.Y + c.size, c.Y + c.size};
@@ -302,7 +332,7 @@ void AdaptiveGrid::cutEdges() {
             const int j = (i + 1) % 4;
             if (samples_[c.s[i]].ok == samples_[c.s[j]].ok) continue;
             const int a = samples_[c.s[i]].ok ? i : j, b = a == i ? j : i;
-            cut.x[n++] = {i, X[a], Y[a], X[b], Y[b], c.s[a], rounds};
+            cut.x[n++] = {i, X[a], Y[a], X[b], Y[b], c.s[a], X[a], Y[a], c.s[a], rounds};
         }
         c.cut = static_cast<std::int32_t>(cuts_.size());
         cuts_.push_back(cut);
@@ -392,7 +422,7 @@ void AdaptiveGrid::draw(double scale, const ImageFrame& frame, std::vector<doubl
             for (int i = 0; i < 4; ++i) {
                 if (samples_[c.s[i]].ok) poly.push_back(samples_[c.s[i]].px);
                 for (const Crossing& x : cut.x)
-                    if (x.side == i) poly.push_back(samples_[x.aSample].px);
+                    if (x.side == i) poly.push_back(crossingPx(x));
             }
         } else {
             for (std::uint32_t s : c.s)

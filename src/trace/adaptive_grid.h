@@ -58,7 +58,7 @@ using PupilSampler = std::function<void(std::span<const glm::dvec2> pupilMm, std
 struct RefineSettings {
     double stopPx = 1.0;     ///< footprints this small (pixels, largest side of the box over the arriving samples) are leaves
     double foldStopPx = 0.125; ///< the same for a folded cell (a caustic's brightest pixels are made of them)
-    double edgeStopPx = 4.0; ///< a cell crossed by one vignetting edge this small is cut along it, not split
+    double edgeStopPx = 2.0; ///< a cell crossed by one vignetting edge this small is cut along it, not split
     double linearRel = 0.01; ///< centre's distance from the corners' mean, as a share of the footprint's extent, that splits a cell
     double weightRel = 0.02; ///< centre weight against the corners' mean, relative
     int maxDepth = 10;       ///< levels below the starting grid
@@ -82,8 +82,10 @@ public:
     /// The n x n starting cells over the square [x0, x0 + n cell] x [y0, y0 + n cell] (pupil mm);
     /// launched (n x n, row-major; empty: all) skips cells whose centre is not launched. Traces the
     /// start grid's (n+1)^2 corners and launched centres.
+    /// litHints: pupil points (mm) where a search found light; a cell holding one whose samples are
+    /// all lost is split like one straddling an edge (light thinner than the cells between them).
     AdaptiveGrid(int n, double x0, double y0, double cellMm, const std::vector<char>& launched, const RefineSettings& settings,
-                 PupilSampler sampler);
+                 PupilSampler sampler, std::span<const glm::dvec2> litHints = {});
 
     /// Splits cells by the settings until none qualifies, maxDepth is reached or the budget is spent.
     /// With a frame (width x height pixels), cells whose footprint cannot reach it are not split.
@@ -109,8 +111,12 @@ private:
     struct Crossing {
         int side = 0; ///< the cell side from corner `side` to corner `side + 1`
         std::uint32_t aX = 0, aY = 0, bX = 0, bY = 0, aSample = 0;
+        std::uint32_t cornerX = 0, cornerY = 0, cornerSample = 0; ///< the side's arriving corner
         int rounds = 0; ///< bisection steps left
     };
+    /// Where the crossing lands (pixels): from the last arriving point, on along the side to the middle
+    /// of the last step, extrapolated linearly from the arriving corner.
+    glm::dvec2 crossingPx(const Crossing& x) const;
     struct Cut {
         std::size_t cell = 0;
         Crossing x[2];
@@ -123,6 +129,7 @@ private:
     bool wantsSplit(const Cell& c) const;
     bool offFrame(const Cell& c) const;
     bool crossedOnce(const Cell& c) const;
+    bool holdsHint(const Cell& c) const;
     void cutEdges();
     void split(std::size_t cell);
 
@@ -141,6 +148,10 @@ private:
     std::size_t queuedFrom_ = 0;     ///< index of the first queued sample
     std::vector<Cell> cells_;
     std::vector<Cut> cuts_;
+    /// The lit hints in lattice units, by starting cell: those of cell k are hints_[hintStart_[k] ..
+    /// hintStart_[k + 1]).
+    std::vector<glm::dvec2> hints_;
+    std::vector<std::uint32_t> hintStart_;
     AdaptiveStats stats_;
 };
 

@@ -509,6 +509,7 @@ PupilHints piecesAwayFrom(const PupilSearch& from, const PupilSearch& of) {
 PupilRegion bandRegion(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> ends,
                        const std::vector<PathStep>& steps, double maxRadiusMm) {
     double xMin = 1e300, xMax = -1e300, yMin = 1e300, yMax = -1e300, litArea = 0.0, thin = 0.0;
+    std::vector<glm::dvec2> lit;
     for (std::size_t e = 0; e < ends.size(); ++e) {
         if (e > 0 && ends[e].lambdaNm == ends[0].lambdaNm) continue; // a band of one wavelength: one search
         const PupilRegion r = pupilRegion(frame, field, sampling, ends[e], steps, maxRadiusMm);
@@ -517,10 +518,11 @@ PupilRegion bandRegion(const PupilFrame& frame, const Field& field, Sampling sam
         yMin = std::min(yMin, r.cy - r.half), yMax = std::max(yMax, r.cy + r.half);
         litArea = std::max(litArea, r.litFraction * 4.0 * r.half * r.half);
         thin = std::max(thin, r.thinShare);
+        lit.insert(lit.end(), r.litPoints.begin(), r.litPoints.end());
     }
     if (xMin > xMax) return {0.0, 0.0, frame.radius, true};
     const double half = 0.5 * std::max(xMax - xMin, yMax - yMin);
-    return {0.5 * (xMin + xMax), 0.5 * (yMin + yMax), half, false, std::min(1.0, litArea / (4.0 * half * half)), thin};
+    return {0.5 * (xMin + xMax), 0.5 * (yMin + yMax), half, false, std::min(1.0, litArea / (4.0 * half * half)), thin, std::move(lit)};
 }
 
 Bundle regionBundle(const PupilFrame& frame, const Field& field, const PupilRegion& r, int n) {

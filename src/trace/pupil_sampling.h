@@ -169,7 +169,7 @@ PupilHints piecesAwayFrom(const PupilSearch& from, const PupilSearch& of);
 /// square over the regions searched at the band's shortest and longest wavelengths (first and last
 /// of `ends`). A lit pupil can change shape with the wavelength, not only shift, and the indices,
 /// which move its edges, change monotonically across a band; its lit fraction is the larger lit
-/// area's share of that square, its thin share the larger one.
+/// area's share of that square, its thin share the larger one, its lit points both searches'.
 PupilRegion bandRegion(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> ends,
                        const std::vector<PathStep>& steps, double maxRadiusMm = 0.0);
 

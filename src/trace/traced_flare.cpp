@@ -101,7 +101,7 @@ TracedFlare renderTracedFlare(const optics::Lens& lensIn, const TracedFlareOptio
     };
     auto startGrid = [&](const PupilRegion& r, const RefineSettings& s, PupilSampler sm) {
         const Bundle b = regionBundle(pupil, o.field, r, n); // the grid's square and launched cells
-        return std::make_unique<AdaptiveGrid>(n, b.x0, b.y0, b.cell, b.launched, s, std::move(sm));
+        return std::make_unique<AdaptiveGrid>(n, b.x0, b.y0, b.cell, b.launched, s, std::move(sm), r.litPoints);
     };
 
     // Pass 1, every path on its starting grid: the direct image's energy (its vignetting edges
