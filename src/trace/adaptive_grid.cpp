@@ -267,6 +267,15 @@ void AdaptiveGrid::refine(int frameWidth, int frameHeight) {
     std::vector<std::size_t> frontier;
     for (std::size_t i = 0; i < cells_.size(); ++i)
         if (cells_[i].firstChild < 0 && wantsSplit(cells_[i])) frontier.push_back(i);
+    for (;;) {
+        splitLevels(std::move(frontier));
+        if (settings_.fatesOnly) break;
+        frontier = cutEdges(); // the cuts a cell's centre contradicts are split instead
+        if (frontier.empty() || stats_.budgetHit) break;
+    }
+}
+
+void AdaptiveGrid::splitLevels(std::vector<std::size_t> frontier) {
     while (!frontier.empty()) {
         // At most 8 new samples a split (4 edge midpoints, 4 child centres): past the budget, the
         // cells with the largest footprints go first.
@@ -300,7 +309,6 @@ void AdaptiveGrid::refine(int frameWidth, int frameHeight) {
         }
         frontier.swap(next);
     }
-    if (!settings_.fatesOnly) cutEdges();
 }
 
 glm::dvec2 AdaptiveGrid::crossingPx(const Crossing& x) const {
@@ -315,10 +323,11 @@ glm::dvec2 AdaptiveGrid::crossingPx(const Crossing& x) const {
 // Leaves crossed by one vignetting edge, larger than stopPx: the edge is found on each crossed side
 // by bisection to an eighth of stopPx, and the leaf becomes the lit polygon (its arriving corners and the
 // two crossings), its energy that polygon's pupil area x the mean weight of its arriving samples.
-void AdaptiveGrid::cutEdges() {
+std::vector<std::size_t> AdaptiveGrid::cutEdges() {
+    const std::size_t firstCut = cuts_.size();
     for (std::size_t ci = 0; ci < cells_.size(); ++ci) {
         Cell& c = cells_[ci];
-        if (c.firstChild >= 0 || c.extentPx <= 0.25 * settings_.stopPx || !crossedOnce(c) || offFrame(c)) continue;
+        if (c.firstChild >= 0 || c.cut >= 0 || c.extentPx <= 0.25 * settings_.stopPx || !crossedOnce(c) || offFrame(c)) continue;
         int arrived = 0;
         for (std::uint32_t k : c.s) arrived += samples_[k].ok;
         if (arrived == 5) continue;
@@ -337,7 +346,7 @@ void AdaptiveGrid::cutEdges() {
         c.cut = static_cast<std::int32_t>(cuts_.size());
         cuts_.push_back(cut);
     }
-    for (bool more = !cuts_.empty(); more;) {
+    for (bool more = cuts_.size() > firstCut; more;) {
         std::vector<std::pair<Crossing*, std::uint32_t>> pending;
         for (Cut& cut : cuts_)
             for (Crossing& x : cut.x)
@@ -352,7 +361,9 @@ void AdaptiveGrid::cutEdges() {
             more = more || x->rounds > 0;
         }
     }
-    for (const Cut& cut : cuts_) {
+    std::vector<std::size_t> contradicted;
+    for (std::size_t k = firstCut; k < cuts_.size(); ++k) {
+        const Cut& cut = cuts_[k];
         Cell& c = cells_[cut.cell];
         const double X[4] = {0.0, 1.0, 1.0, 0.0}, Y[4] = {0.0, 0.0, 1.0, 1.0}; // corners in cell units
         std::vector<Vec2> poly;
@@ -366,12 +377,24 @@ void AdaptiveGrid::cutEdges() {
                     w += samples_[x.aSample].weight, ++count;
                 }
         }
+        // The centre must lie on the lit side of the cut exactly when its ray arrives; where it does
+        // not (a corner of the light, or a second edge, inside the cell), the cell is split instead.
+        const auto crossing = [&](const Crossing& x) { return Vec2((0.5 * (x.aX + x.bX) - c.X) / c.size, (0.5 * (x.aY + x.bY) - c.Y) / c.size); };
+        const Vec2 p1 = crossing(cut.x[0]), p2 = crossing(cut.x[1]);
+        const int litCorner = samples_[c.s[0]].ok ? 0 : samples_[c.s[1]].ok ? 1 : samples_[c.s[2]].ok ? 2 : 3;
+        const double sideLit = cross(p1, p2, Vec2(X[litCorner], Y[litCorner])), sideCentre = cross(p1, p2, Vec2(0.5, 0.5));
+        if (sideCentre != 0.0 && (sideCentre * sideLit > 0.0) != samples_[c.s[4]].ok && c.level < settings_.maxDepth) {
+            c.cut = -1;
+            contradicted.push_back(cut.cell);
+            continue;
+        }
         if (samples_[c.s[4]].ok) w += samples_[c.s[4]].weight, ++count;
         double area = 0.0;
         for (std::size_t i = 0; i < poly.size(); ++i) area += cross(Vec2(0.0), poly[i], poly[(i + 1) % poly.size()]);
         const double side = cellMm_ * c.size / S_;
         c.energy = 0.5 * std::abs(area) * side * side * w / count;
     }
+    return contradicted;
 }
 
 double AdaptiveGrid::energy() const {

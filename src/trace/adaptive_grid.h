@@ -130,7 +130,8 @@ private:
     bool offFrame(const Cell& c) const;
     bool crossedOnce(const Cell& c) const;
     bool holdsHint(const Cell& c) const;
-    void cutEdges();
+    void splitLevels(std::vector<std::size_t> frontier);
+    std::vector<std::size_t> cutEdges();
     void split(std::size_t cell);
 
     int n_;
