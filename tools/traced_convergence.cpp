@@ -73,15 +73,17 @@ int main(int argc, char** argv) {
             std::snprintf(buf, sizeof buf, " %.4f / %+.3f %% |", e.relativeL2, 100.0 * (e.fluxRatio - 1.0));
             cells += buf;
         }
-        std::printf("| %s | %s |%s %.1f M / %.1f s | %.1f M / %.1f s |\n", lens.name.c_str(), light.c_str(), cells.c_str(), static_cast<double>(a.scene.samples) / 1e6,
-                    a.seconds, static_cast<double>(b.scene.samples) / 1e6, b.seconds);
+        std::printf("| %s | %s |%s %.1f M / %.1f s | %.1f M / %.1f s |\n", lens.name.c_str(), light.c_str(),
+                    cells.c_str(), static_cast<double>(a.scene.samples) / 1e6, a.seconds,
+                    static_cast<double>(b.scene.samples) / 1e6, b.seconds);
         if (!png.empty()) {
             o.refinement = 1.0;
             o.adaptive = false;
             const Run u = render(lens, l, o);
             const std::vector<float> ref = b.scene.image.interleaved();
             const double ev = image::autoExposure(ref);
-            for (const auto& [name, img] : {std::pair{"default", &a.scene.image}, {"refined", &b.scene.image}, {"unrefined", &u.scene.image}})
+            for (const auto& [name, img] :
+                 {std::pair{"default", &a.scene.image}, {"refined", &b.scene.image}, {"unrefined", &u.scene.image}})
                 image::writePng(png + "-" + name + ".png", W, H, image::tonemapPreview(img->interleaved(), ev), {});
         }
         return worst <= 0.03 ? 0 : 3;

@@ -15,7 +15,9 @@ namespace {
 
 using Vec2 = glm::dvec2;
 
-double cross(const Vec2& o, const Vec2& a, const Vec2& b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); }
+double cross(const Vec2& o, const Vec2& a, const Vec2& b) {
+    return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+}
 
 // Whether the triangles (c[i], c[i+1], m) all have one orientation, none degenerate: the cell's
 // footprint is star-shaped around its centre and the map does not fold inside it.
@@ -71,11 +73,13 @@ RefineSettings RefineSettings::energyOnly() {
     return s;
 }
 
-AdaptiveGrid::AdaptiveGrid(int n, double x0, double y0, double cellMm, const std::vector<char>& launched, const RefineSettings& settings,
-                           PupilSampler sampler, std::span<const glm::dvec2> litHints)
+AdaptiveGrid::AdaptiveGrid(int n, double x0, double y0, double cellMm, const std::vector<char>& launched,
+                           const RefineSettings& settings, PupilSampler sampler, std::span<const glm::dvec2> litHints)
     : n_(n), x0_(x0), y0_(y0), cellMm_(cellMm), S_(0), settings_(settings), sampler_(std::move(sampler)) {
-    if (n < 1 || settings.maxDepth < 0 || settings.maxDepth > 20 || (static_cast<std::uint64_t>(n) << (settings.maxDepth + 2)) >= (1ull << 31))
-        throw Error(ErrorKind::Usage, "adaptive grid: " + std::to_string(n) + " cells per side and " + std::to_string(settings.maxDepth) +
+    if (n < 1 || settings.maxDepth < 0 || settings.maxDepth > 20 ||
+        (static_cast<std::uint64_t>(n) << (settings.maxDepth + 2)) >= (1ull << 31))
+        throw Error(ErrorKind::Usage, "adaptive grid: " + std::to_string(n) + " cells per side and " +
+                                          std::to_string(settings.maxDepth) +
                                           " levels of refinement exceed its lattice");
     S_ = 1u << (settings.maxDepth + 2);
     // Bucket the hints by starting cell (counting sort).
@@ -137,7 +141,8 @@ std::size_t slotOf(std::uint64_t key, std::size_t mask) {
 
 std::uint32_t AdaptiveGrid::sampleAt(std::uint32_t X, std::uint32_t Y) {
     if (2 * (indexed_ + 1) > index_.size()) {
-        std::vector<std::pair<std::uint64_t, std::uint32_t>> old(std::max<std::size_t>(1024, 2 * index_.size()), {kEmpty, 0});
+        std::vector<std::pair<std::uint64_t, std::uint32_t>> old(std::max<std::size_t>(1024, 2 * index_.size()),
+                                                                 {kEmpty, 0});
         old.swap(index_);
         const std::size_t mask = index_.size() - 1;
         for (const auto& e : old)
@@ -213,7 +218,8 @@ bool AdaptiveGrid::crossedOnce(const Cell& c) const {
 bool AdaptiveGrid::holdsHint(const Cell& c) const {
     const std::size_t k = static_cast<std::size_t>(c.Y / S_) * n_ + c.X / S_;
     for (std::uint32_t h = hintStart_[k]; h < hintStart_[k + 1]; ++h)
-        if (hints_[h].x >= c.X && hints_[h].y >= c.Y && hints_[h].x < c.X + c.size && hints_[h].y < c.Y + c.size) return true;
+        if (hints_[h].x >= c.X && hints_[h].y >= c.Y && hints_[h].x < c.X + c.size && hints_[h].y < c.Y + c.size)
+            return true;
     return false;
 }
 
@@ -233,7 +239,8 @@ bool AdaptiveGrid::wantsSplit(const Cell& c) const {
     const double d = glm::length(m - 0.25 * (k[0] + k[1] + k[2] + k[3]));
     if (d > settings_.linearRel * c.extentPx) return true;
     const double wm = samples_[c.s[4]].weight;
-    const double wc = 0.25 * (samples_[c.s[0]].weight + samples_[c.s[1]].weight + samples_[c.s[2]].weight + samples_[c.s[3]].weight);
+    const double wc =
+        0.25 * (samples_[c.s[0]].weight + samples_[c.s[1]].weight + samples_[c.s[2]].weight + samples_[c.s[3]].weight);
     return std::abs(wm - wc) > settings_.weightRel * wm;
 }
 
@@ -282,7 +289,8 @@ void AdaptiveGrid::splitLevels(std::vector<std::size_t> frontier) {
         const std::size_t left = settings_.rayBudget > stats_.samples ? settings_.rayBudget - stats_.samples : 0;
         if (8 * frontier.size() > left) {
             stats_.budgetHit = true;
-            std::stable_sort(frontier.begin(), frontier.end(), [&](std::size_t a, std::size_t b) { return cells_[a].extentPx > cells_[b].extentPx; });
+            std::stable_sort(frontier.begin(), frontier.end(),
+                             [&](std::size_t a, std::size_t b) { return cells_[a].extentPx > cells_[b].extentPx; });
             frontier.resize(left / 8);
             std::sort(frontier.begin(), frontier.end());
             if (frontier.empty()) break;
@@ -327,15 +335,18 @@ std::vector<std::size_t> AdaptiveGrid::cutEdges() {
     const std::size_t firstCut = cuts_.size();
     for (std::size_t ci = 0; ci < cells_.size(); ++ci) {
         Cell& c = cells_[ci];
-        if (c.firstChild >= 0 || c.cut >= 0 || c.extentPx <= 0.25 * settings_.stopPx || !crossedOnce(c) || offFrame(c)) continue;
+        if (c.firstChild >= 0 || c.cut >= 0 || c.extentPx <= 0.25 * settings_.stopPx || !crossedOnce(c) || offFrame(c))
+            continue;
         int arrived = 0;
         for (std::uint32_t k : c.s) arrived += samples_[k].ok;
         if (arrived == 5) continue;
         int rounds = 0;
-        while (c.extentPx / std::ldexp(1.0, rounds) > 0.125 * settings_.stopPx && (c.size >> (rounds + 1)) > 0) ++rounds;
+        while (c.extentPx / std::ldexp(1.0, rounds) > 0.125 * settings_.stopPx && (c.size >> (rounds + 1)) > 0)
+            ++rounds;
         Cut cut;
         cut.cell = ci;
-        const std::uint32_t X[4] = {c.X, c.X + c.size, c.X + c.size, c.X}, Y[4] = {c.Y, c.Y, c.Y + c.size, c.Y + c.size};
+        const std::uint32_t X[4] = {c.X, c.X + c.size, c.X + c.size, c.X},
+                            Y[4] = {c.Y, c.Y, c.Y + c.size, c.Y + c.size};
         int n = 0;
         for (int i = 0; i < 4; ++i) {
             const int j = (i + 1) % 4;
@@ -355,8 +366,10 @@ std::vector<std::size_t> AdaptiveGrid::cutEdges() {
         more = false;
         for (auto& [x, k] : pending) {
             const std::uint32_t mX = (x->aX + x->bX) / 2, mY = (x->aY + x->bY) / 2;
-            if (samples_[k].ok) x->aX = mX, x->aY = mY, x->aSample = k;
-            else x->bX = mX, x->bY = mY;
+            if (samples_[k].ok)
+                x->aX = mX, x->aY = mY, x->aSample = k;
+            else
+                x->bX = mX, x->bY = mY;
             --x->rounds;
             more = more || x->rounds > 0;
         }
@@ -379,10 +392,13 @@ std::vector<std::size_t> AdaptiveGrid::cutEdges() {
         }
         // The centre must lie on the lit side of the cut exactly when its ray arrives; where it does
         // not (a corner of the light, or a second edge, inside the cell), the cell is split instead.
-        const auto crossing = [&](const Crossing& x) { return Vec2((0.5 * (x.aX + x.bX) - c.X) / c.size, (0.5 * (x.aY + x.bY) - c.Y) / c.size); };
+        const auto crossing = [&](const Crossing& x) {
+            return Vec2((0.5 * (x.aX + x.bX) - c.X) / c.size, (0.5 * (x.aY + x.bY) - c.Y) / c.size);
+        };
         const Vec2 p1 = crossing(cut.x[0]), p2 = crossing(cut.x[1]);
         const int litCorner = samples_[c.s[0]].ok ? 0 : samples_[c.s[1]].ok ? 1 : samples_[c.s[2]].ok ? 2 : 3;
-        const double sideLit = cross(p1, p2, Vec2(X[litCorner], Y[litCorner])), sideCentre = cross(p1, p2, Vec2(0.5, 0.5));
+        const double sideLit = cross(p1, p2, Vec2(X[litCorner], Y[litCorner])),
+                     sideCentre = cross(p1, p2, Vec2(0.5, 0.5));
         if (sideCentre != 0.0 && (sideCentre * sideLit > 0.0) != samples_[c.s[4]].ok && c.level < settings_.maxDepth) {
             c.cut = -1;
             contradicted.push_back(cut.cell);
@@ -412,7 +428,8 @@ void AdaptiveGrid::draw(double scale, const ImageFrame& frame, std::vector<doubl
         poly.clear();
         bool all = true;
         for (std::uint32_t k : c.s) all = all && samples_[k].ok;
-        const std::array<Vec2, 4> k = {samples_[c.s[0]].px, samples_[c.s[1]].px, samples_[c.s[2]].px, samples_[c.s[3]].px};
+        const std::array<Vec2, 4> k = {samples_[c.s[0]].px, samples_[c.s[1]].px, samples_[c.s[2]].px,
+                                       samples_[c.s[3]].px};
         const Vec2 m = samples_[c.s[4]].px;
         if (all) {
             // A footprint inside one pixel of the frame puts all of its energy there.

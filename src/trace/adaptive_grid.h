@@ -56,14 +56,16 @@ using PupilSampler = std::function<void(std::span<const glm::dvec2> pupilMm, std
 /// When to split a cell (see the header comment). refined(R) divides every tolerance by R, adds
 /// log2(R) levels and multiplies the budget by R^2.
 struct RefineSettings {
-    double stopPx = 1.0;     ///< footprints this small (pixels, largest side of the box over the arriving samples) are leaves
+    double stopPx =
+        1.0; ///< footprints this small (pixels, largest side of the box over the arriving samples) are leaves
     double foldStopPx = 0.125; ///< the same for a folded cell (a caustic's brightest pixels are made of them)
-    double edgeStopPx = 2.0; ///< a cell crossed by one vignetting edge this small is cut along it, not split
-    double linearRel = 0.01; ///< centre's distance from the corners' mean, as a share of the footprint's extent, that splits a cell
-    double weightRel = 0.02; ///< centre weight against the corners' mean, relative
-    int maxDepth = 10;       ///< levels below the starting grid
+    double edgeStopPx = 2.0;   ///< a cell crossed by one vignetting edge this small is cut along it, not split
+    double linearRel =
+        0.01; ///< centre's distance from the corners' mean, as a share of the footprint's extent, that splits a cell
+    double weightRel = 0.02;                      ///< centre weight against the corners' mean, relative
+    int maxDepth = 10;                            ///< levels below the starting grid
     std::size_t rayBudget = std::size_t(1) << 21; ///< samples traced by one path's refinement, at most
-    bool fatesOnly = false;  ///< split only cells straddling a vignetting edge (energy only; footprints ignored)
+    bool fatesOnly = false; ///< split only cells straddling a vignetting edge (energy only; footprints ignored)
 
     static RefineSettings refined(double R);
     /// For measuring a path's energy (the direct image's normaliser): only vignetting edges, 4 levels.
@@ -78,14 +80,14 @@ struct AdaptiveStats {
 };
 
 class AdaptiveGrid {
-public:
+  public:
     /// The n x n starting cells over the square [x0, x0 + n cell] x [y0, y0 + n cell] (pupil mm);
     /// launched (n x n, row-major; empty: all) skips cells whose centre is not launched. Traces the
     /// start grid's (n+1)^2 corners and launched centres.
     /// litHints: pupil points (mm) where a search found light; a cell holding one whose samples are
     /// all lost is split like one straddling an edge (light thinner than the cells between them).
-    AdaptiveGrid(int n, double x0, double y0, double cellMm, const std::vector<char>& launched, const RefineSettings& settings,
-                 PupilSampler sampler, std::span<const glm::dvec2> litHints = {});
+    AdaptiveGrid(int n, double x0, double y0, double cellMm, const std::vector<char>& launched,
+                 const RefineSettings& settings, PupilSampler sampler, std::span<const glm::dvec2> litHints = {});
 
     /// Splits cells by the settings until none qualifies, maxDepth is reached or the budget is spent.
     /// With a frame (width x height pixels), cells whose footprint cannot reach it are not split.
@@ -96,7 +98,7 @@ public:
     void draw(double scale, const ImageFrame& frame, std::vector<double>& image, RasterStats& stats) const;
     const AdaptiveStats& stats() const { return stats_; }
 
-private:
+  private:
     struct Cell {
         std::uint32_t X = 0, Y = 0, size = 0; ///< lattice corner and side (lattice units)
         std::uint32_t s[5] = {};              ///< samples: corners (X,Y), (X+s,Y), (X+s,Y+s), (X,Y+s); centre
@@ -112,7 +114,7 @@ private:
         int side = 0; ///< the cell side from corner `side` to corner `side + 1`
         std::uint32_t aX = 0, aY = 0, bX = 0, bY = 0, aSample = 0;
         std::uint32_t cornerX = 0, cornerY = 0, cornerSample = 0; ///< the side's arriving corner
-        int rounds = 0; ///< bisection steps left
+        int rounds = 0;                                           ///< bisection steps left
     };
     /// Where the crossing lands (pixels): from the last arriving point, on along the side to the middle
     /// of the last step, extrapolated linearly from the arriving corner.

@@ -235,23 +235,6 @@ Bundle cornerBundle(const PupilFrame& frame, const Field& field, const Bundle& c
     return gridBundle(frame, field, centres.n + 1, cx, cy, half, false);
 }
 
-std::vector<char> edgeCells(const Bundle& b, const std::vector<RayResult>& centre, const std::vector<RayResult>& corner) {
-    const int n = b.n;
-    std::vector<char> edge(static_cast<std::size_t>(n) * n, 0);
-    auto ok = [](const RayResult& r) { return r.status == optics::RayStatus::Ok; };
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            const std::size_t k = static_cast<std::size_t>(j) * n + i;
-            if (!b.launched[k]) continue;
-            const int arrived = ok(centre[k]) + ok(corner[static_cast<std::size_t>(j) * (n + 1) + i]) +
-                                ok(corner[static_cast<std::size_t>(j) * (n + 1) + i + 1]) +
-                                ok(corner[static_cast<std::size_t>(j + 1) * (n + 1) + i]) +
-                                ok(corner[static_cast<std::size_t>(j + 1) * (n + 1) + i + 1]);
-            edge[k] = arrived > 0 && arrived < 5;
-        }
-    return edge;
-}
-
 namespace {
 
 // Derivative of the landing point (pixels) along one grid axis from the neighbouring centre rays:
@@ -275,15 +258,17 @@ bool derivative(const Bundle& b, const std::vector<RayResult>& centre, const Ima
     return true;
 }
 
-} // namespace
-
+// The footprint edge vectors (pixels per cell along the grid's i and j axes) of cell (i, j), from the
+// neighbouring centre rays; false when a neighbour is missing along an axis.
 bool cellJacobian(const Bundle& b, const std::vector<RayResult>& centre, const ImageFrame& frame, int i, int j, Vec2& du, Vec2& dv) {
     return derivative(b, centre, frame, i, j, 1, 0, du) && derivative(b, centre, frame, i, j, 0, 1, dv);
 }
 
+} // namespace
+
+
 void rasterizeCells(const Bundle& b, const std::vector<RayResult>& centre, const std::vector<RayResult>& corner, double scale,
-                    const ImageFrame& frame, std::vector<double>& image, RasterStats& stats, const std::vector<char>& skip,
-                    const std::pair<Vec2, Vec2>* fallback) {
+                    const ImageFrame& frame, std::vector<double>& image, RasterStats& stats) {
     Rasterizer r(frame, image, stats);
     const int n = b.n;
     auto px = [&](const RayResult& h) { return frame.sensorToPixel(h.sensorPoint.x, h.sensorPoint.y); };
@@ -313,7 +298,6 @@ void rasterizeCells(const Bundle& b, const std::vector<RayResult>& centre, const
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
             const std::size_t k = static_cast<std::size_t>(j) * n + i;
-            if (!skip.empty() && skip[k]) continue;
             if (!alive(i, j)) continue; // a lost centre ray contributes nothing
             const double e = centre[k].weight * b.cellArea * scale;
             if (e <= 0.0) continue;
@@ -329,8 +313,7 @@ void rasterizeCells(const Bundle& b, const std::vector<RayResult>& centre, const
             // the local Jacobian (from neighbouring centre rays) maps the cell to, around its centre ray.
             const Vec2 p = at(i, j);
             Vec2 du, dv;
-            const bool haveJacobian = cellJacobian(b, centre, frame, i, j, du, dv) || (fallback && (du = fallback->first, dv = fallback->second, true));
-            if (haveJacobian &&
+            if (cellJacobian(b, centre, frame, i, j, du, dv) &&
                 drawQuad(p - 0.5 * du - 0.5 * dv, p + 0.5 * du - 0.5 * dv, p + 0.5 * du + 0.5 * dv, p - 0.5 * du + 0.5 * dv, e)) {
                 ++stats.quads;
                 continue;

@@ -1,5 +1,7 @@
 #pragma once
-// Rasterising a traced ghost into a flux image.
+// Rasterising a traced ghost into a flux image: the pixel-exact deposit of polygons that the traced
+// renderer's adaptive grids draw with (adaptive_grid.h), and the fixed-grid rasterisation below, which
+// the ghost table's fits use.
 //
 // A path's bundle is traced twice over the same pupil grid: at the n x n cell centres and at the
 // (n+1) x (n+1) cell corners. A cell carries the energy of its centre ray (weight x cell area, scaled
@@ -13,8 +15,6 @@
 //    neighbouring centre rays, maps the cell to, drawn around the centre ray. Its corners come from
 //    rays that did arrive, so no quad is stretched to a lost ray and no streak can appear;
 //  - an isolated cell with no surviving neighbour along an axis: a bilinear splat at its centre ray.
-// Cells that straddle a vignetting edge are refined by the caller: re-traced on a finer sub-grid
-// and drawn with the same rules, so the edges of magnified ghosts show no staircase of pupil cells.
 // Energy landing outside the image is counted, not drawn.
 
 #include "trace/embree_tracer.h"
@@ -58,22 +58,9 @@ void depositPolygon(std::span<const glm::dvec2> poly, double e, const ImageFrame
 /// The four corner positions of every cell of a bundle: a grid of (n+1) x (n+1) rays.
 Bundle cornerBundle(const PupilFrame& frame, const Field& field, const Bundle& centres);
 
-/// Cells whose centre and corner rays do not all share one fate (some arrive, some are lost): they
-/// straddle a vignetting edge, and the caller refines them (one flag per cell).
-std::vector<char> edgeCells(const Bundle& centres, const std::vector<RayResult>& centreHits, const std::vector<RayResult>& cornerHits);
-
-/// Adds one path's cells to `image` (width x height, row-major), except those flagged in `skip`
-/// (may be empty). energyScale multiplies every cell's energy (e.g. 1 / direct-image energy to express
-/// flux relative to the source's direct image).
-/// fallback: the cell footprint's edge vectors (pixels) to use when a cell has no surviving neighbour
-/// along an axis (for refined sub-grids: the parent cell's, divided by the refinement); null = splat.
+/// Adds one path's cells to `image` (width x height, row-major). energyScale multiplies every cell's
+/// energy (e.g. 1 / direct-image energy to express flux relative to the source's direct image).
 void rasterizeCells(const Bundle& centres, const std::vector<RayResult>& centreHits, const std::vector<RayResult>& cornerHits,
-                    double energyScale, const ImageFrame& frame, std::vector<double>& image, RasterStats& stats,
-                    const std::vector<char>& skip = {}, const std::pair<glm::dvec2, glm::dvec2>* fallback = nullptr);
-
-/// The footprint edge vectors (pixels per cell along the grid's i and j axes) of cell (i, j), from the
-/// neighbouring centre rays; false when a neighbour is missing along an axis.
-bool cellJacobian(const Bundle& centres, const std::vector<RayResult>& centreHits, const ImageFrame& frame, int i, int j,
-                  glm::dvec2& du, glm::dvec2& dv);
+                    double energyScale, const ImageFrame& frame, std::vector<double>& image, RasterStats& stats);
 
 } // namespace ff::trace

@@ -68,12 +68,14 @@ TracedFlare renderTracedFlare(const optics::Lens& lensIn, const TracedFlareOptio
     RefineSettings settings = RefineSettings::refined(o.refinement);
     if (!o.adaptive) settings.maxDepth = 0;
     const int n = static_cast<int>(std::lround(o.grid * o.refinement));
-    if (n < 2 || n > 4096) throw Error(ErrorKind::Usage, "the starting grid x the refinement must be 2 to 4096 cells per side");
+    if (n < 2 || n > 4096)
+        throw Error(ErrorKind::Usage, "the starting grid x the refinement must be 2 to 4096 cells per side");
 
     // Each path's pupil region, found once for all wavelengths: over the regions at the shortest and
     // the longest.
     const auto [shortest, longest] = std::minmax_element(out.wavelengthsNm.begin(), out.wavelengthsNm.end());
-    const LensAtWavelength ends[] = {LensAtWavelength(lens, *shortest, sensorZ), LensAtWavelength(lens, *longest, sensorZ)};
+    const LensAtWavelength ends[] = {LensAtWavelength(lens, *shortest, sensorZ),
+                                     LensAtWavelength(lens, *longest, sensorZ)};
     std::vector<std::vector<PathStep>> ghostSteps;
     std::vector<PupilRegion> regions;
     const auto directSteps = pathSteps(lens, std::nullopt);
@@ -147,8 +149,10 @@ TracedFlare renderTracedFlare(const optics::Lens& lensIn, const TracedFlareOptio
         for (std::size_t g0 = 0; g0 < G; g0 += kChunk) {
             const std::size_t g1 = std::min(G, g0 + kChunk);
             tbb::parallel_for(g0, g1, [&](std::size_t g) {
-                if (culled[g]) grids[w][g].reset();
-                else grids[w][g]->refine(o.frame.width, o.frame.height);
+                if (culled[g])
+                    grids[w][g].reset();
+                else
+                    grids[w][g]->refine(o.frame.width, o.frame.height);
             });
             for (std::size_t g = g0; g < g1; ++g) {
                 const std::unique_ptr<AdaptiveGrid> grid = std::move(grids[w][g]);

@@ -12,7 +12,9 @@ using namespace ff::trace;
 
 namespace {
 
-double sum(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0); }
+double sum(const std::vector<double>& v) {
+    return std::accumulate(v.begin(), v.end(), 0.0);
+}
 
 // Relative L2 distance of a from the reference.
 double relativeL2(const std::vector<double>& a, const std::vector<double>& ref) {
@@ -22,7 +24,9 @@ double relativeL2(const std::vector<double>& a, const std::vector<double>& ref) 
 }
 
 // Length of [lo, hi] inside [a, b].
-double overlap(double lo, double hi, double a, double b) { return std::max(0.0, std::min(hi, b) - std::max(lo, a)); }
+double overlap(double lo, double hi, double a, double b) {
+    return std::max(0.0, std::min(hi, b) - std::max(lo, a));
+}
 
 // The fold x = x0 + A u^2, y = y0 + B v of the pupil square [-1, 1]^2 (weight 1): a caustic along
 // x = x0, where the irradiance A^-1/2 (x - x0)^-1/2 / B (both sheets) diverges. Pixel [X, X+1] x
@@ -34,7 +38,8 @@ struct Fold {
 
     PupilSampler sampler() const {
         return [f = *this](std::span<const glm::dvec2> p, std::span<PupilSample> out) {
-            for (std::size_t i = 0; i < p.size(); ++i) out[i] = {{f.x0 + f.A * p[i].x * p[i].x, f.y0 + f.B * p[i].y}, 1.0, true};
+            for (std::size_t i = 0; i < p.size(); ++i)
+                out[i] = {{f.x0 + f.A * p[i].x * p[i].x, f.y0 + f.B * p[i].y}, 1.0, true};
         };
     }
     std::vector<double> exact() const {
@@ -82,7 +87,8 @@ TEST(AdaptiveGrid, ACuspMatchesADensePointSampling) {
     for (int j = 0; j < N; ++j)
         for (int i = 0; i < N; ++i) {
             const glm::dvec2 p = map(-1.0 + (i + 0.5) * 2.0 / N, -1.0 + (j + 0.5) * 2.0 / N);
-            ref[static_cast<std::size_t>(std::floor(p.y)) * W + static_cast<std::size_t>(std::floor(p.x))] += 4.0 / (double(N) * N);
+            ref[static_cast<std::size_t>(std::floor(p.y)) * W + static_cast<std::size_t>(std::floor(p.x))] +=
+                4.0 / (double(N) * N);
         }
     PupilSampler sampler = [&](std::span<const glm::dvec2> p, std::span<PupilSample> out) {
         for (std::size_t i = 0; i < p.size(); ++i) out[i] = {map(p[i].x, p[i].y), 1.0, true};
@@ -139,7 +145,8 @@ TEST(AdaptiveGrid, AVignettingEdgeIsCutWhereItLies) {
             const double u = -1.0 + (i + 0.5) * 2.0 / N, v = -1.0 + (j + 0.5) * 2.0 / N;
             if (!lit(u, v)) continue;
             const glm::dvec2 p = map(u, v);
-            ref[static_cast<std::size_t>(std::floor(p.y)) * W + static_cast<std::size_t>(std::floor(p.x))] += 4.0 / (double(N) * N);
+            ref[static_cast<std::size_t>(std::floor(p.y)) * W + static_cast<std::size_t>(std::floor(p.x))] +=
+                4.0 / (double(N) * N);
         }
     AdaptiveGrid grid(32, -1.0, -1.0, 0.0625, {}, RefineSettings{}, sampler);
     grid.refine(W, H);

@@ -1,5 +1,4 @@
 #include "optics/lens_loader.h"
-#include "test_support.h"
 #include "trace/traced_flare.h"
 
 #include <gtest/gtest.h>
@@ -9,6 +8,8 @@
 #include <cmath>
 #include <numbers>
 #include <numeric>
+
+#include "test_support.h"
 
 using namespace ff;
 using namespace ff::trace;
