@@ -107,8 +107,12 @@ void tracedFlare(benchmark::State& state, int grid, bool adaptive) {
     for (auto _ : state) rays = renderTracedFlare(lens, o).samples;
     state.counters["rays"] = static_cast<double>(rays);
 }
-void BM_TracedFlare_DoubleGauss1080p_Baseline_Unrefined64(benchmark::State& state) { tracedFlare(state, 64, false); }
-void BM_TracedFlare_DoubleGauss1080p_Adaptive(benchmark::State& state) { tracedFlare(state, 32, true); }
+void BM_TracedFlare_DoubleGauss1080p_Baseline_Unrefined64(benchmark::State& state) {
+    tracedFlare(state, 64, false);
+}
+void BM_TracedFlare_DoubleGauss1080p_Adaptive(benchmark::State& state) {
+    tracedFlare(state, 32, true);
+}
 BENCHMARK(BM_TracedFlare_DoubleGauss1080p_Baseline_Unrefined64)->Iterations(2)->Unit(benchmark::kSecond)->UseRealTime();
 BENCHMARK(BM_TracedFlare_DoubleGauss1080p_Adaptive)->Iterations(2)->Unit(benchmark::kSecond)->UseRealTime();
 

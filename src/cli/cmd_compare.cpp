@@ -160,7 +160,8 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     const TracedScene tracedScene = renderTracedScene(lens, lights, to);
     const fourier::FlareImage& traced = tracedScene.image;
     const double tracedSeconds = seconds(t0);
-    say("traced " + std::to_string(lights.size()) + " light(s) in " + text::fixed(tracedSeconds, 2) + " s (" + tracedScene.describeRefinement() + ")");
+    say("traced " + std::to_string(lights.size()) + " light(s) in " + text::fixed(tracedSeconds, 2) + " s (" +
+        tracedScene.describeRefinement() + ")");
     // The reference's own error: the traced render against one with the refinement doubled.
     t0 = Clock::now();
     to.refinement = 2.0;
@@ -184,8 +185,8 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     };
     save("traced", tracedRgb);
     const image::ImageError eReference = image::compareImages(tracedRgb, checkRgb);
-    say("the traced reference against one refined twice as far: relative L2 " + text::scientific(eReference.relativeL2, 3) + ", flux ratio " +
-        text::fixed(eReference.fluxRatio, 5));
+    say("the traced reference against one refined twice as far: relative L2 " +
+        text::scientific(eReference.relativeL2, 3) + ", flux ratio " + text::fixed(eReference.fluxRatio, 5));
 
     nlohmann::json report;
     report["tool"] = std::string("fourierflare ") + kVersion;
@@ -206,16 +207,18 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     if (!o.plate.empty())
         md += "Lights: the " + std::to_string(lights.size()) + " strongest of the " + std::to_string(plateLightCount) + " found in `" + o.plate +
               "` (threshold " + o.threshold + ").\n\n";
-    md += "- **traced**: every ghost ray-traced (adaptive pupil grids from " + std::to_string(o.grid) + "² cells, 450/550/650 nm; " +
-          tracedScene.describeRefinement() + ") and rasterised — the reference.\n";
+    md += "- **traced**: every ghost ray-traced (adaptive pupil grids from " + std::to_string(o.grid) +
+          "² cells, 450/550/650 nm; " + tracedScene.describeRefinement() + ") and rasterised — the reference.\n";
     md += "- **fitted**: the ghost table's profiles (per ghost, field angle and wavelength), axis-aligned, drawn directly over every pixel (no truncation).\n";
     md += "- **fourier**: the same profiles aggregated through the separable Fourier series (budget " + text::roundTrip(base.error) + ", hybrid).\n\n";
     md += "| comparison | relative L2 | PSNR (dB) | max error / peak | flux ratio |\n|---|---|---|---|---|\n";
     md += row("traced vs traced refined twice as far (the reference's own error)", eReference);
 
     std::vector<std::pair<std::string, std::vector<double>>> vsFitted, vsTraced;
-    std::string timing = "| mode | seconds |\n|---|---|\n| traced | " + text::fixed(tracedSeconds, 3) + " |\n| traced, refined twice as far (the reference's check) | " +
-                         text::fixed(checkSeconds, 3) + " |\n| ghost table (load or build) | " + text::fixed(tableSeconds, 3) + " |\n";
+    std::string timing = "| mode | seconds |\n|---|---|\n| traced | " + text::fixed(tracedSeconds, 3) +
+                         " |\n| traced, refined twice as far (the reference's check) | " +
+                         text::fixed(checkSeconds, 3) + " |\n| ghost table (load or build) | " +
+                         text::fixed(tableSeconds, 3) + " |\n";
     // The Bessel basis takes Gaussian ghosts only.
     std::vector<ghosts::Profile> profiles = {ghosts::Profile::Gaussian};
     if (base.basis == fourier::Basis::Separable) profiles.push_back(ghosts::Profile::Cos2);
@@ -333,7 +336,9 @@ void addCompareCommand(CLI::App& app, GlobalOptions& global) {
     cmd->add_option("--size", o->size, "Frame size in pixels, WIDTHxHEIGHT (default: the plate's, else 1920x1080); the frame spans the sensor width");
     cmd->add_option("--n", o->ns, "Numbers of terms for the error-against-N table, comma-separated");
     cmd->add_option("-o,--output", o->output, "Report folder (created if missing)")->required();
-    cmd->add_option("--grid", o->grid, "Cells per side of each ghost's starting pupil grid for the traced reference (refined adaptively)")->check(CLI::Range(4, 1024));
+    cmd->add_option("--grid", o->grid,
+                    "Cells per side of each ghost's starting pupil grid for the traced reference (refined adaptively)")
+        ->check(CLI::Range(4, 1024));
     cmd->add_option("--table-grid", o->tableGrid, "Rays per side of each ghost's pupil grid for the ghost table")->check(CLI::Range(4, 512));
     cmd->add_option("--sensor-size", o->sensorSize, "Sensor size in mm, WIDTHxHEIGHT (default: the lens file's, else 36x24)");
     cmd->add_option("--zoom", o->zoom, "Zoom position (label or 1-based index)");

@@ -139,10 +139,13 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
             meta.push_back({"fourierflare:grid", std::to_string(o.grid) + " " + o.sampling});
             meta.push_back({"fourierflare:refine", text::fixed(o.refine, 3)});
             meta.push_back({"fourierflare:refinement", traced.describeRefinement()});
-            summary = "traced " + std::to_string(traced.ghostCount) + " ghosts at " + std::to_string(traced.wavelengths) + " wavelengths for " +
-                      std::to_string(std::max<std::size_t>(lights.size(), 1)) + " light(s); ghost flux relative to the direct image, summed "
-                      "over wavelengths: " + text::scientific(traced.inFrame, 4) + " in the frame, " + text::scientific(traced.outside, 4) + " outside; " +
-                      traced.describeRefinement();
+            summary = "traced " + std::to_string(traced.ghostCount) + " ghosts at " +
+                      std::to_string(traced.wavelengths) + " wavelengths for " +
+                      std::to_string(std::max<std::size_t>(lights.size(), 1)) +
+                      " light(s); ghost flux relative to the direct image, summed "
+                      "over wavelengths: " +
+                      text::scientific(traced.inFrame, 4) + " in the frame, " + text::scientific(traced.outside, 4) +
+                      " outside; " + traced.describeRefinement();
         } else {
             TableOptions table;
             table.grid = o.tableGrid;
@@ -210,8 +213,12 @@ void addRenderCommand(CLI::App& app, GlobalOptions& global) {
     cmd->add_option("--spectral", o->spectral, "Trace N wavelengths over 400-700 nm through the CIE 1931 matching functions (8-16); 0 = 450/550/650 nm")
         ->check(CLI::IsMember({0, 8, 9, 10, 11, 12, 13, 14, 15, 16}));
     cmd->add_option("--sampling", o->sampling, "Pupil sampling: reaim or paraxial-grid")->check(CLI::IsMember({"reaim", "paraxial-grid"}));
-    cmd->add_option("--grid", o->grid, "Cells per side of each ghost's starting pupil grid, refined adaptively (traced mode)")->check(CLI::Range(2, 1024));
-    cmd->add_option("--refine", o->refine, "Refinement factor R of the traced mode: starting grid x R, every refinement tolerance / R (1, 2, 4...)")
+    cmd->add_option("--grid", o->grid,
+                    "Cells per side of each ghost's starting pupil grid, refined adaptively (traced mode)")
+        ->check(CLI::Range(2, 1024));
+    cmd->add_option(
+           "--refine", o->refine,
+           "Refinement factor R of the traced mode: starting grid x R, every refinement tolerance / R (1, 2, 4...)")
         ->check(CLI::Range(1.0, 16.0));
     cmd->add_option("--table-grid", o->tableGrid, "Rays per side of each ghost's pupil grid for the ghost table (fitted, fourier)")->check(CLI::Range(4, 512));
     cmd->add_option("--sensor", o->sensor, "Sensor plane: file (the last thickness) or paraxial")->check(CLI::IsMember({"file", "paraxial"}));

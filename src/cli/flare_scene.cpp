@@ -166,8 +166,9 @@ void addTraced(TracedScene& scene, const trace::TracedFlare& f, const std::array
 } // namespace
 
 std::string TracedScene::describeRefinement() const {
-    std::string s = std::to_string(samples) + " rays, refined to depth " + std::to_string(maxDepth) + "; culled " + std::to_string(culled) +
-                    " ghost(s) holding " + text::scientific(culledShare, 2) + " of the ghost flux";
+    std::string s = std::to_string(samples) + " rays, refined to depth " + std::to_string(maxDepth) + "; culled " +
+                    std::to_string(culled) + " ghost(s) holding " + text::scientific(culledShare, 2) +
+                    " of the ghost flux";
     if (budgetHits) s += "; the ray budget stopped " + std::to_string(budgetHits) + " ghost refinement(s)";
     return s;
 }

@@ -34,7 +34,7 @@ struct TracedScene {
     std::size_t ghostCount = 0, wavelengths = 0;
     double inFrame = 0.0, outside = 0.0; ///< ghost flux summed over wavelengths and lights (unit lights)
     std::size_t samples = 0, culled = 0, budgetHits = 0; ///< summed over the lights (trace::TracedFlare)
-    double culledShare = 0.0; ///< largest share of a light's ghost flux culled
+    double culledShare = 0.0;                            ///< largest share of a light's ghost flux culled
     int maxDepth = 0;
     /// "N rays, refined to depth D; culled K ghost(s) holding S of the ghost flux[; budget ...]".
     std::string describeRefinement() const;

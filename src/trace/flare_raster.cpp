@@ -168,12 +168,16 @@ public:
         Poly rest{{t[0], t[1], t[2]}, 3};
         for (int px = px0; px <= px1; ++px) {
             Poly column;
-            if (px < px1) splitAt(rest, 0, px + 1.0, column, rest);
-            else column = rest;
+            if (px < px1)
+                splitAt(rest, 0, px + 1.0, column, rest);
+            else
+                column = rest;
             for (int py = py0; py <= py1 && column.n >= 3; ++py) {
                 Poly cell;
-                if (py < py1) splitAt(column, 1, py + 1.0, cell, column);
-                else cell = column;
+                if (py < py1)
+                    splitAt(column, 1, py + 1.0, cell, column);
+                else
+                    cell = column;
                 const double a = cell.area();
                 if (a > 0.0) deposit(px, py, e * a / area);
             }
@@ -208,7 +212,8 @@ private:
 
 } // namespace
 
-void depositPolygon(std::span<const Vec2> poly, double e, const ImageFrame& frame, std::vector<double>& image, RasterStats& stats) {
+void depositPolygon(std::span<const Vec2> poly, double e, const ImageFrame& frame, std::vector<double>& image,
+                    RasterStats& stats) {
     Rasterizer r(frame, image, stats);
     if (poly.empty() || e == 0.0) return;
     // A fan from the first vertex, each triangle's share of the energy by its area.
@@ -266,9 +271,8 @@ bool cellJacobian(const Bundle& b, const std::vector<RayResult>& centre, const I
 
 } // namespace
 
-
-void rasterizeCells(const Bundle& b, const std::vector<RayResult>& centre, const std::vector<RayResult>& corner, double scale,
-                    const ImageFrame& frame, std::vector<double>& image, RasterStats& stats) {
+void rasterizeCells(const Bundle& b, const std::vector<RayResult>& centre, const std::vector<RayResult>& corner,
+                    double scale, const ImageFrame& frame, std::vector<double>& image, RasterStats& stats) {
     Rasterizer r(frame, image, stats);
     const int n = b.n;
     auto px = [&](const RayResult& h) { return frame.sensorToPixel(h.sensorPoint.x, h.sensorPoint.y); };
@@ -314,7 +318,8 @@ void rasterizeCells(const Bundle& b, const std::vector<RayResult>& centre, const
             const Vec2 p = at(i, j);
             Vec2 du, dv;
             if (cellJacobian(b, centre, frame, i, j, du, dv) &&
-                drawQuad(p - 0.5 * du - 0.5 * dv, p + 0.5 * du - 0.5 * dv, p + 0.5 * du + 0.5 * dv, p - 0.5 * du + 0.5 * dv, e)) {
+                drawQuad(p - 0.5 * du - 0.5 * dv, p + 0.5 * du - 0.5 * dv, p + 0.5 * du + 0.5 * dv,
+                         p - 0.5 * du + 0.5 * dv, e)) {
                 ++stats.quads;
                 continue;
             }

@@ -23,7 +23,6 @@
 #include <glm/vec2.hpp>
 
 #include <span>
-
 #include <vector>
 
 namespace ff::trace {
@@ -53,14 +52,16 @@ struct RasterStats {
 /// star-shaped from its first vertex: drawn as the fan of triangles from it) with exact pixel-area
 /// coverage; a polygon of zero area (a point, a segment) becomes a bilinear splat
 /// at its vertices' mean. Energy landing outside the frame is counted in stats.offImage, not drawn.
-void depositPolygon(std::span<const glm::dvec2> poly, double e, const ImageFrame& frame, std::vector<double>& image, RasterStats& stats);
+void depositPolygon(std::span<const glm::dvec2> poly, double e, const ImageFrame& frame, std::vector<double>& image,
+                    RasterStats& stats);
 
 /// The four corner positions of every cell of a bundle: a grid of (n+1) x (n+1) rays.
 Bundle cornerBundle(const PupilFrame& frame, const Field& field, const Bundle& centres);
 
 /// Adds one path's cells to `image` (width x height, row-major). energyScale multiplies every cell's
 /// energy (e.g. 1 / direct-image energy to express flux relative to the source's direct image).
-void rasterizeCells(const Bundle& centres, const std::vector<RayResult>& centreHits, const std::vector<RayResult>& cornerHits,
-                    double energyScale, const ImageFrame& frame, std::vector<double>& image, RasterStats& stats);
+void rasterizeCells(const Bundle& centres, const std::vector<RayResult>& centreHits,
+                    const std::vector<RayResult>& cornerHits, double energyScale, const ImageFrame& frame,
+                    std::vector<double>& image, RasterStats& stats);
 
 } // namespace ff::trace

@@ -522,7 +522,8 @@ PupilRegion bandRegion(const PupilFrame& frame, const Field& field, Sampling sam
     }
     if (xMin > xMax) return {0.0, 0.0, frame.radius, true};
     const double half = 0.5 * std::max(xMax - xMin, yMax - yMin);
-    return {0.5 * (xMin + xMax), 0.5 * (yMin + yMax), half, false, std::min(1.0, litArea / (4.0 * half * half)), thin, std::move(lit)};
+    return {0.5 * (xMin + xMax), 0.5 * (yMin + yMax), half, false, std::min(1.0, litArea / (4.0 * half * half)), thin,
+            std::move(lit)};
 }
 
 Bundle regionBundle(const PupilFrame& frame, const Field& field, const PupilRegion& r, int n) {

@@ -1,7 +1,7 @@
 #pragma once
 // The traced flare of one light source: every two-bounce ghost traced on an adaptively refined pupil
-// grid (adaptive_grid.h) and rasterised at several wavelengths, combined into linear RGB. Pixel values are flux relative to the direct
-// image of the same source: the direct image's flux is 1 in each channel, so a pixel holds the
+// grid (adaptive_grid.h) and rasterised at several wavelengths, combined into linear RGB. Pixel values are flux
+// relative to the direct image of the same source: the direct image's flux is 1 in each channel, so a pixel holds the
 // fraction of the source's light that lands there as ghosts. No gain is applied.
 //
 // Colour: `rgb` traces 650 / 550 / 450 nm into R / G / B. `spectral N` traces N wavelengths evenly over
@@ -23,8 +23,8 @@ struct TracedFlareOptions {
     ImageFrame frame;
     int spectralSamples = 0; ///< 0: the three RGB wavelengths; otherwise 8..16 wavelengths
     Sampling sampling = Sampling::Reaim;
-    int grid = 32;           ///< cells per side of each path's starting pupil grid (before refinement)
-    bool adaptive = true;    ///< false: the starting grid drawn as it is, unrefined (a baseline)
+    int grid = 32;        ///< cells per side of each path's starting pupil grid (before refinement)
+    bool adaptive = true; ///< false: the starting grid drawn as it is, unrefined (a baseline)
     /// R >= 1: the starting grid x R and every refinement tolerance / R (RefineSettings::refined):
     /// 2 and 4 are the renders the default is checked against.
     double refinement = 1.0;
@@ -41,11 +41,11 @@ struct TracedFlare {
     std::vector<double> wavelengthsNm;
     std::vector<RasterStats> stats; ///< per wavelength
     std::size_t ghostCount = 0;
-    std::size_t culled = 0;      ///< ghosts culled (cullFraction)
-    double culledShare = 0.0;    ///< their share of the ghost flux
-    std::size_t samples = 0;     ///< rays traced for the drawn ghosts (starting grids and refinement)
-    std::size_t budgetHits = 0;  ///< ghost-wavelengths whose refinement stopped at the ray budget
-    int maxDepth = 0;            ///< deepest refinement level reached
+    std::size_t culled = 0;     ///< ghosts culled (cullFraction)
+    double culledShare = 0.0;   ///< their share of the ghost flux
+    std::size_t samples = 0;    ///< rays traced for the drawn ghosts (starting grids and refinement)
+    std::size_t budgetHits = 0; ///< ghost-wavelengths whose refinement stopped at the ray budget
+    int maxDepth = 0;           ///< deepest refinement level reached
 };
 
 /// Wavelengths and their linear-sRGB weights (one row of 3 per wavelength) for a colour mode.
