@@ -136,5 +136,11 @@ TEST(CliCompare, WritesTheReport) {
         EXPECT_NEAR(prof["fourierVsFitted"]["fluxRatio"].get<double>(), 1.0, 1e-3);
     }
     EXPECT_NE(ff::test::readFile(out / "report.md").find("| comparison | relative L2 |"), std::string::npos);
+    // The reference states its own error (against twice the refinement), and it is far below the
+    // profile model's, or the comparison would measure the reference.
+    EXPECT_NE(ff::test::readFile(out / "report.md").find("(the reference's own error)"), std::string::npos);
+    const double own = j["reference"]["relativeL2"].get<double>();
+    EXPECT_GE(own, 0.0);
+    EXPECT_LT(own, 0.2 * j["profiles"]["gaussian"]["fittedVsTraced"]["relativeL2"].get<double>());
     EXPECT_EQ(run("compare lenses/cooke-triplet-50mm-f5.lens --size 64x64 -o '" + out.string() + "'", env).code, 2); // no lights
 }
