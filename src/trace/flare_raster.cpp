@@ -54,37 +54,6 @@ bool span(const std::array<Vec2, 3>& t, double y, double& xl, double& xr) {
     return xl <= xr;
 }
 
-// A convex polygon of up to 8 vertices (a triangle cut by axis-aligned lines).
-struct Poly {
-    std::array<Vec2, 8> v{};
-    std::size_t n = 0;
-    double area() const {
-        double a = 0.0;
-        for (std::size_t i = 0; i < n; ++i) a += v[i].x * v[(i + 1) % n].y - v[(i + 1) % n].x * v[i].y;
-        return 0.5 * std::abs(a);
-    }
-};
-
-// Splits p by the line where coordinate `axis` (0: x, 1: y) equals c into the part below c and the
-// part above it (either may be empty; `above` may alias p).
-void splitAt(const Poly& p, int axis, double c, Poly& below, Poly& above) {
-    Poly lo, hi;
-    for (std::size_t i = 0; i < p.n; ++i) {
-        const Vec2& a = p.v[i];
-        const Vec2& b = p.v[(i + 1) % p.n];
-        const double da = a[axis] - c, db = b[axis] - c;
-        if (da <= 0.0 && lo.n < 8) lo.v[lo.n++] = a;
-        if (da >= 0.0 && hi.n < 8) hi.v[hi.n++] = a;
-        if ((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0)) {
-            const Vec2 x = a + (b - a) * (da / (da - db));
-            if (lo.n < 8) lo.v[lo.n++] = x;
-            if (hi.n < 8) hi.v[hi.n++] = x;
-        }
-    }
-    below = lo;
-    above = hi;
-}
-
 class Rasterizer {
 public:
     Rasterizer(const ImageFrame& f, std::vector<double>& img, RasterStats& st) : frame_(f), image_(img), stats_(st) {}
@@ -102,10 +71,6 @@ public:
         }
         if (area <= 0.0) {
             point(0.5 * (xMin + xMax), 0.5 * (yMin + yMax), e);
-            return;
-        }
-        if (px1 - px0 < 4 && py1 - py0 < 4) {
-            small(t, area, e, px0, px1, py0, py1);
             return;
         }
         const double density = e / area;
@@ -159,29 +124,6 @@ public:
         const bool inFrame = px0 >= 0 && py0 >= 0 && px1 < frame_.width && py1 < frame_.height;
         stats_.deposited += inFrame ? e : drawn;
         if (!inFrame) stats_.offImage += std::max(0.0, e - drawn);
-    }
-
-    // A triangle spanning at most 4 x 4 pixels: cut into column strips at the pixel boundaries, each
-    // strip into pixels, and each piece's area (shoelace) gets its share of e; the pieces tile the
-    // triangle, so the shares add up to e.
-    void small(const std::array<Vec2, 3>& t, double area, double e, int px0, int px1, int py0, int py1) {
-        Poly rest{{t[0], t[1], t[2]}, 3};
-        for (int px = px0; px <= px1; ++px) {
-            Poly column;
-            if (px < px1)
-                splitAt(rest, 0, px + 1.0, column, rest);
-            else
-                column = rest;
-            for (int py = py0; py <= py1 && column.n >= 3; ++py) {
-                Poly cell;
-                if (py < py1)
-                    splitAt(column, 1, py + 1.0, cell, column);
-                else
-                    cell = column;
-                const double a = cell.area();
-                if (a > 0.0) deposit(px, py, e * a / area);
-            }
-        }
     }
 
     // Bilinear splat of energy e at pixel position (x, y).
