@@ -182,21 +182,15 @@ double AdaptiveGrid::ownEnergy(const Cell& c) const {
 // the frame: none of its light can land in the image, so refining it changes nothing drawn.
 bool AdaptiveGrid::offFrame(const Cell& c) const {
     if (frameW_ <= 0) return false;
-    Vec2 lo(1e300), hi(-1e300);
-    for (std::uint32_t k : c.s)
-        if (samples_[k].ok) {
-            const Vec2& p = samples_[k].px;
-            lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
-            hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
-        }
-    if (lo.x > hi.x) return false; // nothing arrived: no footprint to judge
+    Vec2 lo, hi;
+    if (footprintBox(c, lo, hi) == 0) return false; // nothing arrived: no footprint to judge
     const double g = c.extentPx;
     return hi.x + g < 0.0 || hi.y + g < 0.0 || lo.x - g > frameW_ || lo.y - g > frameH_;
 }
 
-// Largest side of the box over the arriving samples (pixels); -1 where under two arrive.
-double AdaptiveGrid::footprintExtent(const Cell& c) const {
-    Vec2 lo(1e300), hi(-1e300);
+int AdaptiveGrid::footprintBox(const Cell& c, Vec2& lo, Vec2& hi) const {
+    lo = Vec2(1e300);
+    hi = Vec2(-1e300);
     int arrived = 0;
     for (std::uint32_t k : c.s)
         if (samples_[k].ok) {
@@ -205,7 +199,13 @@ double AdaptiveGrid::footprintExtent(const Cell& c) const {
             hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
             ++arrived;
         }
-    return arrived < 2 ? -1.0 : std::max(hi.x - lo.x, hi.y - lo.y);
+    return arrived;
+}
+
+// Largest side of the box over the arriving samples (pixels); -1 where under two arrive.
+double AdaptiveGrid::footprintExtent(const Cell& c) const {
+    Vec2 lo, hi;
+    return footprintBox(c, lo, hi) < 2 ? -1.0 : std::max(hi.x - lo.x, hi.y - lo.y);
 }
 
 // Whether the corners' fates change exactly twice around the cell: one edge crosses it.

@@ -130,6 +130,8 @@ class AdaptiveGrid {
     double footprintExtent(const Cell& c) const;
     bool wantsSplit(const Cell& c) const;
     bool offFrame(const Cell& c) const;
+    /// The box (pixels) over the cell's arriving samples; returns how many arrived.
+    int footprintBox(const Cell& c, glm::dvec2& lo, glm::dvec2& hi) const;
     bool crossedOnce(const Cell& c) const;
     bool holdsHint(const Cell& c) const;
     void splitLevels(std::vector<std::size_t> frontier);
