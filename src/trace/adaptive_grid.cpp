@@ -420,7 +420,7 @@ double AdaptiveGrid::energy() const {
     return e;
 }
 
-void AdaptiveGrid::draw(double scale, const ImageFrame& frame, std::vector<double>& image, RasterStats& stats) const {
+void AdaptiveGrid::draw(double scale, CoverageRaster& raster, RasterStats& stats) const {
     std::vector<Vec2> poly;
     for (const Cell& c : cells_) {
         if (c.firstChild >= 0 || c.energy <= 0.0) continue;
@@ -432,13 +432,12 @@ void AdaptiveGrid::draw(double scale, const ImageFrame& frame, std::vector<doubl
                                        samples_[c.s[3]].px};
         const Vec2 m = samples_[c.s[4]].px;
         if (all) {
-            // A footprint inside one pixel of the frame puts all of its energy there.
+            // A footprint inside one pixel puts all of its energy there.
             const double px = std::floor(m.x), py = std::floor(m.y);
-            bool inside = px >= 0.0 && py >= 0.0 && px < frame.width && py < frame.height;
+            bool inside = std::abs(px) < 1e9 && std::abs(py) < 1e9;
             for (int i = 0; i < 4 && inside; ++i) inside = std::floor(k[i].x) == px && std::floor(k[i].y) == py;
             if (inside) {
-                image[static_cast<std::size_t>(py) * frame.width + static_cast<std::size_t>(px)] += e;
-                stats.deposited += e;
+                raster.pixel(static_cast<int>(px), static_cast<int>(py), e, stats);
                 continue;
             }
         }
@@ -451,7 +450,7 @@ void AdaptiveGrid::draw(double scale, const ImageFrame& frame, std::vector<doubl
                 sum += w[i] = samples_[c.s[i]].weight + samples_[c.s[(i + 1) % 4]].weight + samples_[c.s[4]].weight;
             for (int i = 0; i < 4; ++i) {
                 const std::array<Vec2, 3> tri = {m, k[i], k[(i + 1) % 4]};
-                depositPolygon(tri, sum > 0.0 ? e * w[i] / sum : 0.25 * e, frame, image, stats);
+                raster.polygon(tri, sum > 0.0 ? e * w[i] / sum : 0.25 * e, stats);
             }
             continue;
         }
@@ -468,7 +467,7 @@ void AdaptiveGrid::draw(double scale, const ImageFrame& frame, std::vector<doubl
             for (std::uint32_t s : c.s)
                 if (samples_[s].ok) poly.push_back(samples_[s].px);
         }
-        depositPolygon(convexHull(std::move(poly)), e, frame, image, stats);
+        raster.polygon(convexHull(std::move(poly)), e, stats);
     }
 }
 

@@ -94,8 +94,8 @@ class AdaptiveGrid {
     void refine(int frameWidth = 0, int frameHeight = 0);
     /// Sum of the leaves' energies (mm^2 x weight).
     double energy() const;
-    /// Draws every lit leaf, its energy multiplied by scale, into image (frame.width x frame.height).
-    void draw(double scale, const ImageFrame& frame, std::vector<double>& image, RasterStats& stats) const;
+    /// Draws every lit leaf, its energy multiplied by scale, into the raster.
+    void draw(double scale, CoverageRaster& raster, RasterStats& stats) const;
     const AdaptiveStats& stats() const { return stats_; }
 
   private:

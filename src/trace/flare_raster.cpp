@@ -12,166 +12,199 @@ using Vec2 = glm::dvec2;
 
 double cross(const Vec2& a, const Vec2& b, const Vec2& c) { return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x); }
 
-// Area of the part of a convex polygon inside the axis-aligned box [x0, x1] x [y0, y1]
-// (Sutherland-Hodgman against the four box edges, then the shoelace formula).
-double clippedArea(const std::array<Vec2, 3>& tri, double x0, double y0, double x1, double y1) {
-    std::array<Vec2, 9> a{}, b{};
-    std::size_t na = 3;
-    for (std::size_t i = 0; i < 3; ++i) a[i] = tri[i];
+// Signed area (shoelace; positive when clockwise on the screen, +y down).
+double signedArea(std::span<const Vec2> p) {
+    double a = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i) a += p[i].x * p[(i + 1) % p.size()].y - p[(i + 1) % p.size()].x * p[i].y;
+    return 0.5 * a;
+}
+
+// Area of a simple polygon inside the box [x0, x1] x [y0, y1] (Sutherland-Hodgman, then the shoelace formula).
+double areaInBox(std::span<const Vec2> poly, double x0, double y0, double x1, double y1) {
+    std::vector<Vec2> a(poly.begin(), poly.end()), b;
     auto clip = [&](auto inside, auto intersect) {
-        std::size_t nb = 0;
-        for (std::size_t i = 0; i < na; ++i) {
+        b.clear();
+        for (std::size_t i = 0; i < a.size(); ++i) {
             const Vec2& p = a[i];
-            const Vec2& q = a[(i + 1) % na];
+            const Vec2& q = a[(i + 1) % a.size()];
             const bool ip = inside(p), iq = inside(q);
-            if (ip) b[nb++] = p;
-            if (ip != iq) b[nb++] = intersect(p, q);
+            if (ip) b.push_back(p);
+            if (ip != iq) b.push_back(intersect(p, q));
         }
-        a = b;
-        na = nb;
+        std::swap(a, b);
     };
     clip([&](const Vec2& p) { return p.x >= x0; }, [&](const Vec2& p, const Vec2& q) { return Vec2(x0, p.y + (q.y - p.y) * (x0 - p.x) / (q.x - p.x)); });
     clip([&](const Vec2& p) { return p.x <= x1; }, [&](const Vec2& p, const Vec2& q) { return Vec2(x1, p.y + (q.y - p.y) * (x1 - p.x) / (q.x - p.x)); });
     clip([&](const Vec2& p) { return p.y >= y0; }, [&](const Vec2& p, const Vec2& q) { return Vec2(p.x + (q.x - p.x) * (y0 - p.y) / (q.y - p.y), y0); });
     clip([&](const Vec2& p) { return p.y <= y1; }, [&](const Vec2& p, const Vec2& q) { return Vec2(p.x + (q.x - p.x) * (y1 - p.y) / (q.y - p.y), y1); });
-    double area = 0.0;
-    for (std::size_t i = 0; i < na; ++i) area += a[i].x * a[(i + 1) % na].y - a[(i + 1) % na].x * a[i].y;
-    return 0.5 * std::abs(area);
+    return std::abs(signedArea(a));
 }
-
-// The x-interval where the horizontal line at y crosses the triangle; false if it misses it.
-bool span(const std::array<Vec2, 3>& t, double y, double& xl, double& xr) {
-    xl = 1e300;
-    xr = -1e300;
-    for (int e = 0; e < 3; ++e) {
-        const Vec2& a = t[e];
-        const Vec2& b = t[(e + 1) % 3];
-        if ((a.y - y) * (b.y - y) > 0.0 || a.y == b.y) continue;
-        const double x = a.x + (y - a.y) * (b.x - a.x) / (b.y - a.y);
-        xl = std::min(xl, x);
-        xr = std::max(xr, x);
-    }
-    return xl <= xr;
-}
-
-class Rasterizer {
-public:
-    Rasterizer(const ImageFrame& f, std::vector<double>& img, RasterStats& st) : frame_(f), image_(img), stats_(st) {}
-
-    // Deposits energy e uniformly over triangle t (pixel coordinates) with exact area coverage.
-    void triangle(const std::array<Vec2, 3>& t, double e) {
-        const double area = 0.5 * std::abs(cross(t[0], t[1], t[2]));
-        const double xMin = std::min({t[0].x, t[1].x, t[2].x}), xMax = std::max({t[0].x, t[1].x, t[2].x});
-        const double yMin = std::min({t[0].y, t[1].y, t[2].y}), yMax = std::max({t[0].y, t[1].y, t[2].y});
-        const int px0 = static_cast<int>(std::floor(xMin)), px1 = static_cast<int>(std::floor(xMax));
-        const int py0 = static_cast<int>(std::floor(yMin)), py1 = static_cast<int>(std::floor(yMax));
-        if (px0 == px1 && py0 == py1) { // inside one pixel (also catches degenerate triangles)
-            deposit(px0, py0, e);
-            return;
-        }
-        if (area <= 0.0) {
-            point(0.5 * (xMin + xMax), 0.5 * (yMin + yMax), e);
-            return;
-        }
-        const double density = e / area;
-        // Edge functions, oriented so the interior is positive: a pixel whose four corners are all
-        // inside is covered fully, one whose corners are all outside one edge not at all; only the
-        // pixels the edges cross need clipping.
-        const double orient = cross(t[0], t[1], t[2]) > 0.0 ? 1.0 : -1.0;
-        auto inside = [&](int edge, double x, double y) {
-            const Vec2& a = t[edge];
-            const Vec2& b = t[(edge + 1) % 3];
-            return orient * ((b.x - a.x) * (y - a.y) - (b.y - a.y) * (x - a.x));
-        };
-        // Pixels entirely outside the image cannot receive energy: count that part as off-image.
-        double drawn = 0.0;
-        const int cx0 = std::max(px0, 0), cx1 = std::min(px1, frame_.width - 1);
-        const int cy0 = std::max(py0, 0), cy1 = std::min(py1, frame_.height - 1);
-        for (int py = cy0; py <= cy1; ++py) {
-            // A pixel is fully inside the (convex) triangle iff it lies within the triangle's x-span
-            // at both its top and its bottom edge: those pixels take density x 1 without tests.
-            double topL, topR, botL, botR;
-            int fullFrom = 1, fullTo = 0; // empty unless both spans exist
-            if (span(t, py, topL, topR) && span(t, py + 1.0, botL, botR)) {
-                fullFrom = static_cast<int>(std::ceil(std::max(topL, botL)));
-                fullTo = static_cast<int>(std::floor(std::min(topR, botR))) - 1;
-            }
-            double* row = &image_[static_cast<std::size_t>(py) * frame_.width];
-            for (int px = cx0; px <= cx1; ++px) {
-                if (px >= fullFrom && px <= fullTo) {
-                    const int last = std::min(fullTo, cx1);
-                    for (int q = px; q <= last; ++q) row[q] += density;
-                    drawn += density * (last - px + 1);
-                    px = last;
-                    continue;
-                }
-                bool full = true, empty = false;
-                for (int edge = 0; edge < 3 && !empty; ++edge) {
-                    int in = 0;
-                    for (int c = 0; c < 4; ++c) in += inside(edge, px + (c & 1), py + (c >> 1)) >= 0.0;
-                    full = full && in == 4;
-                    empty = in == 0;
-                }
-                if (empty) continue;
-                const double a = full ? 1.0 : clippedArea(t, px, py, px + 1.0, py + 1.0);
-                if (a <= 0.0) continue;
-                row[px] += density * a;
-                drawn += density * a;
-            }
-        }
-        // Inside the frame the whole energy was drawn (up to rounding); only a triangle reaching past
-        // the frame loses the part outside.
-        const bool inFrame = px0 >= 0 && py0 >= 0 && px1 < frame_.width && py1 < frame_.height;
-        stats_.deposited += inFrame ? e : drawn;
-        if (!inFrame) stats_.offImage += std::max(0.0, e - drawn);
-    }
-
-    // Bilinear splat of energy e at pixel position (x, y).
-    void point(double x, double y, double e) {
-        const double fx = x - 0.5, fy = y - 0.5;
-        const int ix = static_cast<int>(std::floor(fx)), iy = static_cast<int>(std::floor(fy));
-        const double ax = fx - ix, ay = fy - iy;
-        deposit(ix, iy, e * (1 - ax) * (1 - ay));
-        deposit(ix + 1, iy, e * ax * (1 - ay));
-        deposit(ix, iy + 1, e * (1 - ax) * ay);
-        deposit(ix + 1, iy + 1, e * ax * ay);
-    }
-
-private:
-    void deposit(int px, int py, double e) {
-        if (px < 0 || py < 0 || px >= frame_.width || py >= frame_.height) {
-            stats_.offImage += e;
-            return;
-        }
-        image_[static_cast<std::size_t>(py) * frame_.width + px] += e;
-        stats_.deposited += e;
-    }
-
-    const ImageFrame& frame_;
-    std::vector<double>& image_;
-    RasterStats& stats_;
-};
 
 } // namespace
 
-void depositPolygon(std::span<const Vec2> poly, double e, const ImageFrame& frame, std::vector<double>& image,
-                    RasterStats& stats) {
-    Rasterizer r(frame, image, stats);
+CoverageRaster::CoverageRaster(const ImageFrame& frame)
+    : frame_(frame), stride_(static_cast<std::size_t>(frame.width) + 2),
+      acc_(stride_ * static_cast<std::size_t>(std::max(frame.height, 0)), 0.0) {}
+
+void CoverageRaster::polygon(std::span<const Vec2> poly, double e, RasterStats& stats) {
     if (poly.empty() || e == 0.0) return;
-    // A fan from the first vertex, each triangle's share of the energy by its area.
-    double total = 0.0;
-    for (std::size_t i = 1; i + 1 < poly.size(); ++i) total += std::abs(cross(poly[0], poly[i], poly[i + 1]));
-    if (!(total > 0.0)) {
-        Vec2 mean(0.0);
-        for (const Vec2& p : poly) mean += p;
-        mean /= static_cast<double>(poly.size());
-        r.point(mean.x, mean.y, e);
+    const double area = signedArea(poly);
+    Vec2 lo(1e300), hi(-1e300);
+    for (const Vec2& p : poly) {
+        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
+        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
+    }
+    // A polygon inside one pixel (or of no area: a point, a segment) puts its energy in that pixel;
+    // without area it is splatted bilinearly at its vertices' mean.
+    if (std::floor(lo.x) == std::floor(hi.x) && std::floor(lo.y) == std::floor(hi.y) && area != 0.0) {
+        pixel(static_cast<int>(std::floor(lo.x)), static_cast<int>(std::floor(lo.y)), e, stats);
         return;
     }
-    for (std::size_t i = 1; i + 1 < poly.size(); ++i) {
-        const double a = std::abs(cross(poly[0], poly[i], poly[i + 1]));
-        if (a > 0.0) r.triangle({poly[0], poly[i], poly[i + 1]}, e * a / total);
+    if (area == 0.0 || !std::isfinite(area)) {
+        if (!std::isfinite(area)) return;
+        Vec2 mean(0.0);
+        for (const Vec2& p : poly) mean += p;
+        point(mean / static_cast<double>(poly.size()), e, stats);
+        return;
     }
+    // An edge running down (+y) adds its density to the right of it: a polygon of positive signed area
+    // (clockwise on the screen) has its downward edges on the left, hence the sign.
+    const double d = -e / area;
+    for (std::size_t i = 0; i < poly.size(); ++i) edge(poly[i], poly[(i + 1) % poly.size()], d);
+    const bool inFrame = lo.x >= 0.0 && lo.y >= 0.0 && hi.x <= frame_.width && hi.y <= frame_.height;
+    const double drawn = inFrame ? e : e * areaInBox(poly, 0.0, 0.0, frame_.width, frame_.height) / std::abs(area);
+    stats.deposited += drawn;
+    stats.offImage += std::max(0.0, e - drawn);
+}
+
+void CoverageRaster::pixel(int px, int py, double e, RasterStats& stats) {
+    if (px < 0 || py < 0 || px >= frame_.width || py >= frame_.height) {
+        stats.offImage += e;
+        return;
+    }
+    double* row = &acc_[static_cast<std::size_t>(py) * stride_];
+    row[px] += e; // the prefix sum carries it to px only
+    row[px + 1] -= e;
+    stats.deposited += e;
+}
+
+void CoverageRaster::point(const Vec2& p, double e, RasterStats& stats) {
+    const double fx = p.x - 0.5, fy = p.y - 0.5;
+    const double ix = std::floor(fx), iy = std::floor(fy);
+    if (!(std::abs(ix) < 1e9 && std::abs(iy) < 1e9)) {
+        stats.offImage += e;
+        return;
+    }
+    const double ax = fx - ix, ay = fy - iy;
+    const int x = static_cast<int>(ix), y = static_cast<int>(iy);
+    pixel(x, y, e * (1 - ax) * (1 - ay), stats);
+    pixel(x + 1, y, e * ax * (1 - ay), stats);
+    pixel(x, y + 1, e * (1 - ax) * ay, stats);
+    pixel(x + 1, y + 1, e * ax * ay, stats);
+}
+
+void CoverageRaster::edge(Vec2 a, Vec2 b, double d) {
+    if (a.y == b.y) return;
+    if (a.y > b.y) {
+        std::swap(a, b);
+        d = -d;
+    }
+    // Rows outside the frame receive nothing.
+    const double H = frame_.height, W = frame_.width;
+    const double y0 = std::max(a.y, 0.0), y1 = std::min(b.y, H);
+    if (!(y0 < y1)) return;
+    const double dxdy = (b.x - a.x) / (b.y - a.y);
+    const Vec2 p(a.x + (y0 - a.y) * dxdy, y0), q(a.x + (y1 - a.y) * dxdy, y1);
+    // Columns: the part right of the frame adds only beyond it and is dropped; the part left of it is
+    // moved onto x = 0, which adds the same to every pixel of the frame.
+    double tA = 2.0, tB = 2.0; // the parameters where the segment crosses x = 0 and x = W, if it does
+    if (p.x * q.x < 0.0) tA = -p.x / (q.x - p.x);
+    if ((p.x - W) * (q.x - W) < 0.0) tB = (W - p.x) / (q.x - p.x);
+    if (tB < tA) std::swap(tA, tB);
+    const double cuts[4] = {0.0, std::min(tA, 1.0), std::min(tB, 1.0), 1.0};
+    for (int k = 0; k < 3; ++k) {
+        const double t0 = cuts[k], t1 = cuts[k + 1];
+        if (!(t1 > t0)) continue;
+        Vec2 s = p + t0 * (q - p), t = p + t1 * (q - p);
+        const double xm = 0.5 * (s.x + t.x);
+        if (xm >= W) continue;
+        if (xm <= 0.0) s.x = t.x = 0.0;
+        s.x = std::clamp(s.x, 0.0, W);
+        t.x = std::clamp(t.x, 0.0, W);
+        segment(s, t, d);
+    }
+}
+
+void CoverageRaster::segment(const Vec2& p0, const Vec2& p1, double d) {
+    // p0.y < p1.y, both inside [0, W] x [0, H]. In each row the segment crosses, the area to its right
+    // (times d) is split over the columns it spans: column c gets the area right of the segment within
+    // [c, c + 1], as the difference of what reaches c and what reaches c + 1, so the row's prefix sum
+    // gives every pixel exactly its covered area.
+    const double dxdy = (p1.x - p0.x) / (p1.y - p0.y);
+    double x = p0.x;
+    const int rowFrom = static_cast<int>(std::floor(p0.y)), rowTo = static_cast<int>(std::ceil(p1.y));
+    for (int y = rowFrom; y < std::min(rowTo, frame_.height); ++y) {
+        const double dy = std::min(y + 1.0, p1.y) - std::max(static_cast<double>(y), p0.y);
+        const double xNext = y + 1.0 >= p1.y ? p1.x : x + dxdy * dy;
+        const double h = dy * d;
+        double* row = &acc_[static_cast<std::size_t>(y) * stride_];
+        const double x0 = std::min(x, xNext), x1 = std::max(x, xNext);
+        const double x0Floor = std::floor(x0), x1Ceil = std::ceil(x1);
+        const int i0 = static_cast<int>(x0Floor), i1 = static_cast<int>(x1Ceil);
+        if (i1 <= i0 + 1) {
+            // Within one column: the trapezoid right of the segment covers 1 - (mean x - column).
+            const double f = 0.5 * (x + xNext) - x0Floor;
+            row[i0] += h * (1.0 - f);
+            row[i0 + 1] += h * f;
+        } else {
+            // Across columns: the fraction of the row's height left of column line X is
+            // (X - x0) / (x1 - x0), integrated over each column.
+            const double s = 1.0 / (x1 - x0);
+            const double f0 = x0 - x0Floor;
+            const double a0 = 0.5 * s * (1.0 - f0) * (1.0 - f0); // first column
+            const double f1 = x1 - x1Ceil + 1.0;
+            const double am = 0.5 * s * f1 * f1; // beyond the last column's left part
+            row[i0] += h * a0;
+            if (i1 == i0 + 2) {
+                row[i0 + 1] += h * (1.0 - a0 - am);
+            } else {
+                const double a1 = s * (1.5 - f0);
+                row[i0 + 1] += h * (a1 - a0);
+                for (int i = i0 + 2; i < i1 - 1; ++i) row[i] += h * s;
+                const double a2 = a1 + (i1 - i0 - 3) * s;
+                row[i1 - 1] += h * (1.0 - a2 - am);
+            }
+            row[i1] += h * am;
+        }
+        x = xNext;
+    }
+}
+
+void CoverageRaster::addTo(std::vector<double>& image) const {
+    const std::size_t W = static_cast<std::size_t>(std::max(frame_.width, 0));
+    for (std::size_t y = 0; y < acc_.size() / stride_; ++y) {
+        double sum = 0.0;
+        const double* row = &acc_[y * stride_];
+        double* out = &image[y * W];
+        for (std::size_t x = 0; x < W; ++x) {
+            sum += row[x];
+            out[x] += std::max(sum, 0.0);
+        }
+    }
+}
+
+std::vector<double> CoverageRaster::release() && {
+    // The rows' prefix sums in place, then the rows packed to the frame's width (each moves left).
+    const std::size_t W = static_cast<std::size_t>(std::max(frame_.width, 0));
+    for (std::size_t y = 0; y < acc_.size() / stride_; ++y) {
+        double sum = 0.0;
+        for (std::size_t x = 0; x < W; ++x) {
+            sum += acc_[y * stride_ + x];
+            acc_[y * W + x] = std::max(sum, 0.0);
+        }
+    }
+    acc_.resize(W * (acc_.size() / stride_));
+    return std::move(acc_);
 }
 
 Bundle cornerBundle(const PupilFrame& frame, const Field& field, const Bundle& centres) {
@@ -215,7 +248,11 @@ bool cellJacobian(const Bundle& b, const std::vector<RayResult>& centre, const I
 
 void rasterizeCells(const Bundle& b, const std::vector<RayResult>& centre, const std::vector<RayResult>& corner,
                     double scale, const ImageFrame& frame, std::vector<double>& image, RasterStats& stats) {
-    Rasterizer r(frame, image, stats);
+    CoverageRaster r(frame);
+    auto triangle = [&](const Vec2& p0, const Vec2& p1, const Vec2& p2, double e) {
+        const std::array<Vec2, 3> t = {p0, p1, p2};
+        r.polygon(t, e, stats);
+    };
     const int n = b.n;
     auto px = [&](const RayResult& h) { return frame.sensorToPixel(h.sensorPoint.x, h.sensorPoint.y); };
     auto alive = [&](int i, int j) {
@@ -229,14 +266,14 @@ void rasterizeCells(const Bundle& b, const std::vector<RayResult>& centre, const
         const double a013 = cross(p0, p1, p3), a123 = cross(p1, p2, p3);
         if (a012 * a023 > 0.0) {
             const double w = std::abs(a012) / (std::abs(a012) + std::abs(a023));
-            r.triangle({p0, p1, p2}, e * w);
-            r.triangle({p0, p2, p3}, e * (1.0 - w));
+            triangle(p0, p1, p2, e * w);
+            triangle(p0, p2, p3, e * (1.0 - w));
             return true;
         }
         if (a013 * a123 > 0.0) {
             const double w = std::abs(a013) / (std::abs(a013) + std::abs(a123));
-            r.triangle({p0, p1, p3}, e * w);
-            r.triangle({p1, p2, p3}, e * (1.0 - w));
+            triangle(p0, p1, p3, e * w);
+            triangle(p1, p2, p3, e * (1.0 - w));
             return true;
         }
         return false;
@@ -265,9 +302,10 @@ void rasterizeCells(const Bundle& b, const std::vector<RayResult>& centre, const
                 ++stats.quads;
                 continue;
             }
-            r.point(p.x, p.y, e); // isolated cell: no neighbour tells its size
+            r.point(p, e, stats); // isolated cell: no neighbour tells its size
             ++stats.splats;
         }
+    r.addTo(image);
 }
 
 } // namespace ff::trace

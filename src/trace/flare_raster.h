@@ -1,7 +1,7 @@
 #pragma once
-// Rasterising a traced ghost into a flux image: the pixel-exact deposit of polygons that the traced
-// renderer's adaptive grids draw with (adaptive_grid.h), and the fixed-grid rasterisation below, which
-// the ghost table's fits use.
+// Rasterising a traced ghost into a flux image: the pixel-exact coverage raster of polygons that the
+// traced renderer's adaptive grids draw with (adaptive_grid.h), and the fixed-grid rasterisation
+// below, which the ghost table's fits use.
 //
 // A path's bundle is traced twice over the same pupil grid: at the n x n cell centres and at the
 // (n+1) x (n+1) cell corners. A cell carries the energy of its centre ray (weight x cell area, scaled
@@ -48,12 +48,40 @@ struct RasterStats {
     std::size_t quads = 0, splats = 0;
 };
 
-/// Deposits energy e uniformly over the polygon `poly` (pixel coordinates, vertices in order,
-/// star-shaped from its first vertex: drawn as the fan of triangles from it) with exact pixel-area
-/// coverage; a polygon of zero area (a point, a segment) becomes a bilinear splat
-/// at its vertices' mean. Energy landing outside the frame is counted in stats.offImage, not drawn.
-void depositPolygon(std::span<const glm::dvec2> poly, double e, const ImageFrame& frame, std::vector<double>& image,
-                    RasterStats& stats);
+/// Accumulates polygons of uniform density with exact pixel-area coverage at a cost that grows with
+/// their perimeter in pixels, not their area: each edge adds, row by row, its signed area to the few
+/// columns it crosses, and one prefix sum per row (addTo, release) turns those into density x covered
+/// area (the accumulation rasteriser of font renderers, with the density carried along). Any simple
+/// polygon of either orientation is exact; results depend only on the order of the calls. Energies are
+/// non-negative, so a negative prefix sum is rounding (~1e-16 of the row's partial sums) and reads 0.
+class CoverageRaster {
+  public:
+    explicit CoverageRaster(const ImageFrame& frame);
+
+    const ImageFrame& frame() const { return frame_; }
+
+    /// Deposits energy e uniformly over the polygon `poly` (pixel coordinates, vertices in order); a
+    /// polygon of zero area (a point, a segment) becomes a bilinear splat at its vertices' mean.
+    /// Energy landing outside the frame is counted in stats.offImage, not drawn.
+    void polygon(std::span<const glm::dvec2> poly, double e, RasterStats& stats);
+    /// Energy e into pixel (px, py); outside the frame it is counted in stats.offImage.
+    void pixel(int px, int py, double e, RasterStats& stats);
+    /// Bilinear splat of energy e at pixel position p (pixel centres at +0.5).
+    void point(const glm::dvec2& p, double e, RasterStats& stats);
+
+    /// Adds the image drawn so far to `image` (frame-sized, row-major).
+    void addTo(std::vector<double>& image) const;
+    /// The image drawn (frame-sized, row-major), reusing the accumulator's memory.
+    std::vector<double> release() &&;
+
+  private:
+    void edge(glm::dvec2 a, glm::dvec2 b, double d);
+    void segment(const glm::dvec2& p0, const glm::dvec2& p1, double d);
+
+    ImageFrame frame_;
+    std::size_t stride_; ///< width + 2: the columns a row's last edge spills into
+    std::vector<double> acc_;
+};
 
 /// The four corner positions of every cell of a bundle: a grid of (n+1) x (n+1) rays.
 Bundle cornerBundle(const PupilFrame& frame, const Field& field, const Bundle& centres);

@@ -139,12 +139,11 @@ TracedFlare renderTracedFlare(const optics::Lens& lensIn, const TracedFlareOptio
 
     // Pass 2, per wavelength in parallel: the ghosts refined in parallel a few at a time, then drawn
     // in ghost order, so the image does not depend on the number of threads.
-    std::vector<std::vector<double>> layers(W);
+    std::vector<CoverageRaster> rasters(W, CoverageRaster(o.frame));
     out.stats.resize(W);
     std::vector<AdaptiveStats> ghostStats(W * G);
     constexpr std::size_t kChunk = 8; // ghosts refined at once per wavelength: bounds the memory held
     tbb::parallel_for(std::size_t(0), W, [&](std::size_t w) {
-        layers[w].assign(pixels, 0.0);
         if (directEnergy[w] <= 0.0) return; // the source is fully vignetted: no flare
         for (std::size_t g0 = 0; g0 < G; g0 += kChunk) {
             const std::size_t g1 = std::min(G, g0 + kChunk);
@@ -157,7 +156,7 @@ TracedFlare renderTracedFlare(const optics::Lens& lensIn, const TracedFlareOptio
             for (std::size_t g = g0; g < g1; ++g) {
                 const std::unique_ptr<AdaptiveGrid> grid = std::move(grids[w][g]);
                 if (!grid) continue;
-                grid->draw(1.0 / directEnergy[w], o.frame, layers[w], out.stats[w]);
+                grid->draw(1.0 / directEnergy[w], rasters[w], out.stats[w]);
                 ghostStats[w * G + g] = grid->stats();
             }
         }
@@ -168,6 +167,8 @@ TracedFlare renderTracedFlare(const optics::Lens& lensIn, const TracedFlareOptio
         out.maxDepth = std::max(out.maxDepth, s.depth);
     }
 
+    std::vector<std::vector<double>> layers;
+    for (CoverageRaster& r : rasters) layers.push_back(std::move(r).release());
     out.rgb.assign(pixels * 3, 0.0f);
     for (std::size_t p = 0; p < pixels; ++p)
         for (int ch = 0; ch < 3; ++ch) {

@@ -65,7 +65,9 @@ TEST(AdaptiveGrid, AFoldIsDrawnAsItsExactPixelIntegralsWithoutSpokes) {
     grid.refine(f.W, f.H);
     std::vector<double> img(exact.size(), 0.0);
     RasterStats st;
-    grid.draw(1.0, {f.W, f.H, 1.0}, img, st);
+    CoverageRaster raster({f.W, f.H, 1.0});
+    grid.draw(1.0, raster, st);
+    raster.addTo(img);
     EXPECT_NEAR(sum(img), 4.0, 1e-12); // the pupil's area, weight 1: all of it lands in the frame
     EXPECT_LE(relativeL2(img, exact), 0.01);
     // No pixel brighter than the caustic's own column allows (exact integral, 2 % for the sub-pixel
@@ -97,7 +99,9 @@ TEST(AdaptiveGrid, ACuspMatchesADensePointSampling) {
     grid.refine(W, H);
     std::vector<double> img(ref.size(), 0.0);
     RasterStats st;
-    grid.draw(1.0, {W, H, 1.0}, img, st);
+    CoverageRaster raster({W, H, 1.0});
+    grid.draw(1.0, raster, st);
+    raster.addTo(img);
     EXPECT_LE(relativeL2(img, ref), 0.01);
 }
 
@@ -120,7 +124,9 @@ TEST(AdaptiveGrid, RefiningALitCellMovesLightButKeepsItsFlux) {
     EXPECT_NEAR(grid.energy(), before, 1e-13 * before);
     std::vector<double> img(80 * 60, 0.0);
     RasterStats st;
-    grid.draw(1.0, {80, 60, 1.0}, img, st);
+    CoverageRaster raster({80, 60, 1.0});
+    grid.draw(1.0, raster, st);
+    raster.addTo(img);
     EXPECT_NEAR(sum(img) + st.offImage, before, 1e-12 * before);
 }
 
@@ -155,6 +161,8 @@ TEST(AdaptiveGrid, AVignettingEdgeIsCutWhereItLies) {
     EXPECT_GE(grid.energy(), disc * (1.0 - 2.6e-3));
     std::vector<double> img(ref.size(), 0.0);
     RasterStats st;
-    grid.draw(1.0, {W, H, 1.0}, img, st);
+    CoverageRaster raster({W, H, 1.0});
+    grid.draw(1.0, raster, st);
+    raster.addTo(img);
     EXPECT_LE(relativeL2(img, ref), 0.01);
 }
