@@ -14,6 +14,7 @@
 
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <memory>
 
 namespace ff::cli {
@@ -43,8 +44,19 @@ void runInfo(const InfoOptions& o, const GlobalOptions& g) {
         const optics::Lens at = optics::atZoom(lens, k);
         PositionReport p;
         p.label = lens.isZoom() ? lens.zoomLabels[k] : std::string();
-        p.firstOrder = optics::analyzeFirstOrder(at, o.lambdaNm);
-        p.realRayEfl = optics::realRayEfl(at, o.lambdaNm, 1e-4 * 0.5 * p.firstOrder.entrancePupilDiameter);
+        p.firstOrder = optics::analyzeFirstOrder(at, o.lambdaNm, /*allowAfocal=*/true);
+        if (p.firstOrder.afocal) {
+            p.realRayEfl = std::numeric_limits<double>::quiet_NaN();
+            p.realRayProblem = "the lens is afocal: a ray parallel to the axis leaves parallel";
+        } else
+            try {
+                p.realRayEfl = optics::realRayEfl(at, o.lambdaNm, 1e-4 * 0.5 * p.firstOrder.entrancePupilDiameter);
+            } catch (const Error& e) {
+                // A check of the paraxial data, not part of them: the report goes on without it.
+                p.realRayEfl = std::numeric_limits<double>::quiet_NaN();
+                p.realRayProblem = e.message();
+                reporter.note({lens.file, 0, 0}, "the real-ray focal length could not be checked: " + p.realRayProblem);
+            }
         positions.push_back(p);
     }
     if (o.json) std::cout << lensInfoJson(lens, o.lambdaNm, positions).dump(2) << "\n";

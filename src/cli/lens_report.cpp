@@ -56,7 +56,11 @@ std::string lensInfoText(const Lens& lens, double lambdaNm, const std::vector<Po
     o << "  file: " << lens.file << " (" << lens.format << " format)\n";
     if (!lens.source.empty()) o << "  source: " << lens.source << "\n";
     if (!lens.patent.empty()) o << "  patent: " << lens.patent << "\n";
-    if (lens.nominalFocalLength) o << "  nominal focal length (header): " << text::roundTrip(*lens.nominalFocalLength) << " mm\n";
+    if (lens.nominalFocalLength)
+        o << "  nominal focal length (header): "
+          << (std::isinf(*lens.nominalFocalLength) ? std::string("inf (afocal)")
+                                                   : text::roundTrip(*lens.nominalFocalLength) + " mm")
+          << "\n";
     if (lens.fNumber) o << "  working f-number (header): f/" << text::roundTrip(*lens.fNumber) << "\n";
     if (lens.sensorMm) o << "  sensor: " << text::roundTrip(lens.sensorMm->first) << " x " << text::roundTrip(lens.sensorMm->second) << " mm\n";
     o << "  iris: " << (lens.apertureBlades ? std::to_string(lens.apertureBlades) + " blades" : std::string("circular"));
@@ -88,18 +92,31 @@ std::string lensInfoText(const Lens& lens, double lambdaNm, const std::vector<Po
         o << "\nFirst-order optics at " << fixed(lambdaNm, 2) << " nm";
         if (!p.label.empty()) o << ", zoom position " << p.label;
         o << ":\n";
-        o << row("effective focal length", fixed(f.efl, 3) + " mm");
-        o << row("back focal distance", fixed(f.bfd, 3) + " mm (last vertex to paraxial focus)");
-        o << row("front focal distance", fixed(f.ffd, 3) + " mm (front focal point to first vertex)");
+        if (f.afocal) {
+            o << row("effective focal length",
+                     "none: afocal (zero power), angular magnification " + fixed(f.angularMagnification, 4));
+        } else {
+            o << row("effective focal length", fixed(f.efl, 3) + " mm");
+            o << row("back focal distance", fixed(f.bfd, 3) + " mm (last vertex to paraxial focus)");
+            o << row("front focal distance", fixed(f.ffd, 3) + " mm (front focal point to first vertex)");
+        }
         o << row("entrance pupil", pupilZText(f.entrancePupilZ, "the first vertex") + ", diameter " + fixed(f.entrancePupilDiameter, 3) + " mm");
         o << row("exit pupil", pupilZText(f.exitPupilZ, "the last vertex") +
                                    (std::isfinite(f.exitPupilDiameter) ? ", diameter " + fixed(f.exitPupilDiameter, 3) + " mm" : std::string()));
-        o << row("f-number", "f/" + fixed(f.fNumber, 2));
+        if (!f.afocal) o << row("f-number", "f/" + fixed(f.fNumber, 2));
+        o << row("aperture stop",
+                 "surface " + std::to_string(lens.stopIndex() + 1) +
+                     (lens.stopInferred ? " (no stop row: the surface that limits the axial beam)" : ""));
         o << row("stop semi-aperture", fixed(f.stopSemiAperture, 3) + " mm");
-        o << row("sensor distance", fixed(f.imageDistance, 3) + " mm (last vertex to sensor; defocus " +
-                                        fixed(f.imageDistance - f.bfd, 3) + " mm)");
+        if (f.afocal)
+            o << row("sensor distance", fixed(f.imageDistance, 3) + " mm (last vertex to sensor)");
+        else
+            o << row("sensor distance", fixed(f.imageDistance, 3) + " mm (last vertex to sensor; defocus " +
+                                            fixed(f.imageDistance - f.bfd, 3) + " mm)");
         o << row("total track", fixed(f.totalTrack, 3) + " mm (first vertex to sensor)");
-        o << row("real-ray focal length", fixed(p.realRayEfl, 3) + " mm (ray at 1e-4 of the pupil radius)");
+        o << row("real-ray focal length", std::isfinite(p.realRayEfl)
+                                              ? fixed(p.realRayEfl, 3) + " mm (ray at 1e-4 of the pupil radius)"
+                                              : "not checked: " + p.realRayProblem);
         o << row("reflecting interfaces", std::to_string(f.reflectingInterfaces));
         o << row("two-bounce ghosts", std::to_string(f.ghostCount));
     }
@@ -117,7 +134,10 @@ nlohmann::json lensInfoJson(const Lens& lens, double lambdaNm, const std::vector
     j["content_hash"] = lens.contentHash;
     j["source"] = lens.source;
     j["patent"] = lens.patent;
-    j["nominal_focal_length_mm"] = optional(lens.nominalFocalLength);
+    j["nominal_focal_length_mm"] = optional(lens.nominalFocalLength); // null where absent or afocal (inf)
+    j["stop_surface"] = lens.stopIndex() + 1;
+    j["stop_inferred"] = lens.stopInferred;
+    j["afocal_header"] = lens.nominalFocalLength && std::isinf(*lens.nominalFocalLength);
     j["f_number_header"] = optional(lens.fNumber);
     j["sensor_mm"] = lens.sensorMm ? json::array({lens.sensorMm->first, lens.sensorMm->second}) : json(nullptr);
     j["aperture_blades"] = lens.apertureBlades;
@@ -150,18 +170,21 @@ nlohmann::json lensInfoJson(const Lens& lens, double lambdaNm, const std::vector
     for (const PositionReport& p : positions) {
         const optics::FirstOrder& f = p.firstOrder;
         pos.push_back({{"label", p.label},
-                       {"efl_mm", f.efl},
-                       {"bfd_mm", f.bfd},
-                       {"ffd_mm", f.ffd},
+                       {"efl_mm", finiteOrNull(f.efl)},
+                       {"bfd_mm", finiteOrNull(f.bfd)},
+                       {"ffd_mm", finiteOrNull(f.ffd)},
                        {"entrance_pupil_z_mm", f.entrancePupilZ},
                        {"entrance_pupil_diameter_mm", f.entrancePupilDiameter},
                        {"exit_pupil_z_mm", finiteOrNull(f.exitPupilZ)},
                        {"exit_pupil_diameter_mm", finiteOrNull(f.exitPupilDiameter)},
-                       {"f_number", f.fNumber},
+                       {"f_number", finiteOrNull(f.fNumber)},
+                       {"afocal", f.afocal},
+                       {"angular_magnification", f.afocal ? json(f.angularMagnification) : json(nullptr)},
                        {"stop_semi_aperture_mm", f.stopSemiAperture},
                        {"image_distance_mm", f.imageDistance},
                        {"total_track_mm", f.totalTrack},
-                       {"real_ray_efl_mm", p.realRayEfl},
+                       {"real_ray_efl_mm", finiteOrNull(p.realRayEfl)},
+                       {"real_ray_problem", p.realRayProblem},
                        {"reflecting_interfaces", f.reflectingInterfaces},
                        {"two_bounce_ghosts", f.ghostCount}});
     }

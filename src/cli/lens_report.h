@@ -16,7 +16,8 @@ namespace ff::cli {
 struct PositionReport {
     std::string label;
     optics::FirstOrder firstOrder;
-    double realRayEfl = 0.0; ///< EFL from a real ray at 1e-4 of the entrance-pupil radius
+    double realRayEfl = 0.0;    ///< EFL from a real ray at 1e-4 of the entrance-pupil radius (NaN: not checked)
+    std::string realRayProblem; ///< why the real ray could not be traced, where it could not
 };
 
 std::string lensInfoText(const optics::Lens& lens, double lambdaNm, const std::vector<PositionReport>& positions);

@@ -31,7 +31,8 @@ struct Lens {
 
     // --- surfaces ---
     std::vector<Surface> surfaces;
-    bool imageDistanceAuto = false; ///< last thickness was 'auto': the paraxial focus at the d line
+    bool imageDistanceAuto = false; ///< last thickness was 'auto' (or 0): the paraxial focus at the d line
+    bool stopInferred = false;      ///< no stop row: the stop is the surface that limits the axial beam
 
     // --- zoom ---
     std::vector<std::string> zoomLabels;          ///< empty for a prime lens

@@ -6,6 +6,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <limits>
 
 namespace ff::optics {
 
@@ -120,8 +121,10 @@ private:
         else if (key == "patent") lens_.patent = rest();
         else if (key == "focal_length") {
             needValues(1, "a focal length in mm");
-            const double f = number(value[0], "focal_length");
-            if (f == 0.0) fail(value[0].column, "'focal_length' must not be 0");
+            const std::string lower = text::toLower(value[0].text);
+            const double f = lower == "inf" || lower == "infinity" ? std::numeric_limits<double>::infinity()
+                                                                   : number(value[0], "focal_length");
+            if (f == 0.0) fail(value[0].column, "'focal_length' must not be 0 (write 'inf' for an afocal lens)");
             lens_.nominalFocalLength = f;
         } else if (key == "f_number") {
             needValues(1, "an f-number");
@@ -238,7 +241,12 @@ private:
         s.semiAperture = number(t[next], "semi_ap");
         if (s.semiAperture < 0.0)
             fail(t[next].column, "negative semi-aperture " + text::quoted(t[next].text) + "; expected the clear semi-diameter in mm (>= 0)");
-        if (s.semiAperture > 1e4) fail(t[next].column, "semi-aperture " + text::quoted(t[next].text) + " is beyond 10 m");
+        if (s.semiAperture > 1e4) {
+            // Libraries write 1e6 and the like for "no limit" (the Hologon's rear surfaces).
+            reporter_.note(at(t[next].column), "semi-aperture " + text::quoted(t[next].text) +
+                                                   " is beyond 10 m: read as unlimited (unclipped)");
+            s.semiAperture = 0.0;
+        }
         ++next;
 
         // optional coating column (a whole number of layers)

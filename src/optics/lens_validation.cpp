@@ -1,9 +1,11 @@
 #include "optics/lens_validation.h"
 
 #include "core/text.h"
+#include "core/units.h"
 #include "optics/paraxial.h"
 
 #include <cmath>
+#include <limits>
 
 namespace ff::optics {
 
@@ -19,11 +21,39 @@ void validateLens(Lens& lens, const SourceLocation& section, Reporter& reporter)
                                                     "); surface " + std::to_string(*stop + 1) + " is already the stop");
         stop = i;
     }
-    if (!stop)
-        throwInputError(section, "no aperture stop: mark one surface as the stop (a 'stop' row for a flat stop, "
-                                 "or the word 'stop' after the columns of a curved surface)");
+    if (!stop) {
+        // The aperture stop is the surface that limits the axial beam: the smallest ratio of clear
+        // semi-aperture to the height of the paraxial marginal ray from an axial object at infinity.
+        double best = std::numeric_limits<double>::infinity();
+        for (std::size_t i = 0; i < surfaces.size(); ++i) {
+            if (!(surfaces[i].semiAperture > 0.0)) continue;
+            const double y = std::abs(heightAt(lens, lines::d, {1.0, 0.0}, 0, i));
+            if (!(y > 1e-9) || !std::isfinite(y)) continue;
+            if (surfaces[i].semiAperture / y < best) {
+                best = surfaces[i].semiAperture / y;
+                stop = i;
+            }
+        }
+        if (!stop)
+            throwInputError(section,
+                            "no aperture stop, and no surface limits the axial beam (no semi-aperture is given): "
+                            "mark one surface as the stop (a 'stop' row for a flat stop, or the word 'stop' "
+                            "after the columns of a curved surface)");
+        surfaces[*stop].stop = true;
+        lens.stopInferred = true;
+        reporter.note(surfaces[*stop].origin, "no stop row: surface " + std::to_string(*stop + 1) +
+                                                  " limits the axial beam (semi-aperture / marginal-ray height " +
+                                                  text::fixed(best, 4) +
+                                                  ", the smallest) and is taken as the aperture stop");
+    }
 
-    const Surface& last = surfaces.back();
+    Surface& last = surfaces.back();
+    const bool lastZoomed = surfaces.size() <= lens.zoomGaps.size() && !lens.zoomGaps[surfaces.size() - 1].empty();
+    if (!lens.imageDistanceAuto && last.thickness == 0.0 && !lastZoomed) {
+        // As in pbrt's .dat and the patent-converted libraries: 0 means "at the paraxial image".
+        lens.imageDistanceAuto = true;
+        reporter.note(last.origin, "last thickness 0: read as 'auto', the sensor at the paraxial focus");
+    }
     if (!lens.imageDistanceAuto && !(last.thickness > 0.0))
         throwInputError(last.origin, "the last thickness (distance to the sensor) must be positive, got " +
                                          text::roundTrip(last.thickness) + "; use 'auto' for the paraxial focus");

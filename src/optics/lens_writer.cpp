@@ -2,6 +2,7 @@
 
 #include "core/text.h"
 
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -25,7 +26,9 @@ std::string writeLensText(const Lens& lens) {
     if (!lens.name.empty()) o << "name: " << lens.name << "\n";
     if (!lens.source.empty()) o << "source: " << lens.source << "\n";
     if (!lens.patent.empty()) o << "patent: " << lens.patent << "\n";
-    if (lens.nominalFocalLength) o << "focal_length: " << num(*lens.nominalFocalLength) << "\n";
+    if (lens.nominalFocalLength)
+        o << "focal_length: "
+          << (std::isinf(*lens.nominalFocalLength) ? std::string("inf") : num(*lens.nominalFocalLength)) << "\n";
     if (lens.fNumber) o << "f_number: " << num(*lens.fNumber) << "\n";
     if (lens.sensorMm) o << "sensor: " << num(lens.sensorMm->first) << "x" << num(lens.sensorMm->second) << "\n";
     if (lens.apertureBlades) o << "aperture_blades: " << lens.apertureBlades << "\n";

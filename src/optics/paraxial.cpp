@@ -75,7 +75,7 @@ double workingStopSemiAperture(const Lens& lens, bool* clamped) {
     return r;
 }
 
-FirstOrder analyzeFirstOrder(const Lens& lens, double lambdaNm) {
+FirstOrder analyzeFirstOrder(const Lens& lens, double lambdaNm, bool allowAfocal) {
     FirstOrder f;
     f.lambdaNm = lambdaNm;
     const std::size_t nS = lens.surfaces.size();
@@ -85,13 +85,20 @@ FirstOrder analyzeFirstOrder(const Lens& lens, double lambdaNm) {
     // Two base rays in object space at the first vertex: A (y = 1, w = 0), B (y = 0, w = 1).
     const ParaxialRay a = traceParaxial(lens, lambdaNm, {1.0, 0.0}, 0, nS);
     const ParaxialRay b = traceParaxial(lens, lambdaNm, {0.0, 1.0}, 0, nS);
-    if (std::abs(a.w) < 1e-15)
+    f.afocal = std::abs(a.w) < 1e-15;
+    if (f.afocal && !allowAfocal)
         throw Error(ErrorKind::Input, SourceLocation{lens.file}, "the lens is afocal (zero power)");
-    f.efl = -1.0 / a.w;
-    f.bfd = -a.y * nImage / a.w;
-    // The ray a A + b B leaves parallel when a wA + b wB = 0, e.g. a = wB, b = -wA. In object space
-    // it has y0 = a, u0 = b / n0 and crosses the axis at z_F = -y0 / u0 = n0 wB / wA.
-    f.ffd = -(n0 * b.w / a.w);
+    if (f.afocal) {
+        // A parallel beam leaves parallel; B's angle out over its angle in: u' / u = (wB / n') / (1 / n0).
+        f.efl = f.bfd = f.ffd = kInf;
+        f.angularMagnification = b.w * n0 / nImage;
+    } else {
+        f.efl = -1.0 / a.w;
+        f.bfd = -a.y * nImage / a.w;
+        // The ray a A + b B leaves parallel when a wA + b wB = 0, e.g. a = wB, b = -wA. In object
+        // space it has y0 = a, u0 = b / n0 and crosses the axis at z_F = -y0 / u0 = n0 wB / wA.
+        f.ffd = -(n0 * b.w / a.w);
+    }
 
     // Entrance pupil: object-space rays through the stop centre satisfy a yA_s + b yB_s = 0.
     const std::size_t s = lens.stopIndex();

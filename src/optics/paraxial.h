@@ -32,6 +32,8 @@ struct FirstOrder {
     double imageDistance = 0.0;    ///< last vertex to the sensor (the last thickness)
     std::size_t reflectingInterfaces = 0; ///< surfaces with an index step at lambdaNm
     std::size_t ghostCount = 0;    ///< two-bounce ghosts: m (m - 1) / 2
+    bool afocal = false;           ///< zero power: efl, bfd, ffd and fNumber are +inf
+    double angularMagnification = 0.0; ///< afocal only: u' / u of a ray through the first vertex
 };
 
 /// Traces a paraxial ray that enters surface `from` with state `in` (in the medium before it)
@@ -51,8 +53,9 @@ double paraxialBfd(const Lens& lens, double lambdaNm);
 /// clear aperture, it is clamped and `clamped` is set. Throws when neither is known.
 double workingStopSemiAperture(const Lens& lens, bool* clamped = nullptr);
 
-/// Full first-order analysis at lambdaNm.
-FirstOrder analyzeFirstOrder(const Lens& lens, double lambdaNm);
+/// Full first-order analysis at lambdaNm. An afocal lens (zero power) throws ff::Error (Input) unless
+/// allowAfocal, where its focal data are +inf and its angular magnification is given.
+FirstOrder analyzeFirstOrder(const Lens& lens, double lambdaNm, bool allowAfocal = false);
 
 /// Sets the last thickness to the paraxial back focal distance at the d line.
 void focusAtParaxialImage(Lens& lens);

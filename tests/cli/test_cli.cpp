@@ -84,3 +84,25 @@ TEST(Cli, ConvertWritesNativeLensAndNeverOverwritesItsInput) {
     EXPECT_EQ(info.code, 0) << info.err;
     EXPECT_TRUE(contains(info.out, "effective focal length    50.358 mm")) << info.out;
 }
+
+TEST(Cli, LensInfoReportsWhenTheRealRayCheckCannotBeMade) {
+    // A stop 5 mm in front of the first vertex written with a negative gap (as some patents list it):
+    // the paraxial data exist, the real ray launched 1 mm before the first vertex misses surface 2.
+    ff::test::TempDir dir;
+    ff::test::writeFile(dir / "n.lens", "name: n\nsurfaces:\n  stop -5 1 0 5\n  50 4 1.5 60 10\n  -50 40 1 0 10\n");
+    const RunResult r = run("lens info '" + (dir / "n.lens").string() + "'");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(contains(r.out, "effective focal length")) << r.out;
+    EXPECT_TRUE(contains(r.out, "real-ray focal length     not checked: a real ray")) << r.out;
+    EXPECT_TRUE(contains(r.err, "could not be checked")) << r.err;
+}
+
+TEST(Cli, LensInfoReportsAnAfocalLensAsSuch) {
+    ff::test::TempDir dir;
+    ff::test::writeFile(dir / "a.lens",
+                        "focal_length: inf\nsurfaces:\n  stop 5 1 0 8\n  0 5 1.5 0 10\n  0 20 1 0 10\n");
+    const RunResult r = run("lens info '" + (dir / "a.lens").string() + "'");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(contains(r.out, "nominal focal length (header): inf (afocal)")) << r.out;
+    EXPECT_TRUE(contains(r.out, "none: afocal (zero power), angular magnification 1.0000")) << r.out;
+}

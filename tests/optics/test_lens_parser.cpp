@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 using namespace ff;
 using namespace ff::optics;
 
@@ -117,4 +119,67 @@ TEST(LensParser, ToleratesCrLfAndBom) {
     const Lens lens = parseLensText("\xEF\xBB\xBFname: w\r\nsurfaces:\r\n  stop 1 1 0 5\r\n  50 40 1 0 10\r\n", "w.lens");
     EXPECT_EQ(lens.name, "w");
     EXPECT_EQ(lens.surfaces.size(), 2u);
+}
+
+// The rules for the patent-converted libraries' quirks (each quirk a file written here).
+
+namespace {
+bool said(const CollectingReporter& rep, const std::string& text) {
+    for (const Diagnostic& d : rep.diagnostics)
+        if (d.message.find(text) != std::string::npos) return true;
+    return false;
+}
+} // namespace
+
+TEST(LensParser, WithoutAStopRowTheSurfaceLimitingTheAxialBeamIsTheStop) {
+    // A biconvex singlet (f ~ 50 mm) then a flat surface of semi-aperture 3 mm 20 mm behind it. The
+    // marginal ray from infinity has height 1 at the singlet and, converging towards a focus ~50 mm
+    // away, between 0.3 and 1 at the flat surface: 3 / y there is under 10 = 10 / y at the singlet
+    // (y ~ 1), so the flat surface limits the axial beam.
+    CollectingReporter rep;
+    const Lens lens = parseLensText("surfaces:\n  50 4 1.5 60 10\n  -50 20 1 0 10\n  0 30 1 0 3\n", "n.lens", &rep);
+    EXPECT_TRUE(lens.stopInferred);
+    EXPECT_EQ(lens.stopIndex(), 2u);
+    const double y = heightAt(lens, lines::d, {1.0, 0.0}, 0, 2);
+    EXPECT_GT(y, 0.3);
+    EXPECT_LT(y, 1.0);
+    EXPECT_TRUE(said(rep, "no stop row: surface 3 limits the axial beam"));
+    // The same prescription with the limiting surface wider: the singlet's front now limits.
+    const Lens wide = parseLensText("surfaces:\n  50 4 1.5 60 10\n  -50 20 1 0 10\n  0 30 1 0 9.5\n", "w.lens");
+    EXPECT_EQ(wide.stopIndex(), 0u);
+    // Nothing limits the beam (no semi-aperture anywhere): refused, saying why.
+    try {
+        parseLensText("surfaces:\n  50 4 1.5 60 0\n  -50 40 1 0 0\n", "z.lens");
+        FAIL() << "expected an error";
+    } catch (const Error& e) {
+        EXPECT_NE(e.message().find("no surface limits the axial beam"), std::string::npos) << e.message();
+    }
+}
+
+TEST(LensParser, ALastThicknessOfZeroIsTheParaxialFocus) {
+    CollectingReporter rep;
+    const Lens zero = parseLensText("surfaces:\n  stop 1 1 0 5\n  50 4 1.5 60 10\n  -50 0 1 0 10\n", "z.lens", &rep);
+    EXPECT_TRUE(zero.imageDistanceAuto);
+    EXPECT_TRUE(said(rep, "last thickness 0: read as 'auto'"));
+    // The sensor at the paraxial focus: a ray parallel to the axis crosses it there.
+    const ParaxialRay out = traceParaxial(zero, lines::d, {1.0, 0.0}, 0, zero.surfaces.size());
+    EXPECT_NEAR(out.y + zero.surfaces.back().thickness * out.w, 0.0, 1e-12);
+    EXPECT_GT(zero.surfaces.back().thickness, 0.0);
+    EXPECT_THROW(parseLensText("surfaces:\n  stop 1 1 0 5\n  50 4 1.5 60 10\n  -50 -3 1 0 10\n", "n.lens"), Error);
+}
+
+TEST(LensParser, AnInfiniteFocalLengthIsAfocalAndAHugeSemiApertureIsUnlimited) {
+    CollectingReporter rep;
+    const Lens lens =
+        parseLensText("focal_length: inf\nsurfaces:\n  stop 5 1 0 8\n  0 5 1.5 0 1e6\n  0 20 1 0 10\n", "a.lens", &rep);
+    ASSERT_TRUE(lens.nominalFocalLength);
+    EXPECT_TRUE(std::isinf(*lens.nominalFocalLength));
+    EXPECT_EQ(lens.surfaces[1].semiAperture, 0.0); // unclipped
+    EXPECT_TRUE(said(rep, "read as unlimited"));
+    // A flat plate has no power: refused by default, described when asked.
+    EXPECT_THROW(analyzeFirstOrder(lens, lines::d), Error);
+    const FirstOrder f = analyzeFirstOrder(lens, lines::d, /*allowAfocal=*/true);
+    EXPECT_TRUE(f.afocal);
+    EXPECT_TRUE(std::isinf(f.efl));
+    EXPECT_NEAR(f.angularMagnification, 1.0, 1e-12); // a plate turns no ray
 }

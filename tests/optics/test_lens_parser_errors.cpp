@@ -44,7 +44,8 @@ std::vector<BadCase> badCases() {
         {"fractional coating layers", kHead + "  10 2 1.5 60 5 1.5\n" + kTail,
          "t.lens:3:17: expected a whole number of coating layers (0..20) for 'coating', got '1.5'"},
         {"unknown word after the columns", kHead + "  10 2 1.5 60 5 1 sto\n" + kTail,
-         "t.lens:3:19: unexpected 'sto' after the surface columns; expected 'stop', a shape (sph, cyl_x, cyl_y, toric), "
+         "t.lens:3:19: unexpected 'sto' after the surface columns; expected 'stop', a shape (sph, cyl_x, cyl_y, "
+         "toric), "
          "conic=K, asph=A4,A6,... or coating=SPEC"},
         {"unknown surface option", kHead + "  10 2 1.5 60 5 1 conik=1\n" + kTail,
          "t.lens:3:19: unknown surface option 'conik'; valid options: conic=K, asph=A4,A6,..., coating=SPEC"},
@@ -53,45 +54,55 @@ std::vector<BadCase> badCases() {
         {"bad asphere term", kHead + "  10 2 1.5 60 5 1 asph=1e-5,zz\n" + kTail,
          "t.lens:3:29: expected a number in 'asph=A4,A6,...', got 'zz'"},
         {"bad coating spec", kHead + "  10 2 1.5 60 5 1 coating=mgf3\n" + kTail,
-         "t.lens:3:27: unknown coating 'mgf3'; valid forms: none, mgf2 [LAMBDA0_NM], stack(MATERIAL:WAVES,...) [LAMBDA0_NM]"},
+         "t.lens:3:27: unknown coating 'mgf3'; valid forms: none, mgf2 [LAMBDA0_NM], stack(MATERIAL:WAVES,...) "
+         "[LAMBDA0_NM]"},
         {"unknown glass", kHead + "  10 2 NBK7 5 1\n" + kTail,
          "t.lens:3:8: unknown glass 'NBK7'; did you mean N-BK7, N-ZK7 or N-BAK1? (the catalogue is data/glass/; give "
          "'nd Vd' instead for other glasses)"},
         {"unknown header key", "focal: 50\n" + kHead + kTail,
          "t.lens:1:1: unknown header key 'focal'; did you mean focal_length?"},
         {"unknown header key, nothing close", "lens_maker: x\n" + kHead + kTail,
-         "t.lens:1:1: unknown header key 'lens_maker'; valid keys: name, focal_length, f_number, sensor, aperture_blades, "
+         "t.lens:1:1: unknown header key 'lens_maker'; valid keys: name, focal_length, f_number, sensor, "
+         "aperture_blades, "
          "blade_rotation, coating, source, patent, zoom_positions, surfaces"},
         {"duplicate header key", "name: a\n" + kHead + kTail, "t.lens:2:1: duplicate header key 'name'"},
         {"header key after surfaces", kHead + kTail + "f_number: 2\n",
          "t.lens:6:1: header key 'f_number:' after 'surfaces:'; header keys must come before the surface rows"},
         {"row before surfaces", "name: t\n  10 2 1.5 60 5 1\nsurfaces:\n" + kTail,
          "t.lens:2:3: surface row before 'surfaces:'; add a line 'surfaces:' above the rows"},
-        {"no surfaces section", "name: t\n", "t.lens:2: no 'surfaces:' section: expected a line 'surfaces:' followed by one row per surface"},
+        {"no surfaces section", "name: t\n",
+         "t.lens:2: no 'surfaces:' section: expected a line 'surfaces:' followed by one row per surface"},
         {"empty surfaces section", kHead, "t.lens:2:1: the 'surfaces:' section has no surface rows"},
         {"junk after surfaces", "surfaces: now\n" + kTail, "t.lens:1:11: unexpected 'now' after 'surfaces:'"},
-        {"missing stop", kHead + "  50 4 1.5 60 10\n  -50 40 1 0 10\n",
-         "t.lens:2:1: no aperture stop: mark one surface as the stop (a 'stop' row for a flat stop, or the word 'stop' "
-         "after the columns of a curved surface)"},
-        {"two stops", kHead + "  20 1 1 0 5 0 stop\n" + kTail, "t.lens:4:3: a second aperture stop (surface 2); surface 1 is already the stop"},
+        {"no stop and no semi-aperture", kHead + "  50 4 1.5 60 0\n  -50 40 1 0 0\n",
+         "t.lens:2:1: no aperture stop, and no surface limits the axial beam (no semi-aperture is given): mark one "
+         "surface as the stop (a 'stop' row for a flat stop, or the word 'stop' after the columns of a curved "
+         "surface)"},
+        {"two stops", kHead + "  20 1 1 0 5 0 stop\n" + kTail,
+         "t.lens:4:3: a second aperture stop (surface 2); surface 1 is already the stop"},
         {"stop without opening", kHead + "  stop 2 1 0 0\n  50 4 1.5 60 10\n  -50 40 1 0 10\n",
-         "t.lens:3:3: the stop has no semi-aperture (0) and the header gives no 'f_number:'; give one of them to set the aperture"},
-        {"zero image distance", kHead + "  stop 2 1 0 5\n  50 4 1.5 60 10\n  -50 0 1 0 10\n",
-         "t.lens:5:3: the last thickness (distance to the sensor) must be positive, got 0; use 'auto' for the paraxial focus"},
+         "t.lens:3:3: the stop has no semi-aperture (0) and the header gives no 'f_number:'; give one of them to set "
+         "the aperture"},
+        {"negative image distance", kHead + "  stop 2 1 0 5\n  50 4 1.5 60 10\n  -50 -2 1 0 10\n",
+         "t.lens:5:3: the last thickness (distance to the sensor) must be positive, got -2; use 'auto' for the "
+         "paraxial focus"},
         {"auto not last", kHead + "  stop auto 1 0 5\n  50 4 1.5 60 10\n  -50 40 1 0 10\n",
          "t.lens:3:8: 'auto' thickness is only allowed on the last row (the distance to the sensor)"},
         {"zoom list without positions", kHead + "  stop 2,3 1 0 5\n  50 4 1.5 60 10\n  -50 40 1 0 10\n",
          "t.lens:3:8: a thickness list (zoom) needs 'zoom_positions:' in the header"},
-        {"zoom list of the wrong length", "zoom_positions: a b c\n" + kHead + "  stop 2,3 1 0 5\n  50 4 1.5 60 10\n  -50 40 1 0 10\n",
+        {"zoom list of the wrong length",
+         "zoom_positions: a b c\n" + kHead + "  stop 2,3 1 0 5\n  50 4 1.5 60 10\n  -50 40 1 0 10\n",
          "t.lens:4:8: expected 3 thicknesses (one per zoom position), got 2"},
         {"bad sensor", "sensor: 36by24\n" + kHead + kTail,
          "t.lens:1:9: expected the sensor size as WIDTHxHEIGHT in mm (e.g. 36x24), got '36by24'"},
         {"two-blade iris", "aperture_blades: 2\n" + kHead + kTail,
          "t.lens:1:18: expected a blade count of 0 (circular) or 3..64, got '2'"},
-        {"absurd f-number", "f_number: 0\n" + kHead + kTail, "t.lens:1:11: 'f_number' must be between 0.3 and 1000, got '0'"},
+        {"absurd f-number", "f_number: 0\n" + kHead + kTail,
+         "t.lens:1:11: 'f_number' must be between 0.3 and 1000, got '0'"},
         {"junk after a header value", "focal_length: 50 mm\n" + kHead + kTail,
          "t.lens:1:18: unexpected 'mm' after the value of 'focal_length:'"},
-        {"nul byte", kHead + std::string("  10 2 1.5\0 60 5 1\n", 19) + kTail, "t.lens:3:11: not a text file (NUL byte)"},
+        {"nul byte", kHead + std::string("  10 2 1.5\0 60 5 1\n", 19) + kTail,
+         "t.lens:3:11: not a text file (NUL byte)"},
         {"control character", kHead + "  10 2 1.5\x07 60 5 1\n" + kTail,
          "t.lens:3:11: unexpected control character '\\x07'; is this a text file?"},
         {"invalid utf-8", "name: caf\xE9\n" + kHead + kTail,
