@@ -4,7 +4,7 @@
 #include "cli/commands.h"
 #include "cli/console.h"
 #include "core/error.h"
-#include "ff/version.h"
+#include "image/image_output.h"
 
 #include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
@@ -12,6 +12,9 @@
 #include <cstdio>
 #include <exception>
 #include <memory>
+#include <thread>
+
+#include "ff/version.h"
 
 int main(int argc, char** argv) {
     using namespace ff::cli;
@@ -38,6 +41,9 @@ int main(int argc, char** argv) {
 
     std::unique_ptr<tbb::global_control> threadLimit;
     app.parse_complete_callback([&] {
+        // EXR (de)compression on as many threads as the rest of the work.
+        ff::image::setExrThreads(threads > 0 ? threads
+                                             : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
         if (threads > 0)
             threadLimit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
     });

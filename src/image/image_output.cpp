@@ -10,6 +10,10 @@
 
 namespace ff::image {
 
+void setExrThreads(int n) {
+    OIIO::attribute("exr_threads", std::max(n, 1));
+}
+
 void writeExr(const std::string& path, int width, int height, const std::vector<std::string>& channels,
               const std::vector<float>& pixels, const Metadata& metadata) {
     if (pixels.size() != static_cast<std::size_t>(width) * height * channels.size())
