@@ -86,20 +86,67 @@ std::vector<std::string_view> split(std::string_view s, char sep) {
     return parts;
 }
 
-std::string quoted(std::string_view s) {
-    constexpr std::size_t kMax = 40;
-    std::string r = "'";
-    for (std::size_t i = 0; i < s.size() && i < kMax; ++i) {
+namespace {
+
+// Length of the valid UTF-8 sequence starting at s[i] (1 to 4), or 0 if it is not one (RFC 3629:
+// no overlong forms, no surrogates, nothing beyond U+10FFFF).
+std::size_t utf8Length(std::string_view s, std::size_t i) {
+    const auto at = [&](std::size_t k) { return k < s.size() ? static_cast<unsigned char>(s[k]) : 0u; };
+    const unsigned c = at(i);
+    if (c < 0x80) return 1;
+    std::size_t n = 0;
+    unsigned lo = 0x80, hi = 0xbf; // the allowed range of the second byte
+    if (c >= 0xc2 && c <= 0xdf)
+        n = 2;
+    else if (c >= 0xe0 && c <= 0xef) {
+        n = 3;
+        if (c == 0xe0) lo = 0xa0;
+        if (c == 0xed) hi = 0x9f;
+    } else if (c >= 0xf0 && c <= 0xf4) {
+        n = 4;
+        if (c == 0xf0) lo = 0x90;
+        if (c == 0xf4) hi = 0x8f;
+    } else
+        return 0;
+    if (at(i + 1) < lo || at(i + 1) > hi) return 0;
+    for (std::size_t k = 2; k < n; ++k)
+        if (at(i + k) < 0x80 || at(i + k) > 0xbf) return 0;
+    return n;
+}
+
+std::string escaped(std::string_view s, bool keepLineBreaks) {
+    std::string r;
+    r.reserve(s.size());
+    for (std::size_t i = 0; i < s.size();) {
         const auto c = static_cast<unsigned char>(s[i]);
-        if (c < 0x20 || c == 0x7f) {
+        const std::size_t n = utf8Length(s, i);
+        if (n == 0 || (n == 1 && (c < 0x20 || c == 0x7f) && !(keepLineBreaks && (c == '\n' || c == '\t')))) {
             char buf[8];
             std::snprintf(buf, sizeof buf, "\\x%02x", c);
             r += buf;
+            ++i;
         } else {
-            r += static_cast<char>(c);
+            r.append(s.substr(i, n));
+            i += n;
         }
     }
-    if (s.size() > kMax) r += "...";
+    return r;
+}
+
+} // namespace
+
+std::string printable(std::string_view s) {
+    return escaped(s, true);
+}
+
+std::string quoted(std::string_view s) {
+    constexpr std::size_t kMax = 40;
+    std::string r = "'";
+    // Cut at kMax bytes, but not inside a UTF-8 sequence.
+    std::size_t cut = 0;
+    while (cut < s.size() && cut < kMax) cut += std::max<std::size_t>(1, utf8Length(s, cut));
+    r += escaped(s.substr(0, std::min(cut, s.size())), false);
+    if (s.size() > cut) r += "...";
     return r + "'";
 }
 

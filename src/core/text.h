@@ -34,9 +34,12 @@ bool startsWith(std::string_view s, std::string_view prefix);
 /// Splits s on a single separator character, keeping empty fields.
 std::vector<std::string_view> split(std::string_view s, char sep);
 
-/// Renders a token for an error message: quoted and shortened if very long, with control
-/// characters escaped so a binary file cannot garble the terminal.
+/// Renders a token for an error message: quoted and shortened if very long, escaped as printable().
 std::string quoted(std::string_view s);
+
+/// s with every byte that is not part of valid UTF-8, and every control character but newline and
+/// tab, written as \xNN: what a message may carry from a file's bytes to a terminal or a log.
+std::string printable(std::string_view s);
 
 /// Edit distance (insertions, deletions, substitutions), case-insensitive.
 std::size_t editDistance(std::string_view a, std::string_view b);

@@ -106,3 +106,16 @@ TEST(Cli, LensInfoReportsAnAfocalLensAsSuch) {
     EXPECT_TRUE(contains(r.out, "nominal focal length (header): inf (afocal)")) << r.out;
     EXPECT_TRUE(contains(r.out, "none: afocal (zero power), angular magnification 1.0000")) << r.out;
 }
+
+TEST(Cli, ErrorsPrintRawBytesEscaped) {
+    // A plate that is not an image, under a name that is not UTF-8: the message names it escaped.
+    ff::test::TempDir dir;
+    const std::string plate = (dir / "p\xff\x1b.exr").string();
+    ff::test::writeFile(plate, "garbage\xff\xfe");
+    const RunResult r = run("simulate --lens lenses/double-gauss-50mm-f2.lens --plate '" + plate + "' -o '" +
+                            (dir / "o.exr").string() + "'");
+    EXPECT_NE(r.code, 0) << r.err;
+    EXPECT_TRUE(contains(r.err, "p\\xff\\x1b.exr")) << r.err;
+    for (char c : r.err) EXPECT_TRUE(static_cast<unsigned char>(c) < 0x80 && (c >= 0x20 || c == '\n')) << int(c);
+    EXPECT_FALSE(std::filesystem::exists(dir / "o.exr"));
+}

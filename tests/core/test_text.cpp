@@ -52,3 +52,16 @@ TEST(Text, QuotedEscapesControlCharactersAndShortens) {
 TEST(Text, RoundTripReadsBackExactly) {
     for (double v : {0.1, 1.0 / 3.0, 123456.789e-12, -42.0}) EXPECT_EQ(*parseNumber(roundTrip(v)), v);
 }
+
+TEST(Text, PrintableEscapesEverythingButValidUtf8AndLineBreaks) {
+    using ff::text::printable;
+    EXPECT_EQ(printable("plain, caf\xc3\xa9, \xe2\x82\xac, \xf0\x9f\x94\x86\n\tend"),
+              "plain, caf\xc3\xa9, \xe2\x82\xac, \xf0\x9f\x94\x86\n\tend");
+    EXPECT_EQ(printable("\xff\xfe"), "\\xff\\xfe");                       // bytes that never start UTF-8
+    EXPECT_EQ(printable("\xc0\xaf"), "\\xc0\\xaf");                       // overlong '/'
+    EXPECT_EQ(printable("\xed\xa0\x80"), "\\xed\\xa0\\x80");              // a UTF-16 surrogate
+    EXPECT_EQ(printable("\xf4\x90\x80\x80"), "\\xf4\\x90\\x80\\x80");     // beyond U+10FFFF
+    EXPECT_EQ(printable("a\xe2\x82"), "a\\xe2\\x82");                     // cut short at the end
+    EXPECT_EQ(printable(std::string("\x1b[31m\0", 6)), "\\x1b[31m\\x00"); // terminal escapes, NUL
+    EXPECT_EQ(ff::text::quoted("a\nb\xff"), "'a\\x0ab\\xff'");
+}
