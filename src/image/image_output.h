@@ -12,12 +12,12 @@ namespace ff::image {
 /// String attributes recorded in the file header (tool version, command line, lens hash, ...).
 using Metadata = std::vector<std::pair<std::string, std::string>>;
 
-/// Writes a single-part, zip-compressed float EXR; `pixels` is width x height x channels.size(),
-/// interleaved, rows top to bottom.
 /// Threads OpenEXR compresses and decompresses with (process-wide; n >= 1). The bytes written do not
 /// depend on it: each chunk of scanlines is compressed on its own, and the chunks are written in order.
 void setExrThreads(int n);
 
+/// Writes a single-part, zip-compressed float EXR; `pixels` is width x height x channels.size(),
+/// interleaved, rows top to bottom.
 void writeExr(const std::string& path, int width, int height, const std::vector<std::string>& channels,
               const std::vector<float>& pixels, const Metadata& metadata);
 

@@ -54,14 +54,18 @@ void CoverageRaster::polygon(std::span<const Vec2> poly, double e, RasterStats& 
         lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
         hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
     }
-    // A polygon inside one pixel (or of no area: a point, a segment) puts its energy in that pixel;
-    // without area it is splatted bilinearly at its vertices' mean.
-    if (std::floor(lo.x) == std::floor(hi.x) && std::floor(lo.y) == std::floor(hi.y) && area != 0.0) {
+    if (!std::isfinite(area)) { // a vertex at infinity or NaN: nowhere in the image
+        stats.offImage += e;
+        return;
+    }
+    // A polygon inside one pixel puts its energy in that pixel; one of no area (a point, a segment) is
+    // splatted bilinearly at its vertices' mean.
+    const bool nearFrame = std::abs(lo.x) < 1e9 && std::abs(lo.y) < 1e9; // pixel indices fit an int
+    if (nearFrame && std::floor(lo.x) == std::floor(hi.x) && std::floor(lo.y) == std::floor(hi.y) && area != 0.0) {
         pixel(static_cast<int>(std::floor(lo.x)), static_cast<int>(std::floor(lo.y)), e, stats);
         return;
     }
-    if (area == 0.0 || !std::isfinite(area)) {
-        if (!std::isfinite(area)) return;
+    if (area == 0.0) {
         Vec2 mean(0.0);
         for (const Vec2& p : poly) mean += p;
         point(mean / static_cast<double>(poly.size()), e, stats);
