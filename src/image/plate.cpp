@@ -3,21 +3,22 @@
 #include "core/error.h"
 #include "image/atomic_write.h"
 
+#include <OpenEXR/ImfRgbaFile.h>
 #include <OpenImageIO/imageio.h>
-
-#include <fcntl.h>
-#include <poll.h>
-#include <spawn.h>
-#include <signal.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fcntl.h>
+#include <optional>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 extern char** environ;
 
@@ -83,10 +84,104 @@ void findChannels(const std::string& path, Plate& p) {
     bad(path, "no R, G, B (or Y) channels to find lights in; the channels are: " + list);
 }
 
+// A plate with a majority of negative, NaN or infinite pixels is not image data.
+void checkValues(const std::string& path, const Plate& p) {
+    // A plate is light: mostly finite, non-negative values. A few NaN, infinite or negative pixels are
+    // tolerated (and reported by light detection); a majority means the data is not an image.
+    std::size_t invalid = 0;
+    for (std::size_t i = 0; i < p.pixelCount(); ++i) {
+        const float r = p.value(i, p.r), g = p.value(i, p.g), b = p.value(i, p.b);
+        invalid += !(std::isfinite(r) && std::isfinite(g) && std::isfinite(b) && r >= 0.0f && g >= 0.0f && b >= 0.0f);
+    }
+    if (2 * invalid > p.pixelCount())
+        bad(path, std::to_string(invalid) + " of " + std::to_string(p.pixelCount()) +
+                      " pixels have negative, NaN or infinite colour values: this is not usable image data");
+}
+
+// An OpenEXR file whose channels are the luminance/chroma set (Y, RY, BY, the chroma subsampled),
+// which OpenImageIO cannot read, read as R, G, B (A where it has one) through OpenEXR's
+// RgbaInputFile: chroma reconstructed and converted with the file's chromaticities. The output then
+// carries R, G, B (A) as half floats in place of Y, RY, BY. Empty when the file is not such an EXR.
+std::optional<Plate> readLuminanceChroma(const std::string& path, const PlateLimits& limits, bool keepNative) {
+    {
+        std::FILE* f = std::fopen(path.c_str(), "rb");
+        if (!f) return std::nullopt;
+        unsigned char magic[4] = {};
+        const std::size_t got = std::fread(magic, 1, 4, f);
+        std::fclose(f);
+        if (got != 4 || magic[0] != 0x76 || magic[1] != 0x2f || magic[2] != 0x31 || magic[3] != 0x01)
+            return std::nullopt;
+    }
+    Plate p;
+    p.path = path;
+    std::vector<Imf::Rgba> px;
+    try {
+        Imf::RgbaInputFile f(path.c_str());
+        if (!(f.channels() & Imf::WRITE_C)) return std::nullopt;
+        const Imath::Box2i dw = f.dataWindow(), disp = f.displayWindow();
+        const long w = static_cast<long>(dw.max.x) - dw.min.x + 1, h = static_cast<long>(dw.max.y) - dw.min.y + 1;
+        const int channels = (f.channels() & Imf::WRITE_A) ? 4 : 3;
+        OIIO::ImageSpec spec(static_cast<int>(std::clamp(w, 0L, 1L << 30)),
+                             static_cast<int>(std::clamp(h, 0L, 1L << 30)), channels, OIIO::TypeDesc::HALF);
+        checkSpec(path, spec, limits); // before any pixel is allocated
+        spec.x = dw.min.x;
+        spec.y = dw.min.y;
+        spec.full_x = disp.min.x;
+        spec.full_y = disp.min.y;
+        spec.full_width = disp.max.x - disp.min.x + 1;
+        spec.full_height = disp.max.y - disp.min.y + 1;
+        spec.channelnames = {"R", "G", "B"};
+        if (channels == 4) spec.channelnames.emplace_back("A");
+        px.resize(static_cast<std::size_t>(w * h));
+        f.setFrameBuffer(px.data() - dw.min.x - static_cast<long>(dw.min.y) * w, 1, static_cast<std::size_t>(w));
+        f.readPixels(dw.min.y, dw.max.y);
+
+        p.width = spec.width;
+        p.height = spec.height;
+        p.originX = spec.x;
+        p.originY = spec.y;
+        p.displayX = spec.full_x;
+        p.displayY = spec.full_y;
+        p.displayWidth = spec.full_width;
+        p.displayHeight = spec.full_height;
+        p.channels = spec.channelnames;
+        p.notes.push_back("a luminance/chroma plate (Y, RY, BY): read as RGB through OpenEXR's RGBA interface; the "
+                          "output carries R, G, B" +
+                          std::string(channels == 4 ? ", A" : "") + " in their place");
+        p.pixels.resize(px.size() * static_cast<std::size_t>(channels));
+        std::vector<half> native(p.pixels.size());
+        for (std::size_t i = 0; i < px.size(); ++i) {
+            const half v[4] = {px[i].r, px[i].g, px[i].b, px[i].a};
+            for (std::size_t c = 0; c < static_cast<std::size_t>(channels); ++c) {
+                native[i * channels + c] = v[c];
+                p.pixels[i * channels + c] = static_cast<float>(v[c]);
+            }
+        }
+        if (keepNative) {
+            auto file = std::make_shared<PlateFile>();
+            file->spec = spec;
+            file->native.resize(native.size() * sizeof(half));
+            std::memcpy(file->native.data(), native.data(), file->native.size());
+            p.file = std::move(file);
+        }
+    } catch (const Error&) {
+        throw;
+    } catch (const std::exception& e) {
+        bad(path, "cannot read the luminance/chroma image: " + firstLine(e.what()));
+    }
+    findChannels(path, p);
+    checkValues(path, p);
+    return p;
+}
+
 // Opens, checks and reads the first part. `keepNative` also reads the native channel data.
 Plate readDirect(const std::string& path, const PlateLimits& limits, bool keepNative) {
     auto in = OIIO::ImageInput::open(path);
-    if (!in) bad(path, "cannot read the image: " + firstLine(OIIO::geterror()));
+    if (!in) {
+        const std::string error = firstLine(OIIO::geterror());
+        if (std::optional<Plate> yc = readLuminanceChroma(path, limits, keepNative)) return std::move(*yc);
+        bad(path, "cannot read the image: " + error);
+    }
     Plate p;
     p.path = path;
     const OIIO::ImageSpec spec = in->spec();
@@ -105,17 +200,9 @@ Plate readDirect(const std::string& path, const PlateLimits& limits, bool keepNa
     findChannels(path, p);
     const int n = spec.nchannels;
     p.pixels.resize(p.pixelCount() * static_cast<std::size_t>(n));
-    if (!in->read_image(0, 0, 0, n, OIIO::TypeDesc::FLOAT, p.pixels.data())) bad(path, "cannot read the pixels: " + firstLine(in->geterror()));
-    // A plate is light: mostly finite, non-negative values. A few NaN, infinite or negative pixels are
-    // tolerated (and reported by light detection); a majority means the data is not an image.
-    std::size_t invalid = 0;
-    for (std::size_t i = 0; i < p.pixelCount(); ++i) {
-        const float r = p.value(i, p.r), g = p.value(i, p.g), b = p.value(i, p.b);
-        invalid += !(std::isfinite(r) && std::isfinite(g) && std::isfinite(b) && r >= 0.0f && g >= 0.0f && b >= 0.0f);
-    }
-    if (2 * invalid > p.pixelCount())
-        bad(path, std::to_string(invalid) + " of " + std::to_string(p.pixelCount()) +
-                      " pixels have negative, NaN or infinite colour values: this is not usable image data");
+    if (!in->read_image(0, 0, 0, n, OIIO::TypeDesc::FLOAT, p.pixels.data()))
+        bad(path, "cannot read the pixels: " + firstLine(in->geterror()));
+    checkValues(path, p);
     if (keepNative) {
         auto file = std::make_shared<PlateFile>();
         file->spec = spec;

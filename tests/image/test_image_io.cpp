@@ -1,7 +1,10 @@
 #include "image/image_output.h"
+#include "image/plate.h"
 
+#include <OpenEXR/ImfRgbaFile.h>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -35,4 +38,50 @@ TEST(ExrWriting, SameBytesOnOneAndTwoThreads) {
     const std::string a = bytesOf(dir / "one.exr"), b = bytesOf(dir / "two.exr");
     ASSERT_GT(a.size(), 1000u);
     EXPECT_TRUE(a == b);
+}
+
+TEST(PlateReading, ALuminanceChromaPlateReadsAsRgb) {
+    // OpenEXR's luminance/chroma encoding stores Y at full resolution and RY = (R - Y) / Y,
+    // BY = (B - Y) / Y subsampled 2 x 2. One hue at varying brightness has constant RY and BY, so the
+    // subsampling loses nothing and RGB must come back within half-float rounding (a few 1e-3).
+    const int W = 38, H = 22; // even: the chroma is subsampled 2 x 2
+    std::vector<Imf::Rgba> px(static_cast<std::size_t>(W) * H);
+    auto rgbAt = [](int x, int y) {
+        const float k = 0.2f + 3.0f * static_cast<float>(x + 2 * y) / (W + 2 * H);
+        return std::array<float, 3>{0.8f * k, 0.5f * k, 0.2f * k};
+    };
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const auto c = rgbAt(x, y);
+            px[static_cast<std::size_t>(y) * W + x] = Imf::Rgba(c[0], c[1], c[2], 1.0f);
+        }
+    ff::test::TempDir dir;
+    const std::string path = (dir / "yc.exr").string();
+    {
+        Imf::Header header(W, H);
+        Imf::RgbaOutputFile out(path.c_str(), header, Imf::WRITE_YC);
+        out.setYCRounding(10, 10); // keep all of half's mantissa (the default rounds chroma to 5 bits)
+        out.setFrameBuffer(px.data(), 1, W);
+        out.writePixels(H);
+    }
+    const image::Plate plate = image::readPlate(path);
+    ASSERT_EQ(plate.width, W);
+    ASSERT_EQ(plate.height, H);
+    EXPECT_EQ(plate.channels, (std::vector<std::string>{"R", "G", "B"}));
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const auto c = rgbAt(x, y);
+            const std::size_t i = static_cast<std::size_t>(y) * W + x;
+            EXPECT_NEAR(plate.value(i, plate.r), c[0], 4e-3 * c[0]) << x << "," << y;
+            EXPECT_NEAR(plate.value(i, plate.g), c[1], 4e-3 * c[1]) << x << "," << y;
+            EXPECT_NEAR(plate.value(i, plate.b), c[2], 4e-3 * c[2]) << x << "," << y;
+        }
+    ASSERT_FALSE(plate.notes.empty());
+    EXPECT_NE(plate.notes.back().find("luminance/chroma"), std::string::npos);
+    // And simulate's writer keeps the converted channels beside the flare layers.
+    const std::vector<float> flare(plate.pixelCount() * 3, 0.0f);
+    image::writeSimulatedExr((dir / "out.exr").string(), plate, flare, plate.rgb(), {});
+    const image::Plate back = image::readPlate((dir / "out.exr").string());
+    EXPECT_EQ(back.channels.size(), 9u);
+    EXPECT_EQ(back.value(5, back.r), plate.value(5, plate.r));
 }
