@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
+#include <memory>
 #include <optional>
 #include <poll.h>
 #include <signal.h>
@@ -115,8 +116,14 @@ std::optional<Plate> readLuminanceChroma(const std::string& path, const PlateLim
     Plate p;
     p.path = path;
     std::vector<Imf::Rgba> px;
+    std::unique_ptr<Imf::RgbaInputFile> file;
     try {
-        Imf::RgbaInputFile f(path.c_str());
+        file = std::make_unique<Imf::RgbaInputFile>(path.c_str());
+    } catch (const std::exception&) {
+        return std::nullopt; // not a readable EXR header: OpenImageIO's message says why
+    }
+    try {
+        Imf::RgbaInputFile& f = *file;
         if (!(f.channels() & Imf::WRITE_C)) return std::nullopt;
         const Imath::Box2i dw = f.dataWindow(), disp = f.displayWindow();
         const long w = static_cast<long>(dw.max.x) - dw.min.x + 1, h = static_cast<long>(dw.max.y) - dw.min.y + 1;
@@ -128,8 +135,8 @@ std::optional<Plate> readLuminanceChroma(const std::string& path, const PlateLim
         spec.y = dw.min.y;
         spec.full_x = disp.min.x;
         spec.full_y = disp.min.y;
-        spec.full_width = disp.max.x - disp.min.x + 1;
-        spec.full_height = disp.max.y - disp.min.y + 1;
+        spec.full_width = static_cast<int>(std::clamp(static_cast<long>(disp.max.x) - disp.min.x + 1, 1L, 1L << 30));
+        spec.full_height = static_cast<int>(std::clamp(static_cast<long>(disp.max.y) - disp.min.y + 1, 1L, 1L << 30));
         spec.channelnames = {"R", "G", "B"};
         if (channels == 4) spec.channelnames.emplace_back("A");
         px.resize(static_cast<std::size_t>(w * h));
@@ -158,11 +165,11 @@ std::optional<Plate> readLuminanceChroma(const std::string& path, const PlateLim
             }
         }
         if (keepNative) {
-            auto file = std::make_shared<PlateFile>();
-            file->spec = spec;
-            file->native.resize(native.size() * sizeof(half));
-            std::memcpy(file->native.data(), native.data(), file->native.size());
-            p.file = std::move(file);
+            auto kept = std::make_shared<PlateFile>();
+            kept->spec = spec;
+            kept->native.resize(native.size() * sizeof(half));
+            std::memcpy(kept->native.data(), native.data(), kept->native.size());
+            p.file = std::move(kept);
         }
     } catch (const Error&) {
         throw;
