@@ -85,6 +85,18 @@ void findChannels(const std::string& path, Plate& p) {
     bad(path, "no R, G, B (or Y) channels to find lights in; the channels are: " + list);
 }
 
+// The data and display windows of a header.
+void takeWindows(const OIIO::ImageSpec& spec, Plate& p) {
+    p.width = spec.width;
+    p.height = spec.height;
+    p.originX = spec.x;
+    p.originY = spec.y;
+    p.displayX = spec.full_x;
+    p.displayY = spec.full_y;
+    p.displayWidth = spec.full_width > 0 ? spec.full_width : spec.width;
+    p.displayHeight = spec.full_height > 0 ? spec.full_height : spec.height;
+}
+
 // A plate with a majority of negative, NaN or infinite pixels is not image data.
 void checkValues(const std::string& path, const Plate& p) {
     // A plate is light: mostly finite, non-negative values. A few NaN, infinite or negative pixels are
@@ -143,14 +155,7 @@ std::optional<Plate> readLuminanceChroma(const std::string& path, const PlateLim
         f.setFrameBuffer(px.data() - dw.min.x - static_cast<long>(dw.min.y) * w, 1, static_cast<std::size_t>(w));
         f.readPixels(dw.min.y, dw.max.y);
 
-        p.width = spec.width;
-        p.height = spec.height;
-        p.originX = spec.x;
-        p.originY = spec.y;
-        p.displayX = spec.full_x;
-        p.displayY = spec.full_y;
-        p.displayWidth = spec.full_width;
-        p.displayHeight = spec.full_height;
+        takeWindows(spec, p);
         p.channels = spec.channelnames;
         p.notes.push_back("a luminance/chroma plate (Y, RY, BY): read as RGB through OpenEXR's RGBA interface; the "
                           "output carries R, G, B" +
@@ -193,14 +198,7 @@ Plate readDirect(const std::string& path, const PlateLimits& limits, bool keepNa
     p.path = path;
     const OIIO::ImageSpec spec = in->spec();
     checkSpec(path, spec, limits);
-    p.width = spec.width;
-    p.height = spec.height;
-    p.originX = spec.x;
-    p.originY = spec.y;
-    p.displayX = spec.full_x;
-    p.displayY = spec.full_y;
-    p.displayWidth = spec.full_width > 0 ? spec.full_width : spec.width;
-    p.displayHeight = spec.full_height > 0 ? spec.full_height : spec.height;
+    takeWindows(spec, p);
     p.channels = spec.channelnames;
     p.subimages = spec.get_int_attribute("oiio:subimages", 1);
     if (p.subimages > 1) p.notes.push_back("the file has " + std::to_string(p.subimages) + " parts; only the first is used");
