@@ -146,6 +146,20 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
                       "over wavelengths: " +
                       text::scientific(traced.inFrame, 4) + " in the frame, " + text::scientific(traced.outside, 4) +
                       " outside; " + traced.describeRefinement();
+        } else if (o.mode == "shaped") {
+            ghosts::ShapedSettings ss;
+            ss.sensor = t.sensor;
+            ss.coating = t.coating;
+            ss.sensorSizeMm = sensorMm;
+            const ghosts::ShapedTable tab = ghosts::buildShapedTable(lens, ss);
+            ghosts::ShapedRender r;
+            image = renderShapedScene(lens, tab, lights, t.frame, t.sensor, &r);
+            summary = "built shaped ghosts (" + std::to_string(tab.ghosts.size()) + " of " +
+                      std::to_string(tab.ghostCount) + " ghosts, " + std::to_string(tab.rays) + " rays, " +
+                      text::fixed(static_cast<double>(tab.bytes()) / 1048576.0, 1) + " MiB) in " +
+                      text::fixed(tab.buildSeconds, 2) + " s; drew " + std::to_string(r.drawn) + " ghost instances (" +
+                      std::to_string(r.triangles) + " triangles), culled " + std::to_string(r.culled) + " holding " +
+                      text::scientific(r.culledShare, 2) + " of a light's ghost flux";
         } else {
             TableOptions table;
             table.grid = o.tableGrid;
@@ -166,7 +180,6 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
                 image = std::move(r.image);
                 meta.push_back({"fourierflare:fourier", r.describe()});
                 meta.push_back({"fourierflare:backend", fs.backend ? fs.backend->describe() : std::string("cpu")});
-            meta.push_back({"fourierflare:backend", fs.backend ? fs.backend->describe() : std::string("cpu")});
                 if (g.verbose) printPlan(r);
                 summary = "aggregated " + std::to_string(ghosts.size()) + " ghosts of " + std::to_string(lights.size()) + " light(s): " + r.describe();
             }
@@ -203,8 +216,10 @@ void addRenderCommand(CLI::App& app, GlobalOptions& global) {
     cmd->add_option("--lights", o->lightsFile, "Lights from a JSON file: {\"lights\": [{\"x\", \"y\", \"flux\": [R, G, B]}]}")->check(CLI::ExistingFile);
     cmd->add_option("--ghosts", o->ghostsFile, "Render an explicit ghost list (JSON, docs/fourier.md) instead of a lens's ghosts")->check(CLI::ExistingFile);
     cmd->add_option("--size", o->size, "Image size in pixels, WIDTHxHEIGHT; the image spans the sensor width");
-    cmd->add_option("--mode", o->mode, "traced (every ghost ray-traced), fitted (the table's profiles drawn directly) or fourier (aggregated)")
-        ->check(CLI::IsMember({"traced", "fitted", "fourier"}));
+    cmd->add_option("--mode", o->mode,
+                    "traced (every ghost ray-traced), shaped (the ghosts' traced meshes), fitted (the table's profiles "
+                    "drawn directly) or fourier (aggregated)")
+        ->check(CLI::IsMember({"traced", "shaped", "fitted", "fourier"}));
     cmd->add_option("--profile", o->profile, "Fitted profile for fitted and fourier: gaussian or cos2")->check(CLI::IsMember({"gaussian", "cos2"}));
     cmd->add_option("-o,--output", o->output, "EXR file to write (R, G, B = the flare alone, linear)")->required();
     cmd->add_option("--preview", o->preview, "Also write a tonemapped PNG preview");

@@ -192,4 +192,25 @@ TracedScene renderTracedScene(const optics::Lens& lens, const std::vector<ghosts
     return scene;
 }
 
+fourier::FlareImage renderShapedScene(const optics::Lens& lens, const ghosts::ShapedTable& table,
+                                      const std::vector<ghosts::Light>& lights, const trace::ImageFrame& frame,
+                                      trace::SensorPlane sensor, ghosts::ShapedRender* stats) {
+    const double sensorZ = trace::sensorPlaneZ(lens, sensor);
+    std::vector<ghosts::ShapedLight> shaped;
+    for (const ghosts::Light& l : lights) {
+        const glm::dvec2 s = frame.pixelToSensor(l.xPx, l.yPx);
+        shaped.push_back({trace::fieldForSensorPoint(lens, sensorZ, s.x, s.y), l.flux});
+    }
+    ghosts::ShapedRender r = ghosts::renderShaped(table, shaped, frame);
+    fourier::FlareImage image(frame.width, frame.height);
+    for (int c = 0; c < 3; ++c)
+        for (std::size_t p = 0; p < image.pixels(); ++p)
+            image.channel[c][p] = static_cast<float>(std::max(0.0, r.channel[c][p]));
+    if (stats) {
+        for (auto& ch : r.channel) ch = {};
+        *stats = std::move(r);
+    }
+    return image;
+}
+
 } // namespace ff::cli

@@ -4,6 +4,7 @@
 
 #include "fourier/ghost.h"
 #include "ghosts/instancing.h"
+#include "ghosts/shaped_ghosts.h"
 #include "optics/lens.h"
 #include "trace/traced_flare.h"
 
@@ -46,5 +47,11 @@ TracedScene renderTracedScene(const optics::Lens& lens, const std::vector<ghosts
 
 /// The traced flare of one source at options.field with unit flux.
 TracedScene renderTracedField(const optics::Lens& lens, const trace::TracedFlareOptions& options);
+
+/// The shaped ghosts of all lights (ghosts/shaped_ghosts.h), each light's field found as the traced
+/// scene finds it, summed with the lights' RGB flux.
+fourier::FlareImage renderShapedScene(const optics::Lens& lens, const ghosts::ShapedTable& table,
+                                      const std::vector<ghosts::Light>& lights, const trace::ImageFrame& frame,
+                                      trace::SensorPlane sensor, ghosts::ShapedRender* stats = nullptr);
 
 } // namespace ff::cli

@@ -75,19 +75,25 @@ bool toSensor(const LensAtWavelength& L, optics::Ray& ray) {
     return true;
 }
 
-SequentialResult traceSequential(const LensAtWavelength& L, const std::vector<PathStep>& steps, optics::Ray ray, Weighting weighting,
-                                 double* openMargins) {
+SequentialResult traceSequential(const LensAtWavelength& L, const std::vector<PathStep>& steps, optics::Ray ray,
+                                 Weighting weighting, double* openMargins, glm::dvec3* openPoints) {
     SequentialResult out;
     double weight = 1.0;
     if (openMargins)
-        for (std::size_t k = 0; k < steps.size(); ++k) openMargins[k] = std::numeric_limits<double>::quiet_NaN();
+        for (std::size_t k = 0; k < steps.size(); ++k) {
+            openMargins[k] = std::numeric_limits<double>::quiet_NaN();
+            if (openPoints) openPoints[k] = glm::dvec3(openMargins[k]);
+        }
     for (std::size_t k = 0; k < steps.size(); ++k) {
         const std::size_t s = steps[k].surface;
         RayStatus status = RayStatus::Ok;
         auto hit = optics::intersectSurface(L.lens->surfaces[s], L.vertexZ[s], ray, kMinStep);
         if (!hit) status = RayStatus::Missed;
-        else if (openMargins) openMargins[k] = L.apertureMargin(s, hit->point);
-        else if (!L.insideAperture(s, hit->point)) status = RayStatus::Clipped;
+        else if (openMargins) {
+            openMargins[k] = L.apertureMargin(s, hit->point);
+            if (openPoints) openPoints[k] = hit->point;
+        } else if (!L.insideAperture(s, hit->point))
+            status = RayStatus::Clipped;
         if (status == RayStatus::Ok) status = applyStep(L, steps[k], *hit, ray, weight, weighting);
         if (status != RayStatus::Ok) {
             out.status = status;

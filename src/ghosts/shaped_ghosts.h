@@ -1,0 +1,116 @@
+#pragma once
+// Shaped ghosts: every ghost kept as the mesh its rays draw on the sensor, so that the fast path
+// shows the iris polygon, sharp rims, vignetting cut-offs and caustics the traced flare shows
+// (after Hullin, Eisemann, Seidel & Lee 2011, "Physically-based real-time lens flare rendering").
+//
+// Model. For each ghost, wavelength and field angle of a uniform set 0..thetaMax (source at azimuth
+// 0, its direct image at +y), a square of the entrance-pupil plane covering the ghost's light is
+// cut into n x n cells and its (n+1)^2 corner rays are traced with every aperture open
+// (traceSequential's open margins). Each vertex keeps where its ray lands (mm), its Fresnel /
+// coating weight as flux per cell (relative to the direct image at that wavelength and angle), its
+// margin inside each clear aperture that cuts the ghost somewhere (mm, negative outside) and its hit
+// points on the stop plane. A cell is two triangles; over a triangle every attribute is taken as
+// linear, so each aperture's edge is a straight cut through it and the light that passes is the
+// triangle clipped by one half-plane per margin. The iris is clipped blade by blade at render time
+// in the frame of the light (a polygon iris does not turn with the light's azimuth), so its corners
+// are exact. A clipped triangle carries its mean weight x its lit share of the cell area, spread
+// uniformly over its image on the sensor: folds of the map (caustics) brighten by themselves and
+// the flux is the integral of the weight over the lit pupil whatever the shape on the sensor.
+//
+// Between table angles every vertex attribute is interpolated linearly (the same vertex of the
+// grid, whose square moves smoothly with the angle); a light at azimuth phi rotates the landing
+// points by phi and the iris by -phi in the table's frame.
+
+#include "ghosts/instancing.h"
+#include "optics/lens.h"
+#include "trace/flare_raster.h"
+#include "trace/ghost_analysis.h"
+#include "trace/pupil_sampling.h"
+
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace ff::ghosts {
+
+struct ShapedSettings {
+    std::vector<double> wavelengthsNm = {650.0, 550.0, 450.0}; ///< R, G, B
+    /// Cells per side of the pupil mesh of the ghost that is most concentrated on the sensor (flux^2 /
+    /// area); the others get fewer, growing as that ratio^(1/4), at least 16.
+    int grid = 48;
+    int angles = 25;          ///< field angles, uniform over 0..maxAngleDeg
+    double maxAngleDeg = 0.0; ///< 0: the field of the sensor's half-diagonal plus 5 %
+    trace::SensorPlane sensor = trace::SensorPlane::File;
+    trace::CoatingChoice coating = trace::CoatingChoice::File;
+    std::pair<double, double> sensorSizeMm = {36.0, 24.0}; ///< used when the lens gives none
+    /// Ghosts whose flux stays under this share of the strongest ghost's at every angle and
+    /// wavelength are not stored.
+    double storeFraction = 1e-5;
+};
+
+/// One ghost at one wavelength and field angle.
+struct ShapedMesh {
+    double flux = 0.0;       ///< relative to the direct image (iris at the table's orientation)
+    std::vector<float> data; ///< (n+1)^2 vertices x ShapedGhost::stride(); empty: no light
+};
+
+struct ShapedGhost {
+    trace::GhostPair pair;
+    int grid = 0;                                ///< cells per side of its pupil meshes
+    std::vector<std::size_t> apertureSteps;      ///< path steps whose clear-aperture margin is stored
+    std::size_t stopCrossings = 0;               ///< times the path crosses the stop (hit points stored)
+    std::vector<std::vector<ShapedMesh>> meshes; ///< [wavelength][angle]
+
+    /// Floats per vertex: x, y (sensor mm), weight, the apertures' margins, the stop hits' x, y.
+    std::size_t stride() const { return 3 + apertureSteps.size() + 2 * stopCrossings; }
+};
+
+struct ShapedTable {
+    std::string lensName, lensHash;
+    double maxAngleDeg = 0.0;
+    std::vector<double> wavelengthsNm;
+    trace::Iris iris; ///< the lens's iris at the working opening (d line)
+    std::vector<ShapedGhost> ghosts;
+    std::size_t ghostCount = 0; ///< every two-bounce ghost of the lens, stored or not
+    std::size_t rays = 0;       ///< rays traced to build the table
+    double buildSeconds = 0.0;
+
+    int angles() const { return ghosts.empty() ? 0 : static_cast<int>(ghosts.front().meshes.front().size()); }
+    double angleStep() const { return angles() > 1 ? maxAngleDeg / (angles() - 1) : 0.0; }
+    /// Bytes held by the meshes.
+    std::size_t bytes() const;
+};
+
+ShapedTable buildShapedTable(const optics::Lens& lens, const ShapedSettings& settings,
+                             const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+/// A light for the shaped renderer: its field (trace::fieldForSensorPoint) and RGB flux.
+struct ShapedLight {
+    trace::Field field;
+    std::array<double, 3> flux{1.0, 1.0, 1.0};
+};
+
+struct ShapedRenderSettings {
+    /// Per light, the faintest ghosts are dropped while together they hold at most this share of
+    /// its ghost flux (summed over the channels).
+    double cullShare = 0.005;
+    /// Each cell of a ghost's mesh is drawn as k x k sub-cells placed by bicubic interpolation of
+    /// the grid, k growing until a sub-cell spans about this many pixels (at most maxSubdivision).
+    double subcellPx = 2.0;
+    int maxSubdivision = 8;
+};
+
+struct ShapedRender {
+    std::array<std::vector<double>, 3> channel; ///< frame-sized, row-major, flux per pixel
+    std::size_t drawn = 0, culled = 0;          ///< ghost instances (ghost x light)
+    double culledShare = 0.0;                   ///< largest share of a light's ghost flux culled
+    double deposited = 0.0, offImage = 0.0;     ///< flux summed over the channels
+    std::size_t triangles = 0;
+};
+
+/// Draws every light's ghosts into the frame; channel c is the table's wavelength c.
+ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLight>& lights,
+                          const trace::ImageFrame& frame, const ShapedRenderSettings& settings = {});
+
+} // namespace ff::ghosts
