@@ -227,7 +227,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
         t0 = Clock::now();
         ghosts::ShapedSettings ss;
         ss.sensorSizeMm = sensorMm;
-        const ghosts::ShapedTable shapedTable = ghosts::buildShapedTable(lens, ss);
+        const ghosts::ShapedTable shapedTable = loadShapedTable(lens, ss, g, reporter);
         const double buildSeconds = seconds(t0);
         t0 = Clock::now();
         ghosts::ShapedRender sr;

@@ -31,7 +31,7 @@ struct RenderOptions {
     std::string lightsFile, ghostsFile;
     std::string size = "1280x720";
     std::string mode = "traced";
-    std::string profile = "gaussian";
+    std::string ghostModel = "gaussian";
     std::string output, preview;
     std::vector<std::string> probes;
     int spectral = 0;
@@ -151,13 +151,12 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
             ss.sensor = t.sensor;
             ss.coating = t.coating;
             ss.sensorSizeMm = sensorMm;
-            const ghosts::ShapedTable tab = ghosts::buildShapedTable(lens, ss);
+            const ghosts::ShapedTable tab = loadShapedTable(lens, ss, g, reporter);
             ghosts::ShapedRender r;
             image = renderShapedScene(lens, tab, lights, t.frame, t.sensor, &r);
-            summary = "built shaped ghosts (" + std::to_string(tab.ghosts.size()) + " of " +
-                      std::to_string(tab.ghostCount) + " ghosts, " + std::to_string(tab.rays) + " rays, " +
-                      text::fixed(static_cast<double>(tab.bytes()) / 1048576.0, 1) + " MiB) in " +
-                      text::fixed(tab.buildSeconds, 2) + " s; drew " + std::to_string(r.drawn) + " ghost instances (" +
+            summary = "shaped ghosts (" + std::to_string(tab.ghosts.size()) + " of " + std::to_string(tab.ghostCount) +
+                      " ghosts, " + text::fixed(static_cast<double>(tab.bytes()) / 1048576.0, 1) +
+                      " MiB in memory); drew " + std::to_string(r.drawn) + " ghost instances (" +
                       std::to_string(r.triangles) + " triangles), culled " + std::to_string(r.culled) + " holding " +
                       text::scientific(r.culledShare, 2) + " of a light's ghost flux";
         } else {
@@ -169,9 +168,9 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
             table.zoom = o.zoom;
             const ghosts::GhostTable tab = loadTable(lens, table, g, reporter);
             const ghosts::Camera cam{W, H, sensorMm.first};
-            const auto profile = o.profile == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
+            const auto profile = o.ghostModel == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
             const auto ghosts = fourierGhosts(ghosts::instantiate(tab, lights, cam, profile));
-            meta.push_back({"fourierflare:profile", o.profile});
+            meta.push_back({"fourierflare:ghostModel", o.ghostModel});
             if (o.mode == "fitted") {
                 image = fourier::renderDirect(ghosts, W, H);
                 summary = "drew " + std::to_string(ghosts.size()) + " fitted ghosts of " + std::to_string(lights.size()) + " light(s) directly";
@@ -220,7 +219,10 @@ void addRenderCommand(CLI::App& app, GlobalOptions& global) {
                     "traced (every ghost ray-traced), shaped (the ghosts' traced meshes), fitted (the table's profiles "
                     "drawn directly) or fourier (aggregated)")
         ->check(CLI::IsMember({"traced", "shaped", "fitted", "fourier"}));
-    cmd->add_option("--profile", o->profile, "Fitted profile for fitted and fourier: gaussian or cos2")->check(CLI::IsMember({"gaussian", "cos2"}));
+    cmd->add_option("--ghost-model", o->ghostModel,
+                    "The table's fitted profile drawn by fitted and fourier: gaussian or cos2 (the shaped model is "
+                    "--mode shaped)")
+        ->check(CLI::IsMember({"gaussian", "cos2"}));
     cmd->add_option("-o,--output", o->output, "EXR file to write (R, G, B = the flare alone, linear)")->required();
     cmd->add_option("--preview", o->preview, "Also write a tonemapped PNG preview");
     cmd->add_option("--probe", o->probes, "Print the image's R G B at pixel X,Y (repeatable)");

@@ -11,7 +11,6 @@
 #include "core/file_io.h"
 #include "core/text.h"
 #include "core/units.h"
-#include "ff/version.h"
 #include "fourier/render.h"
 #include "ghosts/instancing.h"
 #include "gpu/gl_backend.h"
@@ -19,6 +18,7 @@
 #include "image/light_detection.h"
 #include "image/plate.h"
 #include "optics/paraxial.h"
+#include "trace/flare_raster.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -28,8 +28,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <unistd.h>
 #include <numbers>
+#include <unistd.h>
+
+#include "ff/version.h"
 
 namespace ff::cli {
 
@@ -44,7 +46,7 @@ struct SimulateOptions {
     std::vector<std::string> lights;
     double exposure = 0.0;
     double gain = 1.0;
-    std::string profile = "gaussian";
+    std::string ghostModel = "shaped";
     int tableGrid = 32;
     std::string zoom;
     double maxPixels = 8192.0 * 8192.0;
@@ -103,7 +105,14 @@ public:
         } else if (o.fov > 0.0) {
             sensorWidthMm_ = 2.0 * std::abs(optics::paraxialEfl(lens_, lines::d)) * std::tan(0.5 * o.fov * std::numbers::pi / 180.0);
         }
-        // Options checked first: the backend (EGL) is touched last.
+        // Options checked first: the backend (EGL) is touched last. The shaped model is drawn on the
+        // CPU; the Fourier options serve the fitted models.
+        if (o.ghostModel == "shaped") {
+            if (o.fourier.backend == "gl")
+                note("--backend gl: the shaped ghost model is drawn on the CPU (the GL backend aggregates "
+                     "--ghost-model gaussian|cos2)");
+            return;
+        }
         fourier_ = o.fourier.settings(g);
         // The Fourier-Bessel basis has no GL path (renderBessel runs on the CPU).
         if (fourier_.basis == fourier::Basis::Separable) gl_ = dynamic_cast<gpu::GlBackend*>(fourier_.backend.get());
@@ -134,46 +143,97 @@ public:
         }
         const double tDetect = since(t);
 
-        if (!table_) {
-            TableOptions table;
-            table.grid = o_.tableGrid;
-            table.zoom = o_.zoom;
-            table_ = std::make_unique<ghosts::GhostTable>(loadTable(lens_, table, g_, reporter_));
+        // The flare, drawn into the plate's data window: ghosts::renderShaped from the shaped table,
+        // or the table's fitted profiles aggregated through the Fourier path.
+        std::vector<float> flareRgb, comp;
+        std::string flareText;
+        image::Metadata modelMeta;
+        double tTable = 0.0;
+        if (o_.ghostModel == "shaped") {
+            const double pitch = sensorWidthMm_ / plate.displayWidth;
+            if (!shaped_) {
+                ghosts::ShapedSettings ss;
+                ss.sensorSizeMm = {sensorWidthMm_, pitch * plate.displayHeight};
+                shaped_ = std::make_unique<ghosts::ShapedTable>(loadShapedTable(lens_, ss, g_, reporter_));
+            }
+            tTable = since(t);
+            // The axis is at the display window's centre; the frame is the data window.
+            trace::ImageFrame frame{plate.width, plate.height, pitch};
+            frame.centreXMm = (plate.originX - plate.displayX + 0.5 * plate.width - 0.5 * plate.displayWidth) * pitch;
+            frame.centreYMm =
+                (0.5 * plate.displayHeight - (plate.originY - plate.displayY + 0.5 * plate.height)) * pitch;
+            std::vector<ghosts::Light> shifted = lights;
+            for (auto& l : shifted) {
+                l.xPx -= plate.originX - plate.displayX;
+                l.yPx -= plate.originY - plate.displayY;
+                for (double& f : l.flux) f *= o_.gain;
+            }
+            ghosts::ShapedRender stats;
+            const fourier::FlareImage flare =
+                renderShapedScene(lens_, *shaped_, shifted, frame, ghosts::ShapedSettings{}.sensor, &stats);
+            flareRgb = flare.interleaved();
+            comp = image::composite(plate.rgb(), flareRgb);
+            flareText = std::to_string(stats.drawn) + " ghost instances drawn (" + std::to_string(stats.triangles) +
+                        " triangles), " + std::to_string(stats.culled) + " culled holding at most " +
+                        text::scientific(stats.culledShare, 2) + " of a light's ghost flux";
+            modelMeta = {{"fourierflare:ghostModel", "shaped"},
+                         {"fourierflare:culled", std::to_string(stats.culled) + " ghost instances, at most " +
+                                                     text::scientific(stats.culledShare, 3) +
+                                                     " of a light's ghost flux"}};
+        } else {
+            if (!table_) {
+                TableOptions table;
+                table.grid = o_.tableGrid;
+                table.zoom = o_.zoom;
+                table_ = std::make_unique<ghosts::GhostTable>(loadTable(lens_, table, g_, reporter_));
+            }
+            tTable = since(t);
+            const ghosts::Camera cam{plate.displayWidth, plate.displayHeight, sensorWidthMm_};
+            const auto profile = o_.ghostModel == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
+            auto ghosts = fourierGhosts(ghosts::instantiate(*table_, lights, cam, profile));
+            // Display-window pixels to the data window's, and the artistic gain (1 = physical).
+            for (auto& k : ghosts) {
+                k.x -= plate.originX - plate.displayX;
+                k.y -= plate.originY - plate.displayY;
+                for (double& f : k.flux) f *= o_.gain;
+            }
+            const fourier::FourierRender flare = fourier::renderFourier(ghosts, plate.width, plate.height, fourier_);
+            if (g_.verbose)
+                note("fourier: " + flare.describe() + "; seconds: accumulate " +
+                     text::fixed(flare.seconds.accumulate, 4) + ", evaluate " + text::fixed(flare.seconds.evaluate, 4) +
+                     ", direct " + text::fixed(flare.seconds.direct, 4));
+            flareRgb = flare.image.interleaved();
+            // Composite on the device that holds the flare (bit-identical to image::composite).
+            const bool compositeOnGl =
+                gl_ && plate.width <= gl_->maxCompositeSide() && plate.height <= gl_->maxCompositeSide();
+            comp = compositeOnGl ? gl_->composite(plate.rgb()) : image::composite(plate.rgb(), flareRgb);
+            char buf[200];
+            std::snprintf(buf, sizeof buf,
+                          "%zu ghosts instanced; N %d x M %d, %zu through Fourier, %zu direct, %zu culled",
+                          ghosts.size(), flare.plan.n, flare.plan.m, flare.fourierCount(), flare.directCount(),
+                          flare.culledCount());
+            flareText = buf;
+            modelMeta = {{"fourierflare:ghostModel", o_.ghostModel},
+                         {"fourierflare:fourier", flare.describe()},
+                         {"fourierflare:backend", gl_ ? gl_->describe() : std::string("cpu")},
+                         {"fourierflare:table", table_->settingsKey}};
         }
-        const double tTable = since(t);
-
-        const ghosts::Camera cam{plate.displayWidth, plate.displayHeight, sensorWidthMm_};
-        const auto profile = o_.profile == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
-        auto ghosts = fourierGhosts(ghosts::instantiate(*table_, lights, cam, profile));
-        // Display-window pixels to the data window's, and the artistic gain (1 = physical).
-        for (auto& k : ghosts) {
-            k.x -= plate.originX - plate.displayX;
-            k.y -= plate.originY - plate.displayY;
-            for (double& f : k.flux) f *= o_.gain;
-        }
-        const fourier::FourierRender flare = fourier::renderFourier(ghosts, plate.width, plate.height, fourier_);
-        if (g_.verbose) note("fourier: " + flare.describe() + "; seconds: accumulate " + text::fixed(flare.seconds.accumulate, 4) +
-                             ", evaluate " + text::fixed(flare.seconds.evaluate, 4) + ", direct " + text::fixed(flare.seconds.direct, 4));
-        const std::vector<float> flareRgb = flare.image.interleaved();
-        // Composite on the device that holds the flare (bit-identical to image::composite).
-        const bool compositeOnGl = gl_ && plate.width <= gl_->maxCompositeSide() && plate.height <= gl_->maxCompositeSide();
-        const std::vector<float> comp = compositeOnGl ? gl_->composite(plate.rgb()) : image::composite(plate.rgb(), flareRgb);
         const double tFlare = since(t);
 
-        image::Metadata meta = {{"Software", std::string("fourierflare ") + kVersion},
-                                {"fourierflare:commandLine", g_.commandLine},
-                                {"fourierflare:lens", lens_.file},
-                                {"fourierflare:lensHash", lens_.contentHash},
-                                {"fourierflare:plate", job.plate},
-                                {"fourierflare:lights", std::to_string(lights.size())},
-                                {"fourierflare:threshold", manualLights_.empty() ? text::roundTrip(found.threshold) : std::string("lights given")},
-                                {"fourierflare:sensorWidthMm", text::roundTrip(sensorWidthMm_)},
-                                {"fourierflare:flareGain", text::roundTrip(o_.gain)},
-                                {"fourierflare:profile", o_.profile},
-                                {"fourierflare:fourier", flare.describe()},
-                                {"fourierflare:backend", gl_ ? gl_->describe() : std::string("cpu")},
-                                {"fourierflare:table", table_->settingsKey},
-                                {"fourierflare:channels", "input channels unchanged; flare.R/G/B = the flare alone; composite.R/G/B = plate + flare"}};
+        image::Metadata meta = {
+            {"Software", std::string("fourierflare ") + kVersion},
+            {"fourierflare:commandLine", g_.commandLine},
+            {"fourierflare:lens", lens_.file},
+            {"fourierflare:lensHash", lens_.contentHash},
+            {"fourierflare:plate", job.plate},
+            {"fourierflare:lights", std::to_string(lights.size())},
+            {"fourierflare:threshold",
+             manualLights_.empty() ? text::roundTrip(found.threshold) : std::string("lights given")},
+            {"fourierflare:sensorWidthMm", text::roundTrip(sensorWidthMm_)},
+            {"fourierflare:flareGain", text::roundTrip(o_.gain)},
+            {"fourierflare:channels",
+             "input channels unchanged; flare.R/G/B = the flare alone; composite.R/G/B = plate + flare"}};
+        meta.insert(meta.end(), modelMeta.begin(), modelMeta.end());
         image::writeSimulatedExr(job.output, plate, flareRgb, comp, meta);
         if (!job.preview.empty()) {
             // The preview shows the flare where the plate is NaN or infinite.
@@ -202,11 +262,10 @@ public:
                                      : std::to_string(lights.size()) + " lights given";
         if (lights.empty()) lightsText += ": no flare, the output is the plate plus a zero flare layer";
         std::fprintf(stderr,
-                     "fourierflare: %s: %s, %zu ghosts instanced; N %d x M %d, %zu through Fourier, %zu direct, %zu culled; "
-                     "read %.2f s, detect %.2f s, table %.2f s, flare %.2f s, write %.2f s, total %.2f s -> %s\n",
-                     job.plate.c_str(), lightsText.c_str(), ghosts.size(), flare.plan.n, flare.plan.m, flare.fourierCount(), flare.directCount(),
-                     flare.culledCount(), tRead, tDetect, tTable, tFlare, tWrite, std::chrono::duration<double>(Clock::now() - start).count(),
-                     job.output.c_str());
+                     "fourierflare: %s: %s, %s; read %.2f s, detect %.2f s, table %.2f s, flare %.2f s, write %.2f s, "
+                     "total %.2f s -> %s\n",
+                     job.plate.c_str(), lightsText.c_str(), flareText.c_str(), tRead, tDetect, tTable, tFlare, tWrite,
+                     std::chrono::duration<double>(Clock::now() - start).count(), job.output.c_str());
     }
 
 private:
@@ -223,6 +282,7 @@ private:
     std::vector<ghosts::Light> manualLights_;
     double sensorWidthMm_ = 36.0;
     std::unique_ptr<ghosts::GhostTable> table_;
+    std::unique_ptr<ghosts::ShapedTable> shaped_;
     gpu::GlBackend* gl_ = nullptr; ///< fourier_.backend when it is the GL one
     std::string checker_ = std::filesystem::read_symlink("/proc/self/exe").string(); // this program, for `plate-check`
 };
@@ -294,7 +354,10 @@ void addSimulateCommand(CLI::App& app, GlobalOptions& global) {
     cmd->add_option("--lights-out", o->lightsOut, "Write the lights used (found or given) as JSON");
     cmd->add_option("--exposure", o->exposure, "Preview exposure in EV (the composite x 2^EV before the tonemap)");
     cmd->add_option("--flare-gain", o->gain, "Multiply the flare (1 = physical: each ghost carries its traced share of its light's flux)");
-    cmd->add_option("--profile", o->profile, "Ghost profile: gaussian or cos2")->check(CLI::IsMember({"gaussian", "cos2"}));
+    cmd->add_option("--ghost-model", o->ghostModel,
+                    "Ghost model: shaped (each ghost's traced mesh), gaussian or cos2 (the ghost table's fits, "
+                    "aggregated through Fourier)")
+        ->check(CLI::IsMember({"shaped", "gaussian", "cos2"}));
     cmd->add_option("--table-grid", o->tableGrid, "Rays per side of each ghost's pupil grid for the ghost table")->check(CLI::Range(4, 512));
     cmd->add_option("--zoom", o->zoom, "Zoom position (label or 1-based index)");
     cmd->add_option("--max-pixels", o->maxPixels, "Refuse plates with more pixels than this (checked before reading them)")->check(CLI::Range(1.0, 1e10));

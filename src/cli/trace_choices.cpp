@@ -1,6 +1,7 @@
 #include "cli/trace_choices.h"
 
 #include "core/error.h"
+#include "ghosts/shaped_cache.h"
 #include "ghosts/table_cache.h"
 #include "optics/lens_loader.h"
 
@@ -93,6 +94,18 @@ ghosts::GhostTable loadTable(const optics::Lens& lens, const TableOptions& table
                          b.worst.toDeg, 100.0 * b.worst.error);
     }
     if (fromCache) *fromCache = cached;
+    return t;
+}
+
+ghosts::ShapedTable loadShapedTable(const optics::Lens& lens, const ghosts::ShapedSettings& settings,
+                                    const GlobalOptions& g, Reporter& reporter) {
+    bool cached = false;
+    ghosts::ShapedTable t = ghosts::shapedTableFor(lens, settings, true, reporter, &cached);
+    if (!g.quiet && !cached)
+        std::fprintf(
+            stderr,
+            "fourierflare: built the shaped ghosts (%zu of %zu ghosts, %zu rays) in %.1f s (cached for next time)\n",
+            t.ghosts.size(), t.ghostCount, t.rays, t.buildSeconds);
     return t;
 }
 

@@ -3,8 +3,9 @@
 // option strings into the tracer's choices. The strings are validated by CLI11 beforehand.
 
 #include "cli/console.h"
-#include "optics/lens.h"
 #include "ghosts/ghost_table.h"
+#include "ghosts/shaped_ghosts.h"
+#include "optics/lens.h"
 #include "trace/ghost_analysis.h"
 
 #include <string>
@@ -40,5 +41,10 @@ struct TableOptions {
 /// with a progress bar on a terminal, saying how long it took; `fromCache` tells which happened.
 ghosts::GhostTable loadTable(const optics::Lens& lens, const TableOptions& table, const GlobalOptions& g, Reporter& reporter,
                              bool useCache = true, bool* fromCache = nullptr);
+
+/// The lens's shaped ghosts from the cache, else built and stored, saying so with the time, size and
+/// ghosts kept (unless -q).
+ghosts::ShapedTable loadShapedTable(const optics::Lens& lens, const ghosts::ShapedSettings& settings,
+                                    const GlobalOptions& g, Reporter& reporter);
 
 } // namespace ff::cli

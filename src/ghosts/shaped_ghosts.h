@@ -29,6 +29,7 @@
 
 #include <array>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,7 +44,8 @@ struct ShapedSettings {
     double maxAngleDeg = 0.0; ///< 0: the field of the sensor's half-diagonal plus 5 %
     trace::SensorPlane sensor = trace::SensorPlane::File;
     trace::CoatingChoice coating = trace::CoatingChoice::File;
-    std::pair<double, double> sensorSizeMm = {36.0, 24.0}; ///< used when the lens gives none
+    /// The sensor the images span, mm (default: the lens file's, else 36 x 24).
+    std::optional<std::pair<double, double>> sensorSizeMm;
     /// Ghosts whose flux stays under this share of the strongest ghost's at every angle and
     /// wavelength are not stored.
     double storeFraction = 1e-5;
@@ -96,7 +98,15 @@ struct ShapedRenderSettings {
     /// its ghost flux (summed over the channels).
     double cullShare = 0.005;
     /// Each cell of a ghost's mesh is drawn as k x k sub-cells placed by bicubic interpolation of
-    /// the grid, k growing until a sub-cell spans about this many pixels (at most maxSubdivision).
+    /// the grid, k (at most maxSubdivision) growing until the flat sub-cells, and the aperture
+    /// edges cutting them, lie within a tolerance of the bicubic surface: flatnessPx pixels for
+    /// the ghost instance of highest mean irradiance in the frame, growing in inverse proportion to
+    /// a ghost's irradiance up to maxFlatnessPx (its share of the image's squared error is its
+    /// irradiance squared times the area its misplaced edges sweep). Where the bicubic stencil is
+    /// incomplete (the grid's border, lost rays) cells cut by an edge get sub-cells of about
+    /// subcellPx pixels.
+    double flatnessPx = 0.02;
+    double maxFlatnessPx = 1.0;
     double subcellPx = 2.0;
     int maxSubdivision = 8;
 };

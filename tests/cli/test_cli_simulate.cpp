@@ -33,8 +33,10 @@ struct TestPlate {
 };
 
 // A plate with half R, G, B, A and a float Z, a faint background, a custom attribute; the data
-// window may be offset inside the display window.
-TestPlate writePlate(const fs::path& path, int lightX, int lightY, float value, int originX = 0, int originY = 0) {
+// window may be offset inside the display window (of the data window's size plus margin on each
+// side, by default the offset).
+TestPlate writePlate(const fs::path& path, int lightX, int lightY, float value, int originX = 0, int originY = 0,
+                     int marginX = -1, int marginY = -1) {
     TestPlate t;
     for (int y = 0; y < kH; ++y)
         for (int x = 0; x < kW; ++x) {
@@ -53,8 +55,8 @@ TestPlate writePlate(const fs::path& path, int lightX, int lightY, float value, 
     spec.y = originY;
     spec.full_x = 0;
     spec.full_y = 0;
-    spec.full_width = kW + 2 * originX;
-    spec.full_height = kH + 2 * originY;
+    spec.full_width = kW + originX + (marginX < 0 ? originX : marginX);
+    spec.full_height = kH + originY + (marginY < 0 ? originY : marginY);
     spec.attribute("compression", "zip");
     spec.attribute("studio:shot", "sq010_sh020");
     std::vector<float> all(static_cast<std::size_t>(kW) * kH * 5);
@@ -109,7 +111,8 @@ TEST(CliSimulate, KeepsEveryChannelAndAddsFlareLayers) {
     EXPECT_EQ(e.spec.get_string_attribute("studio:shot"), "sq010_sh020");
     EXPECT_NE(e.spec.get_string_attribute("fourierflare:lensHash"), "");
     EXPECT_NE(e.spec.get_string_attribute("fourierflare:commandLine").find("simulate"), std::string::npos);
-    EXPECT_NE(e.spec.get_string_attribute("fourierflare:fourier").find("period"), std::string::npos);
+    EXPECT_EQ(e.spec.get_string_attribute("fourierflare:ghostModel"), "shaped");
+    EXPECT_NE(e.spec.get_string_attribute("fourierflare:culled").find("of a light's ghost flux"), std::string::npos);
     // Input channels bit for bit (half values read back as float are exact) and in their formats.
     const int R = e.channel("R"), A = e.channel("A"), Z = e.channel("Z"), fR = e.channel("flare.R"), cR = e.channel("composite.R");
     ASSERT_TRUE(R >= 0 && A >= 0 && Z >= 0 && fR >= 0 && cR >= 0);
@@ -134,13 +137,48 @@ TEST(CliSimulate, KeepsEveryChannelAndAddsFlareLayers) {
     EXPECT_NEAR(lights["lights"][0]["flux"][0].get<double>(), 4 * 400.0, 1e-6);
 }
 
-// A light at the frame centre: every ghost is centred, so the flare is point-symmetric about the
-// centre, and its flux in the frame is the light's flux x each ghost's relative flux x the part of its
-// Gaussian inside the frame — computed here from the ghost table at 0 degrees.
+// The default (shaped) flare of a light found in a plate whose data window sits inside a larger
+// display window is the traced flare (`render --mode traced`, every ghost ray-traced) of a light of
+// the same flux at the same place of the display window, cropped to the data window.
+TEST(CliSimulate, ShapedFlareIsTheTracedFlareOfTheLightFound) {
+    ff::test::TempDir dir;
+    constexpr int ox = 20, oy = 12, W = kW + ox + 4, H = kH + oy + 2;
+    writePlate(dir / "plate.exr", 61, 17, 800.0f, ox, oy, 4, 2);
+    const auto r = run(simulate(dir / "plate.exr", dir / "out.exr", "--sensor 36x24"), kEnv);
+    ASSERT_EQ(r.code, 0) << r.err;
+    // The light: the 2 x 2 block's centre, in the display window, with 4 x 800 per channel.
+    const std::string light = std::to_string(61 + 1 + ox) + "," + std::to_string(17 + 1 + oy) + ",3200,3200,3200";
+    const auto t = run("render " + kLens + " --mode traced --light " + light + " --size " + std::to_string(W) + "x" +
+                           std::to_string(H) + " --sensor-size 36x24 -o '" + (dir / "traced.exr").string() + "'",
+                       kEnv);
+    ASSERT_EQ(t.code, 0) << t.err;
+    const Exr e = readExr(dir / "out.exr"), ref = readExr(dir / "traced.exr");
+    ASSERT_EQ(ref.spec.width, W);
+    const char* names[3] = {"flare.R", "flare.G", "flare.B"};
+    for (int c = 0; c < 3; ++c) {
+        const int ch = e.channel(names[c]);
+        ASSERT_GE(ch, 0);
+        double num = 0.0, den = 0.0, sum = 0.0, refSum = 0.0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                const double a = e.at(static_cast<std::size_t>(y) * kW + x, ch);
+                const double b = ref.at(static_cast<std::size_t>(y + oy) * W + x + ox, c);
+                num += (a - b) * (a - b), den += b * b, sum += a, refSum += b;
+            }
+        ASSERT_GT(den, 0.0);
+        EXPECT_LT(std::sqrt(num / den), 0.10) << names[c];
+        EXPECT_NEAR(sum, refSum, 0.01 * refSum) << names[c];
+    }
+}
+
+// A light at the frame centre, Gaussian model: every ghost is centred, so the flare is
+// point-symmetric about the centre, and its flux in the frame is the light's flux x each ghost's
+// relative flux x the part of its Gaussian inside the frame — computed here from the ghost table at
+// 0 degrees.
 TEST(CliSimulate, CentredLightFluxAndSymmetryFollowTheTable) {
     ff::test::TempDir dir;
     writePlate(dir / "plate.exr", kW / 2 - 1, kH / 2 - 1, 500.0f);
-    const auto r = run(simulate(dir / "plate.exr", dir / "out.exr", "--sensor 36x24"), kEnv);
+    const auto r = run(simulate(dir / "plate.exr", dir / "out.exr", "--sensor 36x24 --ghost-model gaussian"), kEnv);
     ASSERT_EQ(r.code, 0) << r.err;
     const auto t = run("table " + kLens + " --grid 8 -o '" + (dir / "t.json").string() + "'", kEnv);
     ASSERT_EQ(t.code, 0) << t.err;
@@ -301,10 +339,14 @@ TEST(CliSimulate, DamagedFilesFailCleanlyAndQuickly) {
 TEST(CliSimulate, GlBackendMatchesTheCpuBackend) {
     ff::test::TempDir dir;
     writePlate(dir / "plate.exr", 30, 20, 800.0f);
-    const auto gl = run(simulate(dir / "plate.exr", dir / "gl.exr", "--backend gl --fourier-n 32"), kEnv);
+    const auto gl =
+        run(simulate(dir / "plate.exr", dir / "gl.exr", "--ghost-model gaussian --backend gl --fourier-n 32"), kEnv);
     if (gl.code == 1 && gl.err.find("no OpenGL 4.5 context") != std::string::npos) GTEST_SKIP() << gl.err;
     ASSERT_EQ(gl.code, 0) << gl.err;
-    ASSERT_EQ(run(simulate(dir / "plate.exr", dir / "cpu.exr", "--backend cpu --fourier-n 32"), kEnv).code, 0);
+    ASSERT_EQ(
+        run(simulate(dir / "plate.exr", dir / "cpu.exr", "--ghost-model gaussian --backend cpu --fourier-n 32"), kEnv)
+            .code,
+        0);
     const Exr a = readExr(dir / "gl.exr"), b = readExr(dir / "cpu.exr");
     EXPECT_NE(a.spec.get_string_attribute("fourierflare:backend").find("gl: "), std::string::npos);
     double num = 0.0, den = 0.0;

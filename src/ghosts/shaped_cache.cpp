@@ -1,0 +1,327 @@
+#include "ghosts/shaped_cache.h"
+
+#include "core/error.h"
+#include "core/file_io.h"
+#include "core/text.h"
+#include "ghosts/table_cache.h"
+
+#include <nlohmann/json.hpp>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <zlib.h>
+
+namespace fs = std::filesystem;
+
+namespace ff::ghosts {
+
+namespace {
+
+constexpr char kMagic[8] = {'F', 'F', 'S', 'H', 'A', 'P', 'E', 'D'};
+constexpr std::uint32_t kVersion = 1;
+/// Changes whenever buildShapedTable's result changes for the same settings.
+constexpr int kBuildVersion = 1;
+constexpr std::uint16_t kLost = 65535;
+constexpr double kLevels = 65534.0;
+constexpr std::uintmax_t kMaxEntryBytes = std::uintmax_t(4) << 30;
+
+template <class T>
+void put(std::string& out, T v) {
+    char b[sizeof(T)];
+    std::memcpy(b, &v, sizeof(T));
+    out.append(b, sizeof(T));
+}
+
+// Reads fixed-size values from a byte range, throwing on a short read.
+struct Reader {
+    std::string_view bytes;
+    std::size_t at = 0;
+    const std::string& file;
+    template <class T>
+    T get() {
+        if (bytes.size() - at < sizeof(T))
+            throw Error(ErrorKind::Input, SourceLocation{file}, "truncated shaped-table entry");
+        T v;
+        std::memcpy(&v, bytes.data() + at, sizeof(T));
+        at += sizeof(T);
+        return v;
+    }
+    std::string_view take(std::uint64_t n) {
+        if (bytes.size() - at < n) throw Error(ErrorKind::Input, SourceLocation{file}, "truncated shaped-table entry");
+        const std::string_view s = bytes.substr(at, static_cast<std::size_t>(n));
+        at += static_cast<std::size_t>(n);
+        return s;
+    }
+};
+
+std::size_t vertices(const ShapedGhost& g) {
+    return static_cast<std::size_t>(g.grid + 1) * (g.grid + 1);
+}
+
+// One ghost's meshes, quantised and differenced (the format above), before deflation.
+std::string encodeGhost(const ShapedGhost& g) {
+    std::string out;
+    const std::size_t V = vertices(g), S = g.stride(), row = static_cast<std::size_t>(g.grid) + 1;
+    std::vector<std::uint16_t> code(V);
+    for (const auto& perAngle : g.meshes)
+        for (const ShapedMesh& m : perAngle) {
+            if (m.data.empty()) continue;
+            for (std::size_t z = 0; z < S; ++z) {
+                float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+                for (std::size_t v = 0; v < V; ++v) {
+                    const float x = m.data[v * S + z];
+                    if (std::isfinite(x)) lo = std::min(lo, x), hi = std::max(hi, x);
+                }
+                if (!(hi >= lo)) lo = hi = 0.0f;
+                put(out, lo);
+                put(out, hi);
+                const double scale = hi > lo ? kLevels / (double(hi) - double(lo)) : 0.0;
+                for (std::size_t v = 0; v < V; ++v) {
+                    const float x = m.data[v * S + z];
+                    code[v] =
+                        std::isfinite(x)
+                            ? static_cast<std::uint16_t>(std::clamp(std::lround((double(x) - lo) * scale), 0L, 65534L))
+                            : kLost;
+                }
+                for (std::size_t v = 0; v < V; ++v) {
+                    const std::uint16_t pred = v % row ? code[v - 1] : v >= row ? code[v - row] : 0;
+                    put(out, static_cast<std::uint16_t>(code[v] - pred));
+                }
+            }
+        }
+    return out;
+}
+
+void decodeGhost(ShapedGhost& g, std::string_view raw, const std::string& file) {
+    const std::size_t V = vertices(g), S = g.stride(), row = static_cast<std::size_t>(g.grid) + 1;
+    Reader r{raw, 0, file};
+    std::vector<std::uint16_t> code(V);
+    for (auto& perAngle : g.meshes)
+        for (ShapedMesh& m : perAngle) {
+            if (m.data.empty()) continue;
+            for (std::size_t z = 0; z < S; ++z) {
+                const float lo = r.get<float>(), hi = r.get<float>();
+                if (!std::isfinite(lo) || !std::isfinite(hi) || hi < lo)
+                    throw Error(ErrorKind::Input, SourceLocation{file}, "bad quantisation range");
+                const double step = (double(hi) - double(lo)) / kLevels;
+                for (std::size_t v = 0; v < V; ++v) {
+                    const std::uint16_t pred = v % row ? code[v - 1] : v >= row ? code[v - row] : 0;
+                    code[v] = static_cast<std::uint16_t>(r.get<std::uint16_t>() + pred);
+                    m.data[v * S + z] = code[v] == kLost ? std::numeric_limits<float>::quiet_NaN()
+                                                         : static_cast<float>(lo + code[v] * step);
+                }
+            }
+        }
+    if (r.at != raw.size())
+        throw Error(ErrorKind::Input, SourceLocation{file}, "shaped-table entry has trailing bytes");
+}
+
+std::string deflate(const std::string& raw) {
+    uLongf n = compressBound(static_cast<uLong>(raw.size()));
+    std::string out(n, '\0');
+    if (compress2(reinterpret_cast<Bytef*>(out.data()), &n, reinterpret_cast<const Bytef*>(raw.data()),
+                  static_cast<uLong>(raw.size()), 1) != Z_OK)
+        throw Error(ErrorKind::Runtime, "zlib could not compress a shaped table");
+    out.resize(n);
+    return out;
+}
+
+std::uint32_t crc(std::string_view s) {
+    return static_cast<std::uint32_t>(crc32(0L, reinterpret_cast<const Bytef*>(s.data()), static_cast<uInt>(s.size())));
+}
+
+} // namespace
+
+std::string shapedCacheKey(const optics::Lens& lens, const ShapedSettings& s) {
+    const auto sensor = s.sensorSizeMm.value_or(lens.sensorMm.value_or(std::make_pair(36.0, 24.0)));
+    std::string k = "shaped " + std::to_string(kBuildVersion) + "|lens " + lens.contentHash + "|zoom " +
+                    std::to_string(lens.activeZoom) + "|wavelengths";
+    for (double w : s.wavelengthsNm) k += " " + text::roundTrip(w);
+    k += "|grid " + std::to_string(s.grid) + "|angles " + std::to_string(s.angles) + "|max " +
+         text::roundTrip(s.maxAngleDeg) + "|sensor " + std::to_string(static_cast<int>(s.sensor)) + "|coating " +
+         std::to_string(static_cast<int>(s.coating)) + "|size " + text::roundTrip(sensor.first) + "x" +
+         text::roundTrip(sensor.second) + "|store " + text::roundTrip(s.storeFraction);
+    return k;
+}
+
+std::string shapedTableToBytes(const ShapedTable& t, const std::string& key) {
+    std::vector<std::string> chunks(t.ghosts.size());
+    std::vector<std::uint64_t> rawSize(t.ghosts.size());
+    tbb::parallel_for(std::size_t(0), t.ghosts.size(), [&](std::size_t g) {
+        const std::string raw = encodeGhost(t.ghosts[g]);
+        rawSize[g] = raw.size();
+        chunks[g] = deflate(raw);
+    });
+    nlohmann::json h;
+    h["key"] = key;
+    h["lens_name"] = t.lensName;
+    h["lens_hash"] = t.lensHash;
+    h["max_angle_deg"] = t.maxAngleDeg;
+    h["wavelengths_nm"] = t.wavelengthsNm;
+    h["iris"] = {{"blades", t.iris.blades}, {"rotation_rad", t.iris.rotationRad}, {"radius", t.iris.radius}};
+    h["ghost_count"] = t.ghostCount;
+    h["rays"] = t.rays;
+    h["build_seconds"] = t.buildSeconds;
+    h["angles"] = t.angles();
+    h["ghosts"] = nlohmann::json::array();
+    for (std::size_t g = 0; g < t.ghosts.size(); ++g) {
+        const ShapedGhost& gh = t.ghosts[g];
+        nlohmann::json j = {{"first", gh.pair.first},
+                            {"second", gh.pair.second},
+                            {"grid", gh.grid},
+                            {"aperture_steps", gh.apertureSteps},
+                            {"stop_crossings", gh.stopCrossings},
+                            {"raw_bytes", rawSize[g]},
+                            {"bytes", chunks[g].size()},
+                            {"crc32", crc(chunks[g])}};
+        for (const auto& perAngle : gh.meshes) {
+            nlohmann::json flux = nlohmann::json::array(), present = nlohmann::json::array();
+            for (const ShapedMesh& m : perAngle) flux.push_back(m.flux), present.push_back(!m.data.empty());
+            j["flux"].push_back(flux);
+            j["present"].push_back(present);
+        }
+        h["ghosts"].push_back(j);
+    }
+    const std::string header = h.dump();
+    std::string out(kMagic, sizeof kMagic);
+    put(out, kVersion);
+    put(out, static_cast<std::uint64_t>(header.size()));
+    out += header;
+    put(out, crc(header));
+    for (const std::string& c : chunks) out += c;
+    return out;
+}
+
+ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file, std::string& key) {
+    Reader r{bytes, 0, file};
+    if (r.take(sizeof kMagic) != std::string_view(kMagic, sizeof kMagic))
+        throw Error(ErrorKind::Input, SourceLocation{file}, "not a shaped-table entry");
+    if (const auto v = r.get<std::uint32_t>(); v != kVersion)
+        throw Error(ErrorKind::Input, SourceLocation{file},
+                    "shaped-table format version " + std::to_string(v) + ", expected " + std::to_string(kVersion));
+    const std::string_view header = r.take(r.get<std::uint64_t>());
+    if (r.get<std::uint32_t>() != crc(header))
+        throw Error(ErrorKind::Input, SourceLocation{file}, "shaped-table header fails its CRC");
+    ShapedTable t;
+    std::vector<std::string_view> chunks;
+    std::vector<std::uint64_t> rawSize;
+    std::vector<std::uint32_t> crcs;
+    try {
+        const nlohmann::json h = nlohmann::json::parse(header);
+        key = h.at("key").get<std::string>();
+        t.lensName = h.at("lens_name").get<std::string>();
+        t.lensHash = h.at("lens_hash").get<std::string>();
+        t.maxAngleDeg = h.at("max_angle_deg").get<double>();
+        t.wavelengthsNm = h.at("wavelengths_nm").get<std::vector<double>>();
+        const auto& iris = h.at("iris");
+        t.iris = trace::Iris(iris.at("blades").get<int>(), iris.at("rotation_rad").get<double>(),
+                             iris.at("radius").get<double>());
+        t.ghostCount = h.at("ghost_count").get<std::size_t>();
+        t.rays = h.at("rays").get<std::size_t>();
+        t.buildSeconds = h.at("build_seconds").get<double>();
+        const int A = h.at("angles").get<int>();
+        const std::size_t W = t.wavelengthsNm.size();
+        if (A < 1 || A > 10000 || W < 1 || W > 64)
+            throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table dimensions");
+        for (const auto& j : h.at("ghosts")) {
+            ShapedGhost g;
+            g.pair = {j.at("first").get<std::size_t>(), j.at("second").get<std::size_t>()};
+            g.grid = j.at("grid").get<int>();
+            g.apertureSteps = j.at("aperture_steps").get<std::vector<std::size_t>>();
+            g.stopCrossings = j.at("stop_crossings").get<std::size_t>();
+            if (g.grid < 1 || g.grid > 4096 || g.apertureSteps.size() > 1024 || g.stopCrossings > 16)
+                throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-ghost layout");
+            const auto& flux = j.at("flux");
+            const auto& present = j.at("present");
+            if (flux.size() != W || present.size() != W)
+                throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-ghost layout");
+            std::uint64_t expected = 0;
+            g.meshes.assign(W, std::vector<ShapedMesh>(static_cast<std::size_t>(A)));
+            for (std::size_t w = 0; w < W; ++w) {
+                if (flux[w].size() != static_cast<std::size_t>(A) || present[w].size() != static_cast<std::size_t>(A))
+                    throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-ghost layout");
+                for (std::size_t a = 0; a < static_cast<std::size_t>(A); ++a) {
+                    g.meshes[w][a].flux = flux[w][a].get<double>();
+                    if (present[w][a].get<bool>()) {
+                        g.meshes[w][a].data.resize(vertices(g) * g.stride());
+                        expected += g.stride() * (8 + 2 * vertices(g));
+                    }
+                }
+            }
+            rawSize.push_back(j.at("raw_bytes").get<std::uint64_t>());
+            if (rawSize.back() != expected)
+                throw Error(ErrorKind::Input, SourceLocation{file}, "shaped-ghost size does not match its layout");
+            chunks.push_back(r.take(j.at("bytes").get<std::uint64_t>()));
+            crcs.push_back(j.at("crc32").get<std::uint32_t>());
+            t.ghosts.push_back(std::move(g));
+        }
+    } catch (const nlohmann::json::exception& e) {
+        throw Error(ErrorKind::Input, SourceLocation{file}, std::string("bad shaped-table header: ") + e.what());
+    }
+    if (r.at != bytes.size())
+        throw Error(ErrorKind::Input, SourceLocation{file}, "shaped-table entry has trailing bytes");
+    std::vector<std::string> errors(t.ghosts.size());
+    tbb::parallel_for(std::size_t(0), t.ghosts.size(), [&](std::size_t g) {
+        try {
+            if (crc(chunks[g]) != crcs[g])
+                throw Error(ErrorKind::Input, SourceLocation{file},
+                            "shaped ghost " + std::to_string(g) + " fails its CRC");
+            std::string raw(static_cast<std::size_t>(rawSize[g]), '\0');
+            uLongf n = static_cast<uLongf>(raw.size());
+            if (uncompress(reinterpret_cast<Bytef*>(raw.data()), &n, reinterpret_cast<const Bytef*>(chunks[g].data()),
+                           static_cast<uLong>(chunks[g].size())) != Z_OK ||
+                n != raw.size())
+                throw Error(ErrorKind::Input, SourceLocation{file},
+                            "shaped ghost " + std::to_string(g) + " does not inflate");
+            decodeGhost(t.ghosts[g], raw, file);
+        } catch (const Error& e) {
+            errors[g] = e.message();
+        }
+    });
+    for (const std::string& e : errors)
+        if (!e.empty()) throw Error(ErrorKind::Input, SourceLocation{file}, e);
+    return t;
+}
+
+ShapedTable shapedTableFor(const optics::Lens& lens, const ShapedSettings& s, bool useCache, Reporter& reporter,
+                           bool* fromCache) {
+    if (fromCache) *fromCache = false;
+    const std::string key = shapedCacheKey(lens, s);
+    const fs::path file = cacheDirectory() / (hashHex(key) + ".shaped");
+    if (useCache && fs::exists(file)) {
+        try {
+            std::string stored;
+            ShapedTable t = shapedTableFromBytes(readFileBytes(file, kMaxEntryBytes), file.string(), stored);
+            if (stored == key) {
+                if (fromCache) *fromCache = true;
+                return t;
+            }
+            reporter.note({file.string()}, "cached shaped table does not match the lens or settings; rebuilding it");
+        } catch (const Error& e) {
+            reporter.note({file.string()},
+                          std::string("cached shaped table is unreadable (") + e.message() + "); rebuilding it");
+        }
+    }
+    // The table as stored, whether or not it is cached: a run draws the same ghosts cold and warm.
+    const ShapedTable built = buildShapedTable(lens, s);
+    const std::string bytes = shapedTableToBytes(built, key);
+    std::string stored;
+    ShapedTable t = shapedTableFromBytes(bytes, file.string(), stored);
+    t.buildSeconds = built.buildSeconds;
+    if (useCache) {
+        std::error_code ec;
+        fs::create_directories(file.parent_path(), ec);
+        try {
+            writeFileAtomic(file, bytes);
+        } catch (const Error& e) {
+            reporter.warning({file.string()},
+                             std::string("could not store the shaped table in the cache: ") + e.message());
+        }
+    }
+    return t;
+}
+
+} // namespace ff::ghosts

@@ -1,0 +1,36 @@
+#pragma once
+// Shaped tables on disk, in the ghost-table cache folder (table_cache.h), keyed by a hash of the lens
+// file's bytes, its zoom position and every setting of the build. A missing entry is built; an
+// unreadable, corrupt or mismatching one is rebuilt with a note, never trusted. Entries are written
+// atomically.
+//
+// Format (docs/ghost-table.md, "Shaped ghosts on disk"): the magic "FFSHAPED", a format version, a
+// JSON header (the key, the table's scalars, every ghost's layout and flux), then the meshes
+// quantised to 16 bits per value, each attribute of each mesh over its own range [lo, hi] (step
+// (hi - lo) / 65534; 65535 marks a lost ray's value), stored as differences from the previous
+// vertex of the row (the row above for a row's first) and deflated (zlib) with a CRC-32. Loading
+// gives back every value within half a step.
+
+#include "core/reporter.h"
+#include "ghosts/shaped_ghosts.h"
+
+#include <string>
+#include <string_view>
+
+namespace ff::ghosts {
+
+/// Every input of buildShapedTable as text, the lens's hash and zoom position included.
+std::string shapedCacheKey(const optics::Lens& lens, const ShapedSettings& settings);
+
+/// The table as the cache stores it.
+std::string shapedTableToBytes(const ShapedTable& table, const std::string& key);
+/// A table from shapedTableToBytes; throws Error (ErrorKind::Input, naming `file`) when the bytes are
+/// not a complete, intact entry of this format version. `key` is set to the entry's key.
+ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file, std::string& key);
+
+/// The shaped table of the lens: from the cache when a valid entry with the same key exists, else
+/// built (and stored when useCache). `fromCache` tells which happened.
+ShapedTable shapedTableFor(const optics::Lens& lens, const ShapedSettings& settings, bool useCache, Reporter& reporter,
+                           bool* fromCache = nullptr);
+
+} // namespace ff::ghosts
