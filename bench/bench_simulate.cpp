@@ -1,12 +1,16 @@
-// `simulate` per frame at 1920 x 1080 with 3 and with 300 lights (the double Gauss, the main job's
-// lens): the stages as the command runs them — read the plate, find the lights, instance the ghosts
-// from the table, aggregate (Fourier, hybrid), write the EXR. Baseline: the 3-light frame with the
-// table cached. "Uncached" adds building the ghost table (run once: it takes minutes).
+// `simulate` per frame at 1920 x 1080 with 3, 30 and 300 lights (the double Gauss, the main job's
+// lens): the stages as the command runs them — read the plate, find the lights, draw the flare, write
+// the EXR — with the shaped ghosts (the default) and with the fitted Gaussians aggregated through
+// Fourier (BM_SimulateCached). Baseline: the 3-light frame with the tables in memory. The tables'
+// own costs: building them (BM_SimulateUncached, BM_ShapedTableBuild) and loading the shaped one
+// from its cache entry (BM_ShapedTableLoad).
 
 #include "cli/flare_scene.h"
 #include "fourier/render.h"
 #include "ghosts/ghost_table.h"
 #include "ghosts/instancing.h"
+#include "ghosts/shaped_cache.h"
+#include "ghosts/shaped_ghosts.h"
 #include "image/composite.h"
 #include "image/image_output.h"
 #include "image/light_detection.h"
@@ -57,6 +61,24 @@ const ghosts::GhostTable& cachedTable() {
     return t;
 }
 
+// The shaped table for the bench's 16:9 sensor, 36 mm wide, as a run stores and loads it.
+const std::string& shapedBytes() {
+    static const std::string bytes = [] {
+        ghosts::ShapedSettings s;
+        s.sensorSizeMm = {36.0, 36.0 * kH / kW};
+        return ghosts::shapedTableToBytes(ghosts::buildShapedTable(lens(), s), "bench");
+    }();
+    return bytes;
+}
+
+const ghosts::ShapedTable& shapedTable() {
+    static const ghosts::ShapedTable t = [] {
+        std::string key;
+        return ghosts::shapedTableFromBytes(shapedBytes(), "bench", key);
+    }();
+    return t;
+}
+
 void frame(benchmark::State& state, const ghosts::GhostTable& table, const std::string& platePath) {
     using Clock = std::chrono::steady_clock;
     double read = 0, detect = 0, flare = 0, write = 0;
@@ -97,6 +119,69 @@ void BM_SimulateCached(benchmark::State& state) {
     frame(state, table, plateWith(static_cast<int>(state.range(0))));
 }
 BENCHMARK(BM_SimulateCached)->Arg(3)->Arg(300)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_SimulateShaped(benchmark::State& state) {
+    using Clock = std::chrono::steady_clock;
+    const ghosts::ShapedTable& table = shapedTable();
+    const std::string platePath = plateWith(static_cast<int>(state.range(0)));
+    const auto out = std::filesystem::temp_directory_path() / "ff-bench-out.exr";
+    const trace::ImageFrame sensorFrame{kW, kH, 36.0 / kW};
+    double read = 0, detect = 0, flare = 0, write = 0;
+    std::size_t triangles = 0, drawn = 0;
+    auto lap = [](Clock::time_point& t) {
+        const auto now = Clock::now();
+        const double s = std::chrono::duration<double>(now - t).count();
+        t = now;
+        return s;
+    };
+    for (auto _ : state) {
+        auto t = Clock::now();
+        const image::Plate plate = image::readPlate(platePath);
+        read += lap(t);
+        const image::DetectionReport found = image::detectLights(plate, {});
+        std::vector<ghosts::Light> lights;
+        for (const auto& l : found.lights) lights.push_back({l.x, l.y, l.flux});
+        detect += lap(t);
+        ghosts::ShapedRender stats;
+        const fourier::FlareImage image =
+            cli::renderShapedScene(lens(), table, lights, sensorFrame, trace::SensorPlane::File, &stats);
+        triangles = stats.triangles, drawn = stats.drawn;
+        flare += lap(t);
+        const std::vector<float> layer = image.interleaved();
+        image::writeSimulatedExr(out.string(), plate, layer, image::composite(plate.rgb(), layer), {});
+        write += lap(t);
+    }
+    const double n = double(state.iterations());
+    state.counters["read_ms"] = 1e3 * read / n;
+    state.counters["detect_ms"] = 1e3 * detect / n;
+    state.counters["flare_ms"] = 1e3 * flare / n;
+    state.counters["write_ms"] = 1e3 * write / n;
+    state.counters["instances"] = double(drawn);
+    state.counters["triangles"] = double(triangles);
+}
+BENCHMARK(BM_SimulateShaped)->Arg(3)->Arg(30)->Arg(300)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_ShapedTableBuild(benchmark::State& state) {
+    ghosts::ShapedSettings s;
+    s.sensorSizeMm = {36.0, 36.0 * kH / kW};
+    for (auto _ : state) {
+        const ghosts::ShapedTable t = ghosts::buildShapedTable(lens(), s);
+        benchmark::DoNotOptimize(t.ghosts.data());
+    }
+}
+BENCHMARK(BM_ShapedTableBuild)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+
+// Decoding the cache entry (held in memory: the file's read is the disk's).
+void BM_ShapedTableLoad(benchmark::State& state) {
+    const std::string& bytes = shapedBytes();
+    for (auto _ : state) {
+        std::string key;
+        const ghosts::ShapedTable t = ghosts::shapedTableFromBytes(bytes, "bench", key);
+        benchmark::DoNotOptimize(t.ghosts.data());
+    }
+    state.counters["entry_MB"] = double(bytes.size()) / 1e6;
+}
+BENCHMARK(BM_ShapedTableLoad)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_SimulateUncached(benchmark::State& state) {
     double build = 0.0;

@@ -556,6 +556,13 @@ void meshPolygons(const ShapedTable& table, const Instance& in, std::size_t w, c
                     else
                         nb[(q + 1) * 4 + (r + 1)] = &attr[(static_cast<std::size_t>(y) * (n + 1) + x) * S];
                 }
+            // A cell with its four corners outside one aperture is dark (the margins are smooth at
+            // the grid's scale; a curved edge bulging into it from outside would carry a sliver).
+            bool dark = false;
+            for (std::size_t k = 0; k < C && all && !dark; ++k)
+                dark = attr[v00 * S + 3 + k] < 0.0 && attr[v10 * S + 3 + k] < 0.0 && attr[v01 * S + 3 + k] < 0.0 &&
+                       attr[v11 * S + 3 + k] < 0.0;
+            if (dark) continue;
             int K = 1;
             if (all) {
                 // Deviation of the bicubic surface from the flat cell at its centre, in pixels: of
