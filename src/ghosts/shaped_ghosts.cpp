@@ -131,8 +131,17 @@ class TriangleClipper {
     std::size_t count_ = 0;
 };
 
-// The flux of a mesh: the weight integrated over the lit part of every cell whose four corners were
-// traced (in cells; the caller scales by the cell's area), each cell as two triangles.
+// The two triangles of a grid cell as corner indices (0: (i, j), 1: (i+1, j), 2: (i, j+1), 3: (i+1,
+// j+1)) whose corners are all traced; {4, 4, 4} stands for none. The cell is split along the
+// diagonal that keeps a triangle when one corner is lost.
+std::array<std::array<int, 3>, 2> cellTriangles(bool c0, bool c1, bool c2, bool c3) {
+    constexpr std::array<int, 3> none{4, 4, 4};
+    if (c0 && c3) return {c1 ? std::array{0, 1, 3} : none, c2 ? std::array{0, 3, 2} : none};
+    return {c0 && c1 && c2 ? std::array{0, 1, 2} : none, c1 && c2 && c3 ? std::array{1, 3, 2} : none};
+}
+
+// The flux of a mesh: the weight integrated over the lit part of every traced triangle of every
+// cell (cellTriangles; in cells, the caller scales by the cell's area).
 template <typename Constraints>
 double meshFlux(int n, const std::vector<char>& ok, const std::vector<double>& weight, std::size_t constraints,
                 Constraints&& value) {
@@ -143,8 +152,10 @@ double meshFlux(int n, const std::vector<char>& ok, const std::vector<double>& w
         for (int i = 0; i < n; ++i) {
             const std::size_t v00 = static_cast<std::size_t>(j) * (n + 1) + i, v10 = v00 + 1, v01 = v00 + n + 1,
                               v11 = v01 + 1;
-            for (const std::array<std::size_t, 3> t : {std::array{v00, v10, v11}, std::array{v00, v11, v01}}) {
-                if (!ok[t[0]] || !ok[t[1]] || !ok[t[2]]) continue;
+            const std::array<std::size_t, 4> corners{v00, v10, v01, v11};
+            for (const auto& tri : cellTriangles(ok[v00], ok[v10], ok[v01], ok[v11])) {
+                if (tri[0] >= 4) continue;
+                const std::array<std::size_t, 3> t{corners[tri[0]], corners[tri[1]], corners[tri[2]]};
                 for (std::size_t k = 0; k < constraints; ++k)
                     for (int q = 0; q < 3; ++q) c[k][q] = value(t[q], k);
                 const double share = clipper.clip(c.data(), constraints);
@@ -460,13 +471,20 @@ void meshPolygons(const ShapedTable& table, const Instance& in, std::size_t w, c
     const std::size_t S = 3 + C;
     std::vector<double> attr(V * S, 0.0);
     std::vector<char> ok(V, 0);
-    const double t = in.t;
     double xMin = std::numeric_limits<double>::infinity(), xMax = -xMin, yMin = xMin, yMax = -xMin;
     for (std::size_t v = 0; v < V; ++v) {
         const float* p = &m0.data[v * stride];
         const float* q = &m1.data[v * stride];
-        if (std::isnan(p[0]) || std::isnan(q[0])) continue;
-        auto lerp = [t](float a, float b) { return (1.0 - t) * a + t * b; };
+        // A ray lost at one of the two angles is taken from the other up to the middle between
+        // them, and lost beyond it.
+        double t = in.t;
+        if (std::isnan(p[0]) || std::isnan(q[0])) {
+            if (std::isnan(p[0]) == std::isnan(q[0]) || std::isnan(p[0]) == (t < 0.5)) continue;
+            t = std::isnan(p[0]) ? 1.0 : 0.0;
+        }
+        auto lerp = [t](float a, float b) {
+            return t == 0.0 ? double(a) : t == 1.0 ? double(b) : (1.0 - t) * a + t * b;
+        };
         const double x = lerp(p[0], q[0]), y = lerp(p[1], q[1]);
         const glm::dvec2 px = frame.sensorToPixel(cs * x - sn * y, sn * x + cs * y);
         double* o = &attr[v * S];
@@ -593,8 +611,11 @@ void meshPolygons(const ShapedTable& table, const Instance& in, std::size_t w, c
                                    settings.maxSubdivision);
             }
             if (K == 1) {
-                if (ok[v00] && ok[v10] && ok[v11]) triangle(&attr[v00 * S], &attr[v10 * S], &attr[v11 * S], 0.5);
-                if (ok[v00] && ok[v11] && ok[v01]) triangle(&attr[v00 * S], &attr[v11 * S], &attr[v01 * S], 0.5);
+                const std::array<std::size_t, 4> corners{v00, v10, v01, v11};
+                for (const auto& tri : cellTriangles(ok[v00], ok[v10], ok[v01], ok[v11]))
+                    if (tri[0] < 4)
+                        triangle(&attr[corners[tri[0]] * S], &attr[corners[tri[1]] * S], &attr[corners[tri[2]] * S],
+                                 0.5);
                 continue;
             }
             const auto& cr = weightsFor(K);

@@ -180,3 +180,28 @@ TEST(ShapedGhosts, CullingDropsAtMostTheGivenShareOfTheGhostFlux) {
     // drawing subdivides them bicubically: 0.5 % apart at most on this lens.
     EXPECT_GE(fb, (1.0 - 0.05 - 0.005) * fa);
 }
+
+// A light exactly at a table angle draws that angle's meshes as they are: without subdivision the
+// drawn flux is the meshes' own (their cells as flat triangles), whatever the rays lost at the next
+// angle, at every angle of a lens that vignettes (the Cooke triplet: rays come and go between
+// angles).
+TEST(ShapedGhosts, ALightAtATableAngleDrawsThatAnglesFlux) {
+    const optics::Lens lens = optics::loadLens(std::string(FF_SOURCE_DIR) + "/lenses/cooke-triplet-50mm-f5.lens");
+    ShapedSettings s;
+    s.grid = 16;
+    s.angles = 9;
+    const ShapedTable table = buildShapedTable(lens, s);
+    const trace::ImageFrame frame{64, 43, 36.0 / 64};
+    ShapedRenderSettings flat;
+    flat.cullShare = 0.0;
+    flat.maxSubdivision = 1;
+    for (int a = 0; a + 1 < table.angles(); ++a) {
+        ShapedLight light;
+        light.field = {a * table.angleStep() * std::numbers::pi / 180.0, 0.0};
+        const ShapedRender r = renderShaped(table, {light}, frame, flat);
+        double expected = 0.0;
+        for (const ShapedGhost& g : table.ghosts)
+            for (std::size_t w = 0; w < 3; ++w) expected += g.meshes[w][static_cast<std::size_t>(a)].flux;
+        EXPECT_NEAR((r.deposited + r.offImage) / expected, 1.0, 1e-5) << "angle " << a;
+    }
+}
