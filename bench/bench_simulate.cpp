@@ -22,6 +22,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <random>
 
@@ -79,11 +80,12 @@ const ghosts::ShapedTable& shapedTable() {
     return t;
 }
 
-void frame(benchmark::State& state, const ghosts::GhostTable& table, const std::string& platePath) {
+// One frame's stages per iteration, timed; `draw` makes the flare of the plate's lights.
+void frame(benchmark::State& state, const std::string& platePath,
+           const std::function<fourier::FlareImage(const std::vector<ghosts::Light>&)>& draw) {
     using Clock = std::chrono::steady_clock;
     double read = 0, detect = 0, flare = 0, write = 0;
     const auto out = std::filesystem::temp_directory_path() / "ff-bench-out.exr";
-    std::size_t ghostCount = 0;
     auto lap = [](Clock::time_point& t) {
         const auto now = Clock::now();
         const double s = std::chrono::duration<double>(now - t).count();
@@ -98,11 +100,8 @@ void frame(benchmark::State& state, const ghosts::GhostTable& table, const std::
         std::vector<ghosts::Light> lights;
         for (const auto& l : found.lights) lights.push_back({l.x, l.y, l.flux});
         detect += lap(t);
-        const auto ghosts = cli::fourierGhosts(ghosts::instantiate(table, lights, {kW, kH, 36.0}));
-        const fourier::FourierRender r = fourier::renderFourier(ghosts, kW, kH, {});
-        ghostCount = ghosts.size();
+        const std::vector<float> layer = draw(lights).interleaved();
         flare += lap(t);
-        const std::vector<float> layer = r.image.interleaved();
         image::writeSimulatedExr(out.string(), plate, layer, image::composite(plate.rgb(), layer), {});
         write += lap(t);
     }
@@ -111,53 +110,29 @@ void frame(benchmark::State& state, const ghosts::GhostTable& table, const std::
     state.counters["detect_ms"] = 1e3 * detect / n;
     state.counters["flare_ms"] = 1e3 * flare / n;
     state.counters["write_ms"] = 1e3 * write / n;
-    state.counters["ghosts"] = double(ghostCount);
 }
 
 void BM_SimulateCached(benchmark::State& state) {
     const ghosts::GhostTable& table = cachedTable();
-    frame(state, table, plateWith(static_cast<int>(state.range(0))));
+    std::size_t ghostCount = 0;
+    frame(state, plateWith(static_cast<int>(state.range(0))), [&](const std::vector<ghosts::Light>& lights) {
+        const auto ghosts = cli::fourierGhosts(ghosts::instantiate(table, lights, {kW, kH, 36.0}));
+        ghostCount = ghosts.size();
+        return fourier::renderFourier(ghosts, kW, kH, {}).image;
+    });
+    state.counters["ghosts"] = double(ghostCount);
 }
 BENCHMARK(BM_SimulateCached)->Arg(3)->Arg(300)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_SimulateShaped(benchmark::State& state) {
-    using Clock = std::chrono::steady_clock;
     const ghosts::ShapedTable& table = shapedTable();
-    const std::string platePath = plateWith(static_cast<int>(state.range(0)));
-    const auto out = std::filesystem::temp_directory_path() / "ff-bench-out.exr";
     const trace::ImageFrame sensorFrame{kW, kH, 36.0 / kW};
-    double read = 0, detect = 0, flare = 0, write = 0;
-    std::size_t triangles = 0, drawn = 0;
-    auto lap = [](Clock::time_point& t) {
-        const auto now = Clock::now();
-        const double s = std::chrono::duration<double>(now - t).count();
-        t = now;
-        return s;
-    };
-    for (auto _ : state) {
-        auto t = Clock::now();
-        const image::Plate plate = image::readPlate(platePath);
-        read += lap(t);
-        const image::DetectionReport found = image::detectLights(plate, {});
-        std::vector<ghosts::Light> lights;
-        for (const auto& l : found.lights) lights.push_back({l.x, l.y, l.flux});
-        detect += lap(t);
-        ghosts::ShapedRender stats;
-        const fourier::FlareImage image =
-            cli::renderShapedScene(lens(), table, lights, sensorFrame, trace::SensorPlane::File, &stats);
-        triangles = stats.triangles, drawn = stats.drawn;
-        flare += lap(t);
-        const std::vector<float> layer = image.interleaved();
-        image::writeSimulatedExr(out.string(), plate, layer, image::composite(plate.rgb(), layer), {});
-        write += lap(t);
-    }
-    const double n = double(state.iterations());
-    state.counters["read_ms"] = 1e3 * read / n;
-    state.counters["detect_ms"] = 1e3 * detect / n;
-    state.counters["flare_ms"] = 1e3 * flare / n;
-    state.counters["write_ms"] = 1e3 * write / n;
-    state.counters["instances"] = double(drawn);
-    state.counters["triangles"] = double(triangles);
+    ghosts::ShapedRender stats;
+    frame(state, plateWith(static_cast<int>(state.range(0))), [&](const std::vector<ghosts::Light>& lights) {
+        return cli::renderShapedScene(lens(), table, lights, sensorFrame, trace::SensorPlane::File, &stats);
+    });
+    state.counters["instances"] = double(stats.drawn);
+    state.counters["triangles"] = double(stats.triangles);
 }
 BENCHMARK(BM_SimulateShaped)->Arg(3)->Arg(30)->Arg(300)->Unit(benchmark::kMillisecond)->UseRealTime();
 

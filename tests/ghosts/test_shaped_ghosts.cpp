@@ -56,16 +56,21 @@ std::vector<double> coverage(const trace::ImageFrame& frame, double reachMm, Ins
     return out;
 }
 
-} // namespace
-
-TEST(ShapedGhosts, AGlassPlateGhostIsAUniformDiscOfKnownIrradiance) {
+// The plate's shaped table: 32 cells, 5 angles up to maxAngleDeg (0: the default field).
+ShapedTable plateTable(int blades, double rotationDeg, double maxAngleDeg) {
     test::TempDir dir;
-    test::writeFile(dir / "plate.lens", plateLens(0, 0.0));
-    const optics::Lens lens = optics::loadLens(dir / "plate.lens");
+    test::writeFile(dir / "plate.lens", plateLens(blades, rotationDeg));
     ShapedSettings s;
     s.grid = 32;
     s.angles = 5;
-    const ShapedTable table = buildShapedTable(lens, s);
+    s.maxAngleDeg = maxAngleDeg;
+    return buildShapedTable(optics::loadLens(dir / "plate.lens"), s);
+}
+
+} // namespace
+
+TEST(ShapedGhosts, AGlassPlateGhostIsAUniformDiscOfKnownIrradiance) {
+    const ShapedTable table = plateTable(0, 0.0, 0.0);
     ASSERT_EQ(table.ghosts.size(), 1u);
     const trace::ImageFrame frame{240, 160, 36.0 / 240};
     const ShapedRender r = renderShaped(table, {ShapedLight{}}, frame);
@@ -86,14 +91,7 @@ TEST(ShapedGhosts, AGlassPlateGhostIsAUniformDiscOfKnownIrradiance) {
 // the lens's orientation, not one turned with the light. Its area equals the circle of the working
 // radius (trace/aperture.h), so the irradiance is the disc's.
 TEST(ShapedGhosts, ThePolygonIrisKeepsTheLensOrientationForAnyAzimuth) {
-    test::TempDir dir;
-    test::writeFile(dir / "plate.lens", plateLens(6, 10.0));
-    const optics::Lens lens = optics::loadLens(dir / "plate.lens");
-    ShapedSettings s;
-    s.grid = 32;
-    s.angles = 5;
-    s.maxAngleDeg = 4.0;
-    const ShapedTable table = buildShapedTable(lens, s);
+    const ShapedTable table = plateTable(6, 10.0, 4.0);
     ASSERT_EQ(table.ghosts.size(), 1u);
     const trace::ImageFrame frame{240, 160, 36.0 / 240};
     const double radius = 5.0, sector = std::numbers::pi / 3;
