@@ -67,6 +67,14 @@ ShapedTable plateTable(int blades, double rotationDeg, double maxAngleDeg) {
     return buildShapedTable(optics::loadLens(dir / "plate.lens"), s);
 }
 
+// The Cooke triplet's shaped table: 16 cells, `angles` angles.
+ShapedTable cookeTable(int angles) {
+    ShapedSettings s;
+    s.grid = 16;
+    s.angles = angles;
+    return buildShapedTable(optics::loadLens(std::string(FF_SOURCE_DIR) + "/lenses/cooke-triplet-50mm-f5.lens"), s);
+}
+
 } // namespace
 
 TEST(ShapedGhosts, AGlassPlateGhostIsAUniformDiscOfKnownIrradiance) {
@@ -158,11 +166,7 @@ TEST(ShapedGhosts, MatchesTheTracedFlareBetweenTableAngles) {
 // Culling drops the faintest ghosts of a light while they hold at most the given share of its ghost
 // flux: the flux drawn (in and out of the frame) loses no more than that share.
 TEST(ShapedGhosts, CullingDropsAtMostTheGivenShareOfTheGhostFlux) {
-    const optics::Lens lens = optics::loadLens(std::string(FF_SOURCE_DIR) + "/lenses/cooke-triplet-50mm-f5.lens");
-    ShapedSettings s;
-    s.grid = 16;
-    s.angles = 3;
-    const ShapedTable table = buildShapedTable(lens, s);
+    const ShapedTable table = cookeTable(3);
     const trace::ImageFrame frame{160, 107, 36.0 / 160};
     ShapedRenderSettings all, culled;
     all.cullShare = 0.0;
@@ -184,11 +188,7 @@ TEST(ShapedGhosts, CullingDropsAtMostTheGivenShareOfTheGhostFlux) {
 // angle, at every angle of a lens that vignettes (the Cooke triplet: rays come and go between
 // angles).
 TEST(ShapedGhosts, ALightAtATableAngleDrawsThatAnglesFlux) {
-    const optics::Lens lens = optics::loadLens(std::string(FF_SOURCE_DIR) + "/lenses/cooke-triplet-50mm-f5.lens");
-    ShapedSettings s;
-    s.grid = 16;
-    s.angles = 9;
-    const ShapedTable table = buildShapedTable(lens, s);
+    const ShapedTable table = cookeTable(9);
     const trace::ImageFrame frame{64, 43, 36.0 / 64};
     ShapedRenderSettings flat;
     flat.cullShare = 0.0;
