@@ -151,7 +151,9 @@ public:
         double tTable = 0.0;
         if (o_.ghostModel == "shaped") {
             const double pitch = sensorWidthMm_ / plate.displayWidth;
-            if (!shaped_) {
+            // One table per display-window shape (the field it must cover).
+            if (!shaped_ || shapedFor_ != std::make_pair(plate.displayWidth, plate.displayHeight)) {
+                shapedFor_ = {plate.displayWidth, plate.displayHeight};
                 ghosts::ShapedSettings ss;
                 ss.sensorSizeMm = {sensorWidthMm_, pitch * plate.displayHeight};
                 shaped_ = std::make_unique<ghosts::ShapedTable>(loadShapedTable(lens_, ss, g_, reporter_));
@@ -283,6 +285,7 @@ private:
     double sensorWidthMm_ = 36.0;
     std::unique_ptr<ghosts::GhostTable> table_;
     std::unique_ptr<ghosts::ShapedTable> shaped_;
+    std::pair<int, int> shapedFor_; ///< the display window shaped_ was made for
     gpu::GlBackend* gl_ = nullptr; ///< fourier_.backend when it is the GL one
     std::string checker_ = std::filesystem::read_symlink("/proc/self/exe").string(); // this program, for `plate-check`
 };
