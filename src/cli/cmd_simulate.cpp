@@ -171,8 +171,13 @@ public:
                 for (double& f : l.flux) f *= o_.gain;
             }
             ghosts::ShapedRender stats;
+            std::size_t outside = 0;
             const fourier::FlareImage flare =
-                renderShapedScene(lens_, *shaped_, shifted, frame, ghosts::ShapedSettings{}.sensor, &stats);
+                renderShapedScene(lens_, *shaped_, shifted, frame, ghosts::ShapedSettings{}.sensor, &stats, &outside);
+            if (outside)
+                note(job.plate + ": " + std::to_string(outside) + " of " + std::to_string(lights.size()) +
+                     " lights lie where no field angle of the lens images a source (outside its image circle on a " +
+                     text::fixed(sensorWidthMm_, 1) + " mm wide sensor): they get no flare");
             flareRgb = flare.interleaved();
             comp = image::composite(plate.rgb(), flareRgb);
             flareText = std::to_string(stats.drawn) + " ghost instances drawn (" + std::to_string(stats.triangles) +

@@ -194,12 +194,18 @@ TracedScene renderTracedScene(const optics::Lens& lens, const std::vector<ghosts
 
 fourier::FlareImage renderShapedScene(const optics::Lens& lens, const ghosts::ShapedTable& table,
                                       const std::vector<ghosts::Light>& lights, const trace::ImageFrame& frame,
-                                      trace::SensorPlane sensor, ghosts::ShapedRender* stats) {
+                                      trace::SensorPlane sensor, ghosts::ShapedRender* stats, std::size_t* outside) {
     const double sensorZ = trace::sensorPlaneZ(lens, sensor);
     std::vector<ghosts::ShapedLight> shaped;
+    if (outside) *outside = 0;
     for (const ghosts::Light& l : lights) {
         const glm::dvec2 s = frame.pixelToSensor(l.xPx, l.yPx);
-        shaped.push_back({trace::fieldForSensorPoint(lens, sensorZ, s.x, s.y), l.flux});
+        try {
+            shaped.push_back({trace::fieldForSensorPoint(lens, sensorZ, s.x, s.y), l.flux});
+        } catch (const Error&) {
+            if (!outside) throw;
+            ++*outside;
+        }
     }
     ghosts::ShapedRender r = ghosts::renderShaped(table, shaped, frame);
     fourier::FlareImage image(frame.width, frame.height);

@@ -187,10 +187,13 @@ Field fieldForSensorPoint(const optics::Lens& lens, double sensorZ, double xMm, 
     const LensAtWavelength L(lens, lines::d, sensorZ);
     const PupilFrame pupil = pupilFrame(lens);
     const auto steps = pathSteps(lens, std::nullopt);
-    // Height of the chief ray on the sensor for a field angle (azimuth 0: image along +y).
+    // Height of the chief ray on the sensor for a field angle (azimuth 0: image along +y), traced
+    // with the apertures open: where the lens vignettes its own chief ray, the rest of the beam
+    // still images the source there.
+    std::vector<double> margins(steps.size());
     auto height = [&](double theta) -> std::optional<double> {
         const Bundle one = gridBundle(pupil, {theta, 0.0}, 1, 0.0, 0.0, 1e-9, false);
-        const SequentialResult s = traceSequential(L, steps, one.rays[0]);
+        const SequentialResult s = traceSequential(L, steps, one.rays[0], Weighting::Fresnel, margins.data());
         if (s.status != optics::RayStatus::Ok) return std::nullopt;
         return s.ray.origin.y;
     };

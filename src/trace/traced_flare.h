@@ -57,8 +57,8 @@ std::array<double, 3> cie1931(double lambdaNm);
 TracedFlare renderTracedFlare(const optics::Lens& lens, const TracedFlareOptions& options);
 
 /// The field whose direct image (its chief ray through the centre of the paraxial entrance pupil,
-/// traced exactly at the d line) lands at sensor point (x, y) mm. Throws ff::Error (Input) when no
-/// field angle below 89 deg reaches that far.
+/// traced exactly at the d line with the apertures open) lands at sensor point (x, y) mm. Throws
+/// ff::Error (Input) when no field angle below 89 deg reaches that far.
 Field fieldForSensorPoint(const optics::Lens& lens, double sensorZ, double xMm, double yMm);
 
 } // namespace ff::trace

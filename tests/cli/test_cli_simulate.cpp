@@ -171,6 +171,22 @@ TEST(CliSimulate, ShapedFlareIsTheTracedFlareOfTheLightFound) {
     }
 }
 
+// A light beyond the lens's image circle (the Cooke triplet on a 200 mm wide sensor: the plate's
+// corner is some 65 degrees off the axis, past any ray through the lens) has no direct image there, so
+// no field to draw ghosts for: it gets no flare and a note, and the run succeeds.
+TEST(CliSimulate, LightsBeyondTheImageCircleGetNoFlareAndANote) {
+    ff::test::TempDir dir;
+    writePlate(dir / "plate.exr", 1, 1, 800.0f);
+    const auto r = run(simulate(dir / "plate.exr", dir / "out.exr", "--sensor 200x133"), kEnv);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("1 of 1 lights lie where no field angle of the lens images a source"), std::string::npos)
+        << r.err;
+    const Exr e = readExr(dir / "out.exr");
+    const int fG = e.channel("flare.G");
+    ASSERT_GE(fG, 0);
+    for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) ASSERT_EQ(e.at(p, fG), 0.0f);
+}
+
 // A light at the frame centre, Gaussian model: every ghost is centred, so the flare is
 // point-symmetric about the centre, and its flux in the frame is the light's flux x each ghost's
 // relative flux x the part of its Gaussian inside the frame — computed here from the ghost table at
