@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/text.h"
+#include "core/units.h"
 
 #include <nlohmann/json.hpp>
 
@@ -201,7 +202,14 @@ fourier::FlareImage renderShapedScene(const optics::Lens& lens, const ghosts::Sh
     for (const ghosts::Light& l : lights) {
         const glm::dvec2 s = frame.pixelToSensor(l.xPx, l.yPx);
         try {
-            shaped.push_back({trace::fieldForSensorPoint(lens, sensorZ, s.x, s.y), l.flux});
+            const trace::Field f = trace::fieldForSensorPoint(lens, sensorZ, s.x, s.y);
+            // Beyond the table's field the ghosts are not known (the table spans the sensor's
+            // half-diagonal where the lens images it).
+            if (outside && radToDeg(f.angleRad) > table.maxAngleDeg * (1.0 + 1e-9)) {
+                ++*outside;
+                continue;
+            }
+            shaped.push_back({f, l.flux});
         } catch (const Error&) {
             if (!outside) throw;
             ++*outside;

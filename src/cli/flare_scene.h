@@ -49,8 +49,9 @@ TracedScene renderTracedScene(const optics::Lens& lens, const std::vector<ghosts
 TracedScene renderTracedField(const optics::Lens& lens, const trace::TracedFlareOptions& options);
 
 /// The shaped ghosts of all lights (ghosts/shaped_ghosts.h), each light's field found as the traced
-/// scene finds it, summed with the lights' RGB flux. A light that no field angle images (beyond the
-/// lens's image circle on this sensor) draws nothing and is counted in `outside`.
+/// scene finds it, summed with the lights' RGB flux. With `outside`, a light that no field angle
+/// images, or only one beyond the table's, draws nothing and is counted there; without it, the first
+/// throws and the second is drawn at the table's last angle.
 fourier::FlareImage renderShapedScene(const optics::Lens& lens, const ghosts::ShapedTable& table,
                                       const std::vector<ghosts::Light>& lights, const trace::ImageFrame& frame,
                                       trace::SensorPlane sensor, ghosts::ShapedRender* stats = nullptr,

@@ -23,7 +23,7 @@ namespace {
 constexpr char kMagic[8] = {'F', 'F', 'S', 'H', 'A', 'P', 'E', 'D'};
 constexpr std::uint32_t kVersion = 1;
 /// Changes whenever buildShapedTable's result changes for the same settings.
-constexpr int kBuildVersion = 2;
+constexpr int kBuildVersion = 3;
 constexpr std::uint16_t kLost = 65535;
 constexpr double kLevels = 65534.0;
 constexpr std::uintmax_t kMaxEntryBytes = std::uintmax_t(4) << 30;

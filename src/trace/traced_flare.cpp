@@ -187,15 +187,42 @@ Field fieldForSensorPoint(const optics::Lens& lens, double sensorZ, double xMm, 
     const LensAtWavelength L(lens, lines::d, sensorZ);
     const PupilFrame pupil = pupilFrame(lens);
     const auto steps = pathSteps(lens, std::nullopt);
-    // Height of the chief ray on the sensor for a field angle (azimuth 0: image along +y), traced
-    // with the apertures open: where the lens vignettes its own chief ray, the rest of the beam
-    // still images the source there.
+    // Height of the chief ray on the sensor for a field angle (azimuth 0: image along +y): the ray
+    // of that field through the centre of the stop (aimed by the secant method from the paraxial
+    // entrance pupil's centre, where wide-angle lenses' pupils have moved), traced with the
+    // apertures open: where the lens vignettes its own chief ray, the rest of the beam still images
+    // the source there.
+    std::size_t stopStep = steps.size();
+    for (std::size_t k = 0; k < steps.size(); ++k)
+        if (steps[k].surface == L.stop) stopStep = k;
     std::vector<double> margins(steps.size());
-    auto height = [&](double theta) -> std::optional<double> {
-        const Bundle one = gridBundle(pupil, {theta, 0.0}, 1, 0.0, 0.0, 1e-9, false);
-        const SequentialResult s = traceSequential(L, steps, one.rays[0], Weighting::Fresnel, margins.data());
+    std::vector<glm::dvec3> points(steps.size());
+    auto trace = [&](double theta, double py) -> std::optional<std::pair<double, double>> {
+        const Bundle one = gridBundle(pupil, {theta, 0.0}, 1, 0.0, py, 1e-9, false);
+        const SequentialResult s =
+            traceSequential(L, steps, one.rays[0], Weighting::Fresnel, margins.data(), points.data());
         if (s.status != optics::RayStatus::Ok) return std::nullopt;
-        return s.ray.origin.y;
+        return std::make_pair(stopStep < steps.size() ? points[stopStep].y : 0.0, s.ray.origin.y);
+    };
+    auto height = [&](double theta) -> std::optional<double> {
+        // Start from the paraxial pupil's centre, else from the traced point of the pupil nearest it.
+        const double h = searchHalfSize(pupil, {theta, 0.0});
+        double p0 = 0.0;
+        auto r0 = trace(theta, p0);
+        for (int k = 1; k <= 32 && !r0; ++k)
+            for (const double sign : {-1.0, 1.0})
+                if (!r0) r0 = trace(theta, p0 = sign * h * k / 32.0);
+        if (!r0) return std::nullopt;
+        double p1 = p0 + 1e-3 * h;
+        for (int it = 0; it < 40 && stopStep < steps.size(); ++it) {
+            if (std::abs(r0->first) < 1e-10) break;
+            const auto r1 = trace(theta, p1);
+            if (!r1 || r1->first == r0->first) return std::nullopt;
+            const double next = p1 - r1->first * (p1 - p0) / (r1->first - r0->first);
+            p0 = p1, r0 = r1, p1 = next;
+        }
+        if (stopStep < steps.size() && !(std::abs(r0->first) < 1e-6)) return std::nullopt;
+        return r0->second;
     };
     // Bisection on the angle; the image height grows monotonically with it for a photographic lens.
     double lo = 0.0, hi = degToRad(89.0);
