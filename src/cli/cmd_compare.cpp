@@ -232,7 +232,8 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
         t0 = Clock::now();
         ghosts::ShapedRender sr;
         const std::vector<float> shapedRgb =
-            renderShapedScene(lens, shapedTable, lights, to.frame, to.sensor, &sr).interleaved();
+            renderShapedScene(lens, shapedTable, lights, to.frame, to.sensor, &sr, nullptr, polygonRaster(base))
+                .interleaved();
         const double drawSeconds = seconds(t0);
         save("shaped", shapedRgb);
         const auto eShaped = image::compareImages(shapedRgb, tracedRgb);

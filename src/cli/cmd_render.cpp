@@ -153,7 +153,7 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
             ss.sensorSizeMm = sensorMm;
             const ghosts::ShapedTable tab = loadShapedTable(lens, ss, g, reporter);
             ghosts::ShapedRender r;
-            image = renderShapedScene(lens, tab, lights, t.frame, t.sensor, &r);
+            image = renderShapedScene(lens, tab, lights, t.frame, t.sensor, &r, nullptr, polygonRaster(fs));
             summary = "shaped ghosts (" + std::to_string(tab.ghosts.size()) + " of " + std::to_string(tab.ghostCount) +
                       " ghosts, " + text::fixed(static_cast<double>(tab.bytes()) / 1048576.0, 1) +
                       " MiB in memory); drew " + std::to_string(r.drawn) + " ghost instances (" +

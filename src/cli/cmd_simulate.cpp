@@ -105,15 +105,13 @@ public:
         } else if (o.fov > 0.0) {
             sensorWidthMm_ = 2.0 * std::abs(optics::paraxialEfl(lens_, lines::d)) * std::tan(0.5 * o.fov * std::numbers::pi / 180.0);
         }
-        // Options checked first: the backend (EGL) is touched last. The shaped model is drawn on the
-        // CPU; the Fourier options serve the fitted models.
+        // Options checked first: the backend (EGL) is touched last. The GL backend draws the shaped
+        // model's polygons, or aggregates the fitted models with the Fourier options.
+        fourier_ = o.fourier.settings(g);
         if (o.ghostModel == "shaped") {
-            if (o.fourier.backend == "gl")
-                note("--backend gl: the shaped ghost model is drawn on the CPU (the GL backend aggregates "
-                     "--ghost-model gaussian|cos2)");
+            raster_ = polygonRaster(fourier_);
             return;
         }
-        fourier_ = o.fourier.settings(g);
         // The Fourier-Bessel basis has no GL path (renderBessel runs on the CPU).
         if (fourier_.basis == fourier::Basis::Separable) gl_ = dynamic_cast<gpu::GlBackend*>(fourier_.backend.get());
     }
@@ -172,8 +170,8 @@ public:
             }
             ghosts::ShapedRender stats;
             std::size_t outside = 0;
-            const fourier::FlareImage flare =
-                renderShapedScene(lens_, *shaped_, shifted, frame, ghosts::ShapedSettings{}.sensor, &stats, &outside);
+            const fourier::FlareImage flare = renderShapedScene(
+                lens_, *shaped_, shifted, frame, ghosts::ShapedSettings{}.sensor, &stats, &outside, raster_);
             if (outside)
                 note(job.plate + ": " + std::to_string(outside) + " of " + std::to_string(lights.size()) +
                      " lights lie where no field angle of the lens images a source (outside its image circle on a " +
@@ -184,6 +182,7 @@ public:
                         " triangles), " + std::to_string(stats.culled) + " culled holding at most " +
                         text::scientific(stats.culledShare, 2) + " of a light's ghost flux";
             modelMeta = {{"fourierflare:ghostModel", "shaped"},
+                         {"fourierflare:backend", raster_ ? fourier_.backend->describe() : std::string("cpu")},
                          {"fourierflare:culled", std::to_string(stats.culled) + " ghost instances, at most " +
                                                      text::scientific(stats.culledShare, 3) +
                                                      " of a light's ghost flux"}};
@@ -291,7 +290,8 @@ private:
     std::unique_ptr<ghosts::GhostTable> table_;
     std::unique_ptr<ghosts::ShapedTable> shaped_;
     std::pair<int, int> shapedFor_; ///< the display window shaped_ was made for
-    gpu::GlBackend* gl_ = nullptr; ///< fourier_.backend when it is the GL one
+    gpu::GlBackend* gl_ = nullptr;  ///< fourier_.backend when it is the GL one (fitted models)
+    ghosts::PolygonRaster* raster_ = nullptr; ///< the GL backend's, drawing the shaped model
     std::string checker_ = std::filesystem::read_symlink("/proc/self/exe").string(); // this program, for `plate-check`
 };
 

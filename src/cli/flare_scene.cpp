@@ -195,7 +195,8 @@ TracedScene renderTracedScene(const optics::Lens& lens, const std::vector<ghosts
 
 fourier::FlareImage renderShapedScene(const optics::Lens& lens, const ghosts::ShapedTable& table,
                                       const std::vector<ghosts::Light>& lights, const trace::ImageFrame& frame,
-                                      trace::SensorPlane sensor, ghosts::ShapedRender* stats, std::size_t* outside) {
+                                      trace::SensorPlane sensor, ghosts::ShapedRender* stats, std::size_t* outside,
+                                      ghosts::PolygonRaster* raster) {
     const double sensorZ = trace::sensorPlaneZ(lens, sensor);
     std::vector<ghosts::ShapedLight> shaped;
     if (outside) *outside = 0;
@@ -215,7 +216,7 @@ fourier::FlareImage renderShapedScene(const optics::Lens& lens, const ghosts::Sh
             ++*outside;
         }
     }
-    ghosts::ShapedRender r = ghosts::renderShaped(table, shaped, frame);
+    ghosts::ShapedRender r = ghosts::renderShaped(table, shaped, frame, {}, raster);
     fourier::FlareImage image(frame.width, frame.height);
     for (int c = 0; c < 3; ++c)
         for (std::size_t p = 0; p < image.pixels(); ++p)

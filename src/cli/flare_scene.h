@@ -51,10 +51,11 @@ TracedScene renderTracedField(const optics::Lens& lens, const trace::TracedFlare
 /// The shaped ghosts of all lights (ghosts/shaped_ghosts.h), each light's field found as the traced
 /// scene finds it, summed with the lights' RGB flux. With `outside`, a light that no field angle
 /// images, or only one beyond the table's, draws nothing and is counted there; without it, the first
-/// throws and the second is drawn at the table's last angle.
+/// throws and the second is drawn at the table's last angle. `raster`: where the polygons are drawn
+/// (null: the CPU).
 fourier::FlareImage renderShapedScene(const optics::Lens& lens, const ghosts::ShapedTable& table,
                                       const std::vector<ghosts::Light>& lights, const trace::ImageFrame& frame,
                                       trace::SensorPlane sensor, ghosts::ShapedRender* stats = nullptr,
-                                      std::size_t* outside = nullptr);
+                                      std::size_t* outside = nullptr, ghosts::PolygonRaster* raster = nullptr);
 
 } // namespace ff::cli

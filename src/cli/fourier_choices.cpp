@@ -75,4 +75,9 @@ fourier::FourierSettings FourierOptions::settings(const GlobalOptions& g) const 
     return s;
 }
 
+ghosts::PolygonRaster* polygonRaster(const fourier::FourierSettings& settings) {
+    auto* gl = dynamic_cast<gpu::GlBackend*>(settings.backend.get());
+    return gl ? &gl->polygonRaster() : nullptr;
+}
+
 } // namespace ff::cli

@@ -5,6 +5,7 @@
 #include "cli/trace_choices.h"
 #include "fourier/plan.h"
 #include "ghosts/instancing.h"
+#include "ghosts/shaped_ghosts.h"
 
 #include <string>
 #include <vector>
@@ -32,5 +33,8 @@ struct FourierOptions {
     /// context throws ff::Error (Runtime); auto takes a hardware device only, else notes the fall-back.
     fourier::FourierSettings settings(const GlobalOptions& g) const;
 };
+
+/// The shaped ghosts' polygon raster of the settings' GL backend, or null (the CPU draws them).
+ghosts::PolygonRaster* polygonRaster(const fourier::FourierSettings& settings);
 
 } // namespace ff::cli

@@ -426,36 +426,9 @@ struct Instance {
     double flatnessPx = 0.0; ///< the subdivision's tolerance for this instance (ShapedRenderSettings)
 };
 
-// The clipped polygons of one instance at one wavelength, in pixels, in the order drawn.
-struct Polygons {
-    struct Poly {
-        std::uint32_t first = 0, count = 0;
-        float yMin = 0.0f, yMax = 0.0f;
-        double energy = 0.0;
-    };
-    std::vector<glm::vec2> vertices;
-    std::vector<Poly> polys;
-    double energy = 0.0; ///< drawn, in and out of the frame
-    std::size_t triangles = 0;
-
-    void add(const glm::dvec2* p, std::size_t n, double e) {
-        Poly q{static_cast<std::uint32_t>(vertices.size()), static_cast<std::uint32_t>(n),
-               std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(), e};
-        for (std::size_t i = 0; i < n; ++i) {
-            const glm::vec2 v(p[i]);
-            vertices.push_back(v);
-            q.yMin = std::min(q.yMin, v.y);
-            q.yMax = std::max(q.yMax, v.y);
-        }
-        polys.push_back(q);
-        energy += e;
-        ++triangles;
-    }
-};
-
 // Cuts one instance's mesh at one wavelength into clipped polygons (pixels; shaped_ghosts.h).
 void meshPolygons(const ShapedTable& table, const Instance& in, std::size_t w, const ShapedLight& light,
-                  const trace::ImageFrame& frame, const ShapedRenderSettings& settings, Polygons& out) {
+                  const trace::ImageFrame& frame, const ShapedRenderSettings& settings, ShapedPolygons& out) {
     const ShapedGhost& gh = table.ghosts[in.ghost];
     const int A = table.angles();
     const ShapedMesh& m0 = gh.meshes[w][in.a0];
@@ -647,8 +620,22 @@ void meshPolygons(const ShapedTable& table, const Instance& in, std::size_t w, c
 
 } // namespace
 
+void ShapedPolygons::add(const glm::dvec2* p, std::size_t n, double e) {
+    Poly q{static_cast<std::uint32_t>(vertices.size()), static_cast<std::uint32_t>(n),
+           std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(), e};
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::vec2 v(p[i]);
+        vertices.push_back(v);
+        q.yMin = std::min(q.yMin, v.y);
+        q.yMax = std::max(q.yMax, v.y);
+    }
+    polys.push_back(q);
+    energy += e;
+    ++triangles;
+}
+
 ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLight>& lights,
-                          const trace::ImageFrame& frame, const ShapedRenderSettings& settings) {
+                          const trace::ImageFrame& frame, const ShapedRenderSettings& settings, PolygonRaster* raster) {
     ShapedRender out;
     const std::size_t W = std::min<std::size_t>(3, table.wavelengthsNm.size()), G = table.ghosts.size();
     const int A = table.angles();
@@ -716,10 +703,10 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
                                           : settings.maxFlatnessPx;
     }
 
-    // A chunk of instances at a time: their polygons made in parallel, then drawn into bands of
-    // rows in parallel, each band in the instances' order (the image does not depend on the
-    // number of threads).
-    const int bands = std::clamp(frame.height / 64, 1, 16);
+    // A chunk of instances at a time: their polygons made in parallel, then drawn, on the CPU into
+    // bands of rows in parallel, each band in the instances' order (the image does not depend on
+    // the number of threads), or by the raster given.
+    const int bands = raster ? 0 : std::clamp(frame.height / 64, 1, 16);
     std::vector<trace::ImageFrame> bandFrames;
     std::vector<int> bandRow;
     for (int b = 0; b < bands; ++b) {
@@ -732,9 +719,16 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
     std::vector<std::vector<trace::CoverageRaster>> rasters(W);
     for (std::size_t w = 0; w < W; ++w)
         for (const auto& f : bandFrames) rasters[w].emplace_back(f);
+    if (raster) {
+        // A pixel receives at most the energy of all polygons, which the instances' fluxes bound
+        // (the drawn energy follows the interpolated flux within a few per cent).
+        double bound = 0.0;
+        for (const Instance& in : instances) bound += in.flux;
+        raster->begin(frame, W, 2.0 * bound + std::numeric_limits<double>::min());
+    }
     constexpr std::size_t kChunk = 16;
     double energy = 0.0;
-    std::vector<Polygons> polys(kChunk * W);
+    std::vector<ShapedPolygons> polys(kChunk * W);
     for (std::size_t i0 = 0; i0 < instances.size(); i0 += kChunk) {
         const std::size_t i1 = std::min(instances.size(), i0 + kChunk);
         tbb::parallel_for(std::size_t(0), (i1 - i0) * W, [&](std::size_t k) {
@@ -742,30 +736,40 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
             polys[k] = {};
             meshPolygons(table, in, k % W, lights[in.light], frame, settings, polys[k]);
         });
-        tbb::parallel_for(std::size_t(0), W * bands, [&](std::size_t k) {
-            const std::size_t w = k / bands, b = k % bands;
-            const float r0 = static_cast<float>(bandRow[b]), r1 = r0 + static_cast<float>(bandFrames[b].height);
-            trace::RasterStats unused;
-            std::array<glm::dvec2, kMaxPolygon> p{};
-            for (std::size_t i = i0; i < i1; ++i) {
-                const Polygons& ps = polys[(i - i0) * W + w];
-                for (const Polygons::Poly& q : ps.polys) {
-                    if (q.yMax < r0 - 1.0f || q.yMin > r1 + 1.0f) continue; // a splat reaches a pixel further
-                    for (std::uint32_t v = 0; v < q.count; ++v)
-                        p[v] = {ps.vertices[q.first + v].x, ps.vertices[q.first + v].y - r0};
-                    rasters[w][b].polygon(std::span(p.data(), q.count), q.energy, unused);
+        if (raster)
+            for (std::size_t k = 0; k < (i1 - i0) * W; ++k) raster->draw(k % W, polys[k]);
+        else
+            tbb::parallel_for(std::size_t(0), W * bands, [&](std::size_t k) {
+                const std::size_t w = k / bands, b = k % bands;
+                const float r0 = static_cast<float>(bandRow[b]), r1 = r0 + static_cast<float>(bandFrames[b].height);
+                trace::RasterStats unused;
+                std::array<glm::dvec2, kMaxPolygon> p{};
+                for (std::size_t i = i0; i < i1; ++i) {
+                    const ShapedPolygons& ps = polys[(i - i0) * W + w];
+                    for (const ShapedPolygons::Poly& q : ps.polys) {
+                        if (q.yMax < r0 - 1.0f || q.yMin > r1 + 1.0f) continue; // a splat reaches a pixel further
+                        for (std::uint32_t v = 0; v < q.count; ++v)
+                            p[v] = {ps.vertices[q.first + v].x, ps.vertices[q.first + v].y - r0};
+                        rasters[w][b].polygon(std::span(p.data(), q.count), q.energy, unused);
+                    }
                 }
-            }
-        });
+            });
         for (std::size_t k = 0; k < (i1 - i0) * W; ++k) {
             energy += polys[k].energy;
             out.triangles += polys[k].triangles;
         }
     }
     const std::size_t pixels = static_cast<std::size_t>(frame.width) * frame.height;
+    std::vector<std::vector<double>> drawn;
+    if (raster) drawn = raster->finish();
     for (std::size_t w = 0; w < 3; ++w) {
         out.channel[w].assign(pixels, 0.0);
         if (w >= W) continue;
+        if (raster) {
+            out.channel[w] = std::move(drawn.at(w));
+            if (out.channel[w].size() != pixels)
+                throw Error(ErrorKind::Runtime, "the polygon raster drew another frame");
+        }
         for (int b = 0; b < bands; ++b) {
             const std::vector<double> band = std::move(rasters[w][b]).release();
             std::copy(band.begin(), band.end(),

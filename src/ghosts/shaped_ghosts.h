@@ -27,7 +27,10 @@
 #include "trace/ghost_analysis.h"
 #include "trace/pupil_sampling.h"
 
+#include <glm/vec2.hpp>
+
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -119,8 +122,39 @@ struct ShapedRender {
     std::size_t triangles = 0;
 };
 
-/// Draws every light's ghosts into the frame; channel c is the table's wavelength c.
+/// Clipped polygons of uniform density (one ghost instance at one wavelength), in the order drawn.
+struct ShapedPolygons {
+    struct Poly {
+        std::uint32_t first = 0, count = 0; ///< its vertices: vertices[first .. first + count), in order
+        float yMin = 0.0f, yMax = 0.0f;     ///< rows it spans, pixels
+        double energy = 0.0;                ///< flux spread uniformly over it
+    };
+    std::vector<glm::vec2> vertices; ///< pixels (origin top-left, pixel centres at +0.5)
+    std::vector<Poly> polys;
+    double energy = 0.0; ///< drawn, in and out of the frame
+    std::size_t triangles = 0;
+
+    void add(const glm::dvec2* p, std::size_t n, double e);
+};
+
+/// Where renderShaped draws its polygons when not on the CPU (whose trace::CoverageRaster is the
+/// reference): the same exact pixel-area coverage, each channel the sum of its polygons.
+class PolygonRaster {
+  public:
+    virtual ~PolygonRaster() = default;
+    /// Starts `channels` zero images of the frame's size. energyBound bounds the energy any one
+    /// pixel can receive (the sum of the polygons' energies does).
+    virtual void begin(const trace::ImageFrame& frame, std::size_t channels, double energyBound) = 0;
+    /// Adds the polygons to channel c.
+    virtual void draw(std::size_t c, const ShapedPolygons& polygons) = 0;
+    /// The channels (frame-sized, row-major, flux per pixel).
+    virtual std::vector<std::vector<double>> finish() = 0;
+};
+
+/// Draws every light's ghosts into the frame; channel c is the table's wavelength c. The polygons
+/// are drawn on the CPU, or by `raster` when one is given.
 ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLight>& lights,
-                          const trace::ImageFrame& frame, const ShapedRenderSettings& settings = {});
+                          const trace::ImageFrame& frame, const ShapedRenderSettings& settings = {},
+                          PolygonRaster* raster = nullptr);
 
 } // namespace ff::ghosts

@@ -67,4 +67,9 @@ void GlBackend::finish(fourier::FlareImage& image) {
 
 std::vector<float> GlBackend::composite(const std::vector<float>& plate) { return compositor_->composite(plate, width_, height_, image_); }
 
+GlPolygonRaster& GlBackend::polygonRaster() {
+    if (!polygons_) polygons_ = std::make_unique<GlPolygonRaster>(*context_);
+    return *polygons_;
+}
+
 } // namespace ff::gpu

@@ -10,6 +10,7 @@
 #include "gpu/gl_context.h"
 #include "gpu/gl_direct.h"
 #include "gpu/gl_evaluator.h"
+#include "gpu/gl_polygon_raster.h"
 
 #include <memory>
 
@@ -29,6 +30,8 @@ public:
     /// plate + the last frame (R, G, B interleaved, the frame's size); see GlCompositor.
     std::vector<float> composite(const std::vector<float>& plate);
     int maxCompositeSide() const { return compositor_->maxSide(); }
+    /// The shaped ghosts' polygon raster on this backend's context (made on first use).
+    GlPolygonRaster& polygonRaster();
     const GlContext& context() const { return *context_; }
 
 private:
@@ -37,6 +40,7 @@ private:
     std::unique_ptr<GlEvaluator> evaluator_;
     std::unique_ptr<GlDirect> direct_;
     std::unique_ptr<GlCompositor> compositor_;
+    std::unique_ptr<GlPolygonRaster> polygons_;
     Buffer z_, image_;
     int width_ = 0, height_ = 0;
 };

@@ -101,5 +101,8 @@ ComputeProgram::~ComputeProgram() { glDeleteProgram(id_); }
 
 void ComputeProgram::set(const char* uniform, int value) const { glProgramUniform1i(id_, glGetUniformLocation(id_, uniform), value); }
 void ComputeProgram::set(const char* uniform, float value) const { glProgramUniform1f(id_, glGetUniformLocation(id_, uniform), value); }
+void ComputeProgram::setDouble(const char* uniform, double value) const {
+    glProgramUniform1d(id_, glGetUniformLocation(id_, uniform), value);
+}
 
 } // namespace ff::gpu

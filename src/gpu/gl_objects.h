@@ -61,6 +61,7 @@ public:
     void use() const { glUseProgram(id_); }
     void set(const char* uniform, int value) const;
     void set(const char* uniform, float value) const;
+    void setDouble(const char* uniform, double value) const;
     int localSize() const { return localSize_; }
 
 private:

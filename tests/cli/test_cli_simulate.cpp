@@ -350,43 +350,45 @@ TEST(CliSimulate, DamagedFilesFailCleanlyAndQuickly) {
     EXPECT_EQ(files, 40);
 }
 
-// --backend gl evaluates the Fourier series with the compute shaders (llvmpipe where there is no
-// GPU): the same EXR as --backend cpu within float32 rounding of the two evaluation orders.
+// --backend gl draws the flare with the compute shaders (llvmpipe where there is no GPU): the
+// Fourier series of the fitted models, the polygons of the shaped one. The same EXR as --backend cpu
+// within float32 rounding of the two evaluation orders.
 TEST(CliSimulate, GlBackendMatchesTheCpuBackend) {
-    ff::test::TempDir dir;
-    writePlate(dir / "plate.exr", 30, 20, 800.0f);
-    const auto gl =
-        run(simulate(dir / "plate.exr", dir / "gl.exr", "--ghost-model gaussian --backend gl --fourier-n 32"), kEnv);
-    if (gl.code == 1 && gl.err.find("no OpenGL 4.5 context") != std::string::npos) GTEST_SKIP() << gl.err;
-    ASSERT_EQ(gl.code, 0) << gl.err;
-    ASSERT_EQ(
-        run(simulate(dir / "plate.exr", dir / "cpu.exr", "--ghost-model gaussian --backend cpu --fourier-n 32"), kEnv)
-            .code,
-        0);
-    const Exr a = readExr(dir / "gl.exr"), b = readExr(dir / "cpu.exr");
-    EXPECT_NE(a.spec.get_string_attribute("fourierflare:backend").find("gl: "), std::string::npos);
-    double num = 0.0, den = 0.0;
-    for (const char* name : {"flare.R", "flare.G", "flare.B"}) {
-        const int ca = a.channel(name), cb = b.channel(name);
-        ASSERT_TRUE(ca >= 0 && cb >= 0);
-        for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) {
-            const double d = double(a.at(p, ca)) - b.at(p, cb);
-            num += d * d;
-            den += double(b.at(p, cb)) * b.at(p, cb);
+    for (const std::string model : {"gaussian", "shaped"}) {
+        SCOPED_TRACE(model);
+        ff::test::TempDir dir;
+        writePlate(dir / "plate.exr", 30, 20, 800.0f);
+        const std::string options = "--ghost-model " + model + " --fourier-n 32";
+        const auto gl = run(simulate(dir / "plate.exr", dir / "gl.exr", options + " --backend gl"), kEnv);
+        if (gl.code == 1 && gl.err.find("no OpenGL 4.5 context") != std::string::npos) GTEST_SKIP() << gl.err;
+        ASSERT_EQ(gl.code, 0) << gl.err;
+        ASSERT_EQ(run(simulate(dir / "plate.exr", dir / "cpu.exr", options + " --backend cpu"), kEnv).code, 0);
+        const Exr a = readExr(dir / "gl.exr"), b = readExr(dir / "cpu.exr");
+        EXPECT_NE(a.spec.get_string_attribute("fourierflare:backend").find("gl: "), std::string::npos);
+        double num = 0.0, den = 0.0;
+        for (const char* name : {"flare.R", "flare.G", "flare.B"}) {
+            const int ca = a.channel(name), cb = b.channel(name);
+            ASSERT_TRUE(ca >= 0 && cb >= 0);
+            for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) {
+                const double d = double(a.at(p, ca)) - b.at(p, cb);
+                num += d * d;
+                den += double(b.at(p, cb)) * b.at(p, cb);
+            }
         }
-    }
-    EXPECT_GT(den, 0.0);
-    EXPECT_LE(std::sqrt(num / den), 1e-5);
-    for (const char* name : {"R", "G", "B", "A", "Z"}) { // the plate's channels: identical
-        const int ca = a.channel(name), cb = b.channel(name);
-        for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) ASSERT_EQ(a.at(p, ca), b.at(p, cb));
-    }
-    // Composited on the GPU: one float addition of the plate and the GL flare, as on the CPU.
-    for (const char* c : {"R", "G", "B"}) {
-        const int plate = a.channel(c), flare = a.channel(std::string("flare.") + c), comp = a.channel(std::string("composite.") + c);
-        for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) {
-            const float f = a.at(p, flare);
-            ASSERT_EQ(a.at(p, comp), f == 0.0f ? a.at(p, plate) : a.at(p, plate) + f) << c << " pixel " << p;
+        EXPECT_GT(den, 0.0);
+        EXPECT_LE(std::sqrt(num / den), 1e-5);
+        for (const char* name : {"R", "G", "B", "A", "Z"}) { // the plate's channels: identical
+            const int ca = a.channel(name), cb = b.channel(name);
+            for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) ASSERT_EQ(a.at(p, ca), b.at(p, cb));
+        }
+        // Composited on the GPU: one float addition of the plate and the GL flare, as on the CPU.
+        for (const char* c : {"R", "G", "B"}) {
+            const int plate = a.channel(c), flare = a.channel(std::string("flare.") + c),
+                      comp = a.channel(std::string("composite.") + c);
+            for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) {
+                const float f = a.at(p, flare);
+                ASSERT_EQ(a.at(p, comp), f == 0.0f ? a.at(p, plate) : a.at(p, plate) + f) << c << " pixel " << p;
+            }
         }
     }
 }

@@ -1,0 +1,173 @@
+// polygon_edges.comp + polygon_rows.comp (gpu::GlPolygonRaster) against the CPU's
+// trace::CoverageRaster: random polygons of every kind the shaped renderer makes (triangles over five
+// decades of size, clipped polygons of many vertices, slivers, polygons inside one pixel, points and
+// segments, some over the frame's edges or far outside it) with energies over six decades; the
+// image independent of the batching; and the whole shaped renderer on the Cooke triplet.
+
+#include "ghosts/shaped_ghosts.h"
+#include "gpu/gl_context.h"
+#include "gpu/gl_polygon_raster.h"
+#include "optics/lens_loader.h"
+#include "trace/flare_raster.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+namespace ff::gpu {
+namespace {
+
+struct Diff {
+    double relativeL2 = 0.0, worst = 0.0, peak = 0.0;
+};
+
+Diff compare(const std::vector<double>& a, const std::vector<double>& b) {
+    double num = 0.0, den = 0.0;
+    Diff d;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        num += (a[i] - b[i]) * (a[i] - b[i]);
+        den += b[i] * b[i];
+        d.worst = std::max(d.worst, std::abs(a[i] - b[i]));
+        d.peak = std::max(d.peak, std::abs(b[i]));
+    }
+    d.relativeL2 = std::sqrt(num / den);
+    return d;
+}
+
+// Polygons in two channels, in pixels of a W x H frame.
+std::vector<ghosts::ShapedPolygons> randomPolygons(int W, int H, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<ghosts::ShapedPolygons> out(2);
+    auto energy = [&] { return std::pow(10.0, -6.0 * u(rng)); };
+    auto centre = [&] { return glm::dvec2((1.2 * u(rng) - 0.1) * W, (1.2 * u(rng) - 0.1) * H); };
+    for (int k = 0; k < 3000; ++k) {
+        ghosts::ShapedPolygons& ps = out[static_cast<std::size_t>(k) % 2];
+        std::vector<glm::dvec2> p;
+        const glm::dvec2 c = centre();
+        switch (k % 6) {
+        case 0:
+        case 1: { // a triangle of either orientation, 0.01 to 1000 pixels across
+            const double size = std::pow(10.0, -2.0 + 5.0 * u(rng));
+            for (int v = 0; v < 3; ++v) p.push_back(c + size * glm::dvec2(u(rng) - 0.5, u(rng) - 0.5));
+            break;
+        }
+        case 2: { // a convex polygon of 4 to 12 vertices (a triangle clipped by apertures)
+            const int n = 4 + static_cast<int>(u(rng) * 9);
+            const double r = std::pow(10.0, -1.0 + 2.5 * u(rng)), turn = u(rng);
+            const double sign = u(rng) < 0.5 ? 1.0 : -1.0;
+            for (int v = 0; v < n; ++v) {
+                const double a = sign * 2.0 * std::numbers::pi * (v + turn) / n;
+                p.push_back(c + r * glm::dvec2(std::cos(a), std::sin(a)));
+            }
+            break;
+        }
+        case 3: { // a sliver: long, with a tiny area (a fold of the ghost's map)
+            const glm::dvec2 d(20.0 * (u(rng) - 0.5), 20.0 * (u(rng) - 0.5));
+            p = {c, c + d, c + 0.5 * d + glm::dvec2(1e-4 * u(rng), 1e-4 * u(rng))};
+            break;
+        }
+        case 4: { // inside one pixel
+            const glm::dvec2 o = glm::dvec2(std::floor(c.x), std::floor(c.y)) + glm::dvec2(0.1, 0.2);
+            p = {o, o + glm::dvec2(0.5, 0.1), o + glm::dvec2(0.3, 0.6)};
+            break;
+        }
+        default: // a point or a segment (no area): a bilinear splat
+            p = {c, c + glm::dvec2(3.0 * u(rng), 0.0) * double(k % 12 == 5)};
+            break;
+        }
+        if (k % 97 == 0) p[0] = {1e12, 5.0}; // far outside: nothing drawn
+        ps.add(p.data(), p.size(), energy());
+    }
+    return out;
+}
+
+std::vector<double> onCpu(const ghosts::ShapedPolygons& ps, const trace::ImageFrame& frame) {
+    trace::CoverageRaster raster(frame);
+    trace::RasterStats stats;
+    std::vector<glm::dvec2> p;
+    for (const auto& q : ps.polys) {
+        p.assign(ps.vertices.begin() + q.first, ps.vertices.begin() + q.first + q.count);
+        raster.polygon(p, q.energy, stats);
+    }
+    return std::move(raster).release();
+}
+
+double totalEnergy(const std::vector<ghosts::ShapedPolygons>& polys) {
+    double e = 0.0;
+    for (const auto& ps : polys) e += ps.energy;
+    return e;
+}
+
+TEST(GlPolygonRaster, MatchesTheCpuCoverageRaster) {
+    std::string why;
+    const auto context = GlContext::create(why);
+    if (!context) GTEST_SKIP() << "no OpenGL 4.5 context: " << why;
+    const trace::ImageFrame frame{173, 97, 0.01}; // not multiples of the work group
+    const auto polys = randomPolygons(frame.width, frame.height, 7);
+    GlPolygonRaster gl(*context);
+    gl.begin(frame, 2, totalEnergy(polys));
+    for (std::size_t c = 0; c < 2; ++c) gl.draw(c, polys[c]);
+    const auto image = gl.finish();
+    ASSERT_EQ(image.size(), 2u);
+    for (std::size_t c = 0; c < 2; ++c) {
+        const auto d = compare(image[c], onCpu(polys[c], frame));
+        // The edges in double as on the CPU; the pixels read back as float32 (6e-8).
+        EXPECT_LE(d.relativeL2, 1e-6) << "channel " << c;
+        EXPECT_LE(d.worst, 1e-6 * d.peak) << "channel " << c;
+    }
+}
+
+// Integer sums do not depend on the order of the additions: any batching gives the same bytes.
+TEST(GlPolygonRaster, SameBytesForAnyBatching) {
+    std::string why;
+    const auto context = GlContext::create(why);
+    if (!context) GTEST_SKIP() << "no OpenGL 4.5 context: " << why;
+    const trace::ImageFrame frame{120, 80, 0.01};
+    const auto polys = randomPolygons(frame.width, frame.height, 3);
+    std::vector<std::vector<double>> first;
+    for (std::size_t batch : {GlPolygonRaster::kDefaultBatch, std::size_t(64)}) {
+        GlPolygonRaster gl(*context, batch);
+        gl.begin(frame, 2, totalEnergy(polys));
+        for (std::size_t c = 0; c < 2; ++c) gl.draw(c, polys[c]);
+        auto image = gl.finish();
+        if (first.empty())
+            first = std::move(image);
+        else
+            EXPECT_EQ(image, first) << "batch " << batch;
+    }
+}
+
+// The shaped renderer drawing through the GL raster: the Cooke triplet's ghosts from two lights, one
+// near a corner so that ghosts hang over the frame's edges.
+TEST(GlPolygonRaster, ShapedGhostsMatchTheCpu) {
+    std::string why;
+    const auto context = GlContext::create(why);
+    if (!context) GTEST_SKIP() << "no OpenGL 4.5 context: " << why;
+    ghosts::ShapedSettings s;
+    s.grid = 16;
+    s.angles = 5;
+    const ghosts::ShapedTable table =
+        buildShapedTable(optics::loadLens(std::string(FF_SOURCE_DIR) + "/lenses/cooke-triplet-50mm-f5.lens"), s);
+    const trace::ImageFrame frame{192, 128, 36.0 / 192};
+    std::vector<ghosts::ShapedLight> lights(2);
+    lights[0].field = {0.4 * table.maxAngleDeg * std::numbers::pi / 180, 0.7};
+    lights[1].field = {0.9 * table.maxAngleDeg * std::numbers::pi / 180, 2.6};
+    lights[1].flux = {3.0, 2.0, 0.5};
+    const ghosts::ShapedRender cpu = ghosts::renderShaped(table, lights, frame);
+    GlPolygonRaster raster(*context);
+    const ghosts::ShapedRender gl = ghosts::renderShaped(table, lights, frame, {}, &raster);
+    EXPECT_EQ(gl.triangles, cpu.triangles);
+    EXPECT_GT(cpu.offImage, 0.0);
+    EXPECT_NEAR(gl.offImage, cpu.offImage, 1e-6 * (cpu.deposited + cpu.offImage));
+    for (int c = 0; c < 3; ++c) {
+        const auto d = compare(gl.channel[c], cpu.channel[c]);
+        EXPECT_LE(d.relativeL2, 1e-6) << "channel " << c;
+        EXPECT_LE(d.worst, 1e-6 * d.peak) << "channel " << c;
+    }
+}
+
+} // namespace
+} // namespace ff::gpu
