@@ -11,6 +11,8 @@
 #include "ghosts/instancing.h"
 #include "ghosts/shaped_cache.h"
 #include "ghosts/shaped_ghosts.h"
+#include "gpu/gl_context.h"
+#include "gpu/gl_polygon_raster.h"
 #include "image/composite.h"
 #include "image/image_output.h"
 #include "image/light_detection.h"
@@ -135,6 +137,54 @@ void BM_SimulateShaped(benchmark::State& state) {
     state.counters["triangles"] = double(stats.triangles);
 }
 BENCHMARK(BM_SimulateShaped)->Arg(3)->Arg(30)->Arg(300)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The same frames with the polygons drawn by the GL backend (gpu::GlPolygonRaster; llvmpipe without
+// a GPU): flare_ms against BM_SimulateShaped's is the GPU's share.
+void BM_SimulateShapedGl(benchmark::State& state) {
+    static std::string why;
+    static const std::unique_ptr<gpu::GlContext> context = gpu::GlContext::create(why);
+    if (!context) {
+        state.SkipWithError(("no OpenGL 4.5 context: " + why).c_str());
+        return;
+    }
+    if (!context->hardware() && state.range(0) > 3) {
+        state.SkipWithError("software rasteriser: skipped (158 s for 300 lights on llvmpipe, 2 cores)");
+        return;
+    }
+    state.SetLabel(context->renderer());
+    gpu::GlPolygonRaster raster(*context);
+    const ghosts::ShapedTable& table = shapedTable();
+    const trace::ImageFrame sensorFrame{kW, kH, 36.0 / kW};
+    ghosts::ShapedRender stats;
+    frame(state, plateWith(static_cast<int>(state.range(0))), [&](const std::vector<ghosts::Light>& lights) {
+        return cli::renderShapedScene(lens(), table, lights, sensorFrame, trace::SensorPlane::File, &stats, nullptr,
+                                      &raster);
+    });
+    state.counters["instances"] = double(stats.drawn);
+    state.counters["triangles"] = double(stats.triangles);
+}
+BENCHMARK(BM_SimulateShapedGl)->Arg(3)->Arg(30)->Arg(300)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The polygons made and thrown away: flare_ms is what stays on the CPU when a device rasterises.
+void BM_ShapedPolygonsOnly(benchmark::State& state) {
+    struct Discard final : ghosts::PolygonRaster {
+        std::vector<std::vector<double>> image;
+        void begin(const trace::ImageFrame& f, std::size_t channels, double) override {
+            image.assign(channels, std::vector<double>(static_cast<std::size_t>(f.width) * f.height, 0.0));
+        }
+        void draw(std::size_t, const ghosts::ShapedPolygons&) override {}
+        std::vector<std::vector<double>> finish() override { return std::move(image); }
+    } discard;
+    const ghosts::ShapedTable& table = shapedTable();
+    const trace::ImageFrame sensorFrame{kW, kH, 36.0 / kW};
+    ghosts::ShapedRender stats;
+    frame(state, plateWith(static_cast<int>(state.range(0))), [&](const std::vector<ghosts::Light>& lights) {
+        return cli::renderShapedScene(lens(), table, lights, sensorFrame, trace::SensorPlane::File, &stats, nullptr,
+                                      &discard);
+    });
+    state.counters["triangles"] = double(stats.triangles);
+}
+BENCHMARK(BM_ShapedPolygonsOnly)->Arg(3)->Arg(30)->Arg(300)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_ShapedTableBuild(benchmark::State& state) {
     ghosts::ShapedSettings s;
