@@ -126,15 +126,21 @@ void BM_SimulateCached(benchmark::State& state) {
 }
 BENCHMARK(BM_SimulateCached)->Arg(3)->Arg(300)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-void BM_SimulateShaped(benchmark::State& state) {
+// Shaped frames with the polygons drawn by `raster` (null: the CPU's coverage raster).
+void shapedFrames(benchmark::State& state, ghosts::PolygonRaster* raster) {
     const ghosts::ShapedTable& table = shapedTable();
     const trace::ImageFrame sensorFrame{kW, kH, 36.0 / kW};
     ghosts::ShapedRender stats;
     frame(state, plateWith(static_cast<int>(state.range(0))), [&](const std::vector<ghosts::Light>& lights) {
-        return cli::renderShapedScene(lens(), table, lights, sensorFrame, trace::SensorPlane::File, &stats);
+        return cli::renderShapedScene(lens(), table, lights, sensorFrame, trace::SensorPlane::File, &stats, nullptr,
+                                      raster);
     });
     state.counters["instances"] = double(stats.drawn);
     state.counters["triangles"] = double(stats.triangles);
+}
+
+void BM_SimulateShaped(benchmark::State& state) {
+    shapedFrames(state, nullptr);
 }
 BENCHMARK(BM_SimulateShaped)->Arg(3)->Arg(30)->Arg(300)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -153,15 +159,7 @@ void BM_SimulateShapedGl(benchmark::State& state) {
     }
     state.SetLabel(context->renderer());
     gpu::GlPolygonRaster raster(*context);
-    const ghosts::ShapedTable& table = shapedTable();
-    const trace::ImageFrame sensorFrame{kW, kH, 36.0 / kW};
-    ghosts::ShapedRender stats;
-    frame(state, plateWith(static_cast<int>(state.range(0))), [&](const std::vector<ghosts::Light>& lights) {
-        return cli::renderShapedScene(lens(), table, lights, sensorFrame, trace::SensorPlane::File, &stats, nullptr,
-                                      &raster);
-    });
-    state.counters["instances"] = double(stats.drawn);
-    state.counters["triangles"] = double(stats.triangles);
+    shapedFrames(state, &raster);
 }
 BENCHMARK(BM_SimulateShapedGl)->Arg(3)->Arg(30)->Arg(300)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -175,14 +173,7 @@ void BM_ShapedPolygonsOnly(benchmark::State& state) {
         void draw(std::size_t, const ghosts::ShapedPolygons&) override {}
         std::vector<std::vector<double>> finish() override { return std::move(image); }
     } discard;
-    const ghosts::ShapedTable& table = shapedTable();
-    const trace::ImageFrame sensorFrame{kW, kH, 36.0 / kW};
-    ghosts::ShapedRender stats;
-    frame(state, plateWith(static_cast<int>(state.range(0))), [&](const std::vector<ghosts::Light>& lights) {
-        return cli::renderShapedScene(lens(), table, lights, sensorFrame, trace::SensorPlane::File, &stats, nullptr,
-                                      &discard);
-    });
-    state.counters["triangles"] = double(stats.triangles);
+    shapedFrames(state, &discard);
 }
 BENCHMARK(BM_ShapedPolygonsOnly)->Arg(3)->Arg(30)->Arg(300)->Unit(benchmark::kMillisecond)->UseRealTime();
 
