@@ -1,0 +1,24 @@
+#pragma once
+// All lights' diffraction at once: the image of the light sources convolved with the PSF by FFT (one
+// transform per channel, any number of lights), and the diffraction layer simulate adds.
+
+#include <vector>
+
+#include "diffraction/psf.h"
+
+namespace ff::diffraction {
+
+/// image (R, G, B interleaved, width x height) convolved with the PSF's channels (linear, not
+/// circular: zero outside the frame). The flux the kernel carries beyond the frame is added to
+/// *offFrame (summed over the channels) when given.
+std::vector<float> convolve(const std::vector<float>& image, int width, int height, const Psf& psf,
+                            double* offFrame = nullptr);
+
+/// The diffraction layer of the light sources `lights` (R, G, B interleaved; the part of the plate
+/// that is the lights' sharp image): gain x (lights * PSF - lights), the lights' flux spread into
+/// the pattern and taken from the pixels that held it, so it sums to zero (less what leaves the
+/// frame). Where a gain above 1 would take more than a pixel's light from it, it takes that light.
+std::vector<float> diffractionLayer(const std::vector<float>& lights, int width, int height, const Psf& psf,
+                                    double gain, double* offFrame = nullptr);
+
+} // namespace ff::diffraction

@@ -1,0 +1,239 @@
+#include "diffraction/psf.h"
+
+#include "core/error.h"
+#include "core/text.h"
+#include "core/units.h"
+#include "fourier/fftw_planner.h"
+#include "optics/paraxial.h"
+#include "trace/aperture.h"
+#include "trace/sequential_tracer.h"
+#include "trace/traced_flare.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fftw3.h>
+#include <memory>
+#include <mutex>
+#include <numbers>
+
+namespace ff::diffraction {
+
+Aperture apertureOf(const optics::Lens& lens) {
+    const optics::FirstOrder fo = optics::analyzeFirstOrder(lens, lines::d);
+    const trace::Iris iris = trace::LensAtWavelength(lens, lines::d).iris;
+    Aperture a;
+    a.blades = iris.blades;
+    a.rotationRad = iris.rotationRad;
+    // The exit pupil's distance to the sensor over its diameter; the exit pupil is the stop's image
+    // at the working opening.
+    const double distance = fo.imageDistance - fo.exitPupilZ;
+    a.fNumber = std::isfinite(fo.exitPupilZ) && fo.exitPupilDiameter > 0.0 ? std::abs(distance) / fo.exitPupilDiameter
+                                                                           : fo.fNumber;
+    if (!(a.fNumber > 0.0) || !std::isfinite(a.fNumber))
+        throw Error(ErrorKind::Input, "the lens has no finite working f-number: its diffraction is not defined");
+    return a;
+}
+
+namespace {
+
+struct FftwFree {
+    void operator()(void* p) const { fftw_free(p); }
+};
+template <typename T>
+using FftwArray = std::unique_ptr<T, FftwFree>;
+template <typename T>
+FftwArray<T> fftwArray(std::size_t count) {
+    auto a = FftwArray<T>(static_cast<T*>(fftw_malloc(sizeof(T) * count)));
+    if (!a) throw Error(ErrorKind::Runtime, "out of memory for the PSF's transforms");
+    return a;
+}
+
+// A plan made and destroyed under ff_fourier's FFTW planner lock (the planner is not thread-safe).
+struct Plan {
+    fftw_plan plan = nullptr;
+    template <typename Make>
+    explicit Plan(Make make) {
+        std::lock_guard<std::mutex> lock(fourier::fftwPlannerMutex());
+        plan = make();
+        if (!plan) throw Error(ErrorKind::Runtime, "FFTW could not plan the PSF's transform");
+    }
+    ~Plan() {
+        std::lock_guard<std::mutex> lock(fourier::fftwPlannerMutex());
+        fftw_destroy_plan(plan);
+    }
+    Plan(const Plan&) = delete;
+    Plan& operator=(const Plan&) = delete;
+};
+
+// The PSF's samples in the transform's order (sample (i, j) at offset ((i, j) mod F) x spacing from
+// the light, +y up the rows): share of the flux per sample, summing to 1.
+std::vector<double> intensity(const Aperture& aperture, double lambdaNm, double spacingMm, int F) {
+    if (F < 64 || F > 8192 || F % 2 != 0) throw Error(ErrorKind::Usage, "the PSF's transform must be even, 64 to 8192");
+    const double lambdaN = lambdaNm * 1e-6 * aperture.fNumber; // mm
+    const double Q = F * spacingMm / lambdaN;                  // pupil samples across its diameter
+    if (!(Q >= 32.0) || Q > 0.5 * F * (1.0 + 1e-9))
+        throw Error(ErrorKind::Usage, "the PSF's sampling puts " + text::fixed(Q, 1) +
+                                          " samples across the pupil: it needs 32 to half the transform");
+    // The pupil, centred on sample (0, 0) (wrapped), +y up the rows; each sample's coverage from its
+    // distance to the iris's edge (linear across the sample: exact for a straight edge through it).
+    const trace::Iris iris(aperture.blades, aperture.rotationRad, 0.5 * Q);
+    const std::size_t N = static_cast<std::size_t>(F), H = N / 2 + 1;
+    auto in = fftwArray<double>(N * N);
+    auto out = fftwArray<fftw_complex>(N * H);
+    std::fill(in.get(), in.get() + N * N, 0.0);
+    const int reach = static_cast<int>(std::ceil(iris.circumradius)) + 1;
+    double power = 0.0;
+    for (int y = -reach; y <= reach; ++y)
+        for (int x = -reach; x <= reach; ++x) {
+            const double v = std::clamp(0.5 + iris.margin(x, y), 0.0, 1.0);
+            in.get()[static_cast<std::size_t>((y + F) % F) * N + static_cast<std::size_t>((x + F) % F)] = v;
+            power += v * v;
+        }
+    {
+        const Plan plan([&] { return fftw_plan_dft_r2c_2d(F, F, in.get(), out.get(), FFTW_ESTIMATE); });
+        fftw_execute(plan.plan);
+    }
+    // |X_k|^2 / (F^2 sum |p|^2) sums to 1 (Parseval); the r2c transform holds kx <= F/2, the rest is
+    // the conjugate at (-ky, -kx).
+    std::vector<double> I(N * N);
+    const double norm = 1.0 / (double(F) * F * power);
+    for (std::size_t ky = 0; ky < N; ++ky)
+        for (std::size_t kx = 0; kx < N; ++kx) {
+            const fftw_complex& z = kx < H ? out.get()[ky * H + kx] : out.get()[((N - ky) % N) * H + (N - kx)];
+            I[ky * N + kx] = (z[0] * z[0] + z[1] * z[1]) * norm;
+        }
+    return I;
+}
+
+} // namespace
+
+SampledPsf sampledPsf(const Aperture& aperture, double lambdaNm, double spacingMm, int transform) {
+    const std::vector<double> I = intensity(aperture, lambdaNm, spacingMm, transform);
+    const int F = transform;
+    SampledPsf psf;
+    psf.size = F;
+    psf.spacingMm = spacingMm;
+    psf.value.resize(I.size());
+    for (int r = 0; r < F; ++r)
+        for (int c = 0; c < F; ++c)
+            psf.value[static_cast<std::size_t>(r) * F + c] =
+                I[static_cast<std::size_t>((r + F / 2) % F) * F + static_cast<std::size_t>((c + F / 2) % F)];
+    return psf;
+}
+
+namespace {
+
+// Pixels of S x S samples: the intensity convolved with the pixel's box, exactly for a band-limited
+// intensity sampled at its Nyquist rate or finer: its transform times sinc(pi p f) per axis
+// (p f = q S / F at frequency index q), back, times S^2 (samples per pixel). Sampled at the pixels'
+// centres (every S-th sample from the light) the sum is exactly the flux on the grid: the sinc is zero
+// at the multiples of 1 / p that sampling at the pitch would fold onto 0.
+std::vector<double> binned(std::vector<double> I, int F, int S) {
+    const std::size_t N = static_cast<std::size_t>(F), H = N / 2 + 1;
+    auto spectrum = fftwArray<fftw_complex>(N * H);
+    auto field = fftwArray<double>(N * N);
+    std::copy(I.begin(), I.end(), field.get());
+    {
+        const Plan plan([&] { return fftw_plan_dft_r2c_2d(F, F, field.get(), spectrum.get(), FFTW_ESTIMATE); });
+        fftw_execute(plan.plan);
+    }
+    auto sinc = [&](std::size_t q) {
+        const double f = (q <= N / 2 ? double(q) : double(q) - F) * S / F;
+        return f == 0.0 ? 1.0 : std::sin(std::numbers::pi * f) / (std::numbers::pi * f);
+    };
+    std::vector<double> hx(H), hy(N);
+    for (std::size_t q = 0; q < H; ++q) hx[q] = sinc(q);
+    for (std::size_t q = 0; q < N; ++q) hy[q] = sinc(q);
+    const double scale = double(S) * S / (double(F) * F);
+    for (std::size_t qy = 0; qy < N; ++qy)
+        for (std::size_t qx = 0; qx < H; ++qx) {
+            const double h = hy[qy] * hx[qx] * scale;
+            spectrum.get()[qy * H + qx][0] *= h;
+            spectrum.get()[qy * H + qx][1] *= h;
+        }
+    {
+        const Plan plan([&] { return fftw_plan_dft_c2r_2d(F, F, spectrum.get(), field.get(), FFTW_ESTIMATE); });
+        fftw_execute(plan.plan);
+    }
+    std::copy(field.get(), field.get() + N * N, I.begin());
+    return I;
+}
+
+} // namespace
+
+Psf pixelPsf(const Aperture& aperture, const PsfSettings& settings) {
+    if (!(settings.pitchMm > 0.0)) throw Error(ErrorKind::Usage, "the PSF needs a positive pixel pitch");
+    Psf out;
+    std::vector<std::array<double, 3>> weights;
+    if (settings.wavelengthsNm.empty()) {
+        trace::colourWeights(8, out.wavelengthsNm, weights);
+    } else {
+        out.wavelengthsNm = settings.wavelengthsNm;
+        for (double l : out.wavelengthsNm) {
+            const auto [X, Y, Z] = trace::cie1931(l);
+            weights.push_back({3.2406 * X - 1.5372 * Y - 0.4986 * Z, -0.9689 * X + 1.8758 * Y + 0.0415 * Z,
+                               0.0557 * X - 0.2040 * Y + 1.0570 * Z});
+        }
+    }
+    // Negative (out-of-gamut) weights clipped; each channel's weights sum to 1, so each channel's PSF
+    // carries the light's flux in that channel. A channel no wavelength reaches takes them equally.
+    for (int c = 0; c < 3; ++c) {
+        double sum = 0.0;
+        for (auto& w : weights) sum += (w[c] = std::max(0.0, w[c]));
+        for (auto& w : weights) w[c] = sum > 0.0 ? w[c] / sum : 1.0 / double(weights.size());
+    }
+    const std::size_t W = out.wavelengthsNm.size();
+    const int F = settings.transform;
+    std::vector<std::vector<double>> kernels(W);
+    std::vector<int> radius(W);
+    out.binning.resize(W);
+    std::vector<double> outside(W);
+    tbb::parallel_for(std::size_t(0), W, [&](std::size_t i) {
+        const double lambdaN = out.wavelengthsNm[i] * 1e-6 * aperture.fNumber;
+        // S samples per pixel, at most lambda N / 2 apart (the intensity's Nyquist rate).
+        const int S = std::max(1, static_cast<int>(std::ceil(settings.pitchMm / (0.5 * lambdaN) - 1e-9)));
+        out.binning[i] = S;
+        const std::vector<double> P = binned(intensity(aperture, out.wavelengthsNm[i], settings.pitchMm / S, F), F, S);
+        const int R = (F / 2 - 1) / S;
+        radius[i] = R;
+        const int w = 2 * R + 1;
+        std::vector<double>& b = kernels[i];
+        b.assign(static_cast<std::size_t>(w) * w, 0.0);
+        double kept = 0.0;
+        for (int my = -R; my <= R; ++my)
+            for (int mx = -R; mx <= R; ++mx) {
+                // Pixel rows run down, sample rows up; rounding in the transforms can leave tiny negatives.
+                const double v = std::max(
+                    0.0,
+                    P[static_cast<std::size_t>((-my * S + F) % F) * F + static_cast<std::size_t>((mx * S + F) % F)]);
+                b[static_cast<std::size_t>(my + R) * w + (mx + R)] = v;
+                kept += v;
+            }
+        outside[i] = std::max(0.0, 1.0 - kept);
+        b[static_cast<std::size_t>(R) * w + R] += outside[i];
+    });
+    out.radius = *std::max_element(radius.begin(), radius.end());
+    out.outside = *std::max_element(outside.begin(), outside.end());
+    const int w = out.width();
+    for (int c = 0; c < 3; ++c) {
+        std::vector<double> k(static_cast<std::size_t>(w) * w, 0.0);
+        for (std::size_t i = 0; i < W; ++i) {
+            const int R = radius[i], wi = 2 * R + 1, o = out.radius - R;
+            for (int y = 0; y < wi; ++y)
+                for (int x = 0; x < wi; ++x)
+                    k[static_cast<std::size_t>(y + o) * w + (x + o)] +=
+                        weights[i][c] * kernels[i][static_cast<std::size_t>(y) * wi + x];
+        }
+        out.channel[c].assign(k.begin(), k.end());
+        const double centre = k[static_cast<std::size_t>(out.radius) * w + out.radius];
+        for (int t = 0; t < w; ++t)
+            for (double v : {k[static_cast<std::size_t>(t)], k[static_cast<std::size_t>(w - 1) * w + t],
+                             k[static_cast<std::size_t>(t) * w], k[static_cast<std::size_t>(t) * w + (w - 1)]})
+                out.edge = std::max(out.edge, centre > 0.0 ? v / centre : 0.0);
+    }
+    return out;
+}
+
+} // namespace ff::diffraction

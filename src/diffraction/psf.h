@@ -1,0 +1,81 @@
+#pragma once
+// The lens's point-spread function from its iris, by FFT (Fraunhofer diffraction; docs/diffraction.md).
+//
+// A light at infinity is focused by an aberration-free lens whose exit pupil is the iris's shape. In
+// image space, with N the working f-number (exit pupil to sensor over the pupil's diameter D) and s the
+// pupil coordinate in units of D, the irradiance on the sensor at x (mm) is
+//
+//     I(x) = flux x |P^(x / (lambda N))|^2 / (lambda N)^2 / A,     P^(nu) = Int P(s) exp(-2 pi i s.nu) ds,
+//
+// A = the pupil's area in units of D^2 (so that Int I = flux, Parseval). P^ is computed by an FFT of
+// the pupil sampled on a transform x transform grid, Q samples across D (zero padding around it): the
+// intensity's samples are spaced lambda N Q / transform apart. Q is chosen per wavelength so that this
+// spacing is a pixel over an integer S and at most lambda N / 2 (the intensity is band-limited at
+// 1 / (lambda N), so its samples hold it whole). The PSF is binned over pixels, not point-sampled (the
+// Airy core of a 50 mm lens at f/8 is smaller than a 1080p pixel): the intensity's transform times the
+// pixel's sinc, back, read at the pixels' centres: exactly the irradiance integrated over each pixel.
+// Each wavelength is its own transform (the pattern scales with lambda; rescaling one transform would
+// need resampling across the fringes). RGB: the wavelengths' PSFs weighted by the CIE 1931 matching
+// functions through linear sRGB (trace::colourWeights), negatives clipped, each channel's weights
+// summing to 1.
+
+#include "optics/lens.h"
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace ff::diffraction {
+
+/// The diffracting aperture: the iris's shape in the sensor's frame (+x right, +y up) and the
+/// image-space working f-number.
+struct Aperture {
+    int blades = 0;           ///< straight blades; < 3: circular
+    double rotationRad = 0.0; ///< as trace::Iris: the blades' edge normals at rotation + (k + 1/2) 2 pi / blades
+    double fNumber = 0.0;     ///< working f-number: exit pupil to sensor over the exit pupil's diameter
+};
+
+/// The lens's aperture at its working opening (d line): the stop's blades and rotation, and the
+/// f-number from the paraxial exit pupil (the header's f-number where the exit pupil is at infinity).
+Aperture apertureOf(const optics::Lens& lens);
+
+/// One wavelength's PSF sampled (not binned) on a square grid centred on the light.
+struct SampledPsf {
+    int size = 0;              ///< samples per side; the light at sample (size / 2, size / 2)
+    double spacingMm = 0.0;    ///< between samples on the sensor
+    std::vector<double> value; ///< share of the flux per sample x spacing^2 (row-major, +y up); sums to 1
+};
+
+/// The PSF at lambdaNm with samples spacingMm apart on a transform x transform grid (even, 64 to
+/// 8192). The pupil's diameter takes Q = transform x spacing / (lambda N) samples: refused
+/// (ff::Error, Usage) when Q is under 32 (too few for the iris's shape) or over transform / 2 (the
+/// intensity, band-limited at twice the pupil, would alias).
+SampledPsf sampledPsf(const Aperture& aperture, double lambdaNm, double spacingMm, int transform);
+
+struct PsfSettings {
+    double pitchMm = 0.0;              ///< the sensor's pixel pitch
+    std::vector<double> wavelengthsNm; ///< empty: 8 over 400-700 nm
+    int transform = 1024;              ///< FFT size per side, per wavelength
+};
+
+/// The RGB PSF binned over the sensor's pixels.
+struct Psf {
+    int radius = 0;                            ///< (2 radius + 1)^2 pixels; the light's own pixel at the centre
+    std::array<std::vector<float>, 3> channel; ///< share of the light's flux per pixel, rows top to bottom
+    std::vector<double> wavelengthsNm;
+    std::vector<int> binning; ///< per wavelength: samples per pixel side (S)
+    double outside = 0.0;     ///< largest share of a wavelength's flux beyond the kernel
+    double edge = 0.0;        ///< largest pixel on the kernel's border over the centre pixel (a channel)
+    int width() const { return 2 * radius + 1; }
+    float at(int c, int dx, int dy) const { ///< offset (dx right, dy down) from the light's pixel
+        return channel[c][static_cast<std::size_t>(dy + radius) * width() + (dx + radius)];
+    }
+};
+
+/// Bins each wavelength's PSF over pixels of settings.pitchMm (S x S samples per pixel, the samples
+/// at most lambda N / 2 apart) and combines them into RGB. The kernel reaches transform / (2 S)
+/// pixels from the light. Each channel sums to 1: the flux beyond the
+/// kernel (Psf::outside) is left in the light's own pixel, where the sharp image holds it.
+Psf pixelPsf(const Aperture& aperture, const PsfSettings& settings);
+
+} // namespace ff::diffraction
