@@ -104,7 +104,8 @@ void frame(benchmark::State& state, const std::string& platePath,
         detect += lap(t);
         const std::vector<float> layer = draw(lights).interleaved();
         flare += lap(t);
-        image::writeSimulatedExr(out.string(), plate, layer, image::composite(plate.rgb(), layer), {});
+        const std::vector<float> composite = image::composite(plate.rgb(), layer);
+        image::writeSimulatedExr(out.string(), plate, {{"flare", &layer}, {"composite", &composite}}, {});
         write += lap(t);
     }
     const double n = double(state.iterations());

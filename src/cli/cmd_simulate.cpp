@@ -29,8 +29,11 @@
 #include <filesystem>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <unistd.h>
 
+#include "diffraction/convolution.h"
+#include "diffraction/psf.h"
 #include "ff/version.h"
 
 namespace ff::cli {
@@ -47,6 +50,8 @@ struct SimulateOptions {
     double exposure = 0.0;
     double gain = 1.0;
     std::string ghostModel = "shaped";
+    std::string diffraction = "physical";
+    double diffractionGain = 1.0;
     int tableGrid = 32;
     std::string zoom;
     double maxPixels = 8192.0 * 8192.0;
@@ -89,6 +94,8 @@ class Simulation {
 public:
     Simulation(const SimulateOptions& o, const GlobalOptions& g) : o_(o), g_(g), reporter_(g) {
         if (o.gain < 0.0 || !std::isfinite(o.gain)) throw Error(ErrorKind::Usage, "--flare-gain must be a finite number >= 0");
+        if (o.diffractionGain < 0.0 || !std::isfinite(o.diffractionGain))
+            throw Error(ErrorKind::Usage, "--diffraction-gain must be a finite number >= 0");
         if (!o.sensor.empty() && o.fov > 0.0) throw Error(ErrorKind::Usage, "give either --sensor WxH or --fov DEG, not both");
         detection_ = image::parseThreshold(o.threshold);
         detection_.blockSize = o.block;
@@ -104,6 +111,13 @@ public:
             sensorWidthMm_ = parseSensorSize(o.sensor, "--sensor").first;
         } else if (o.fov > 0.0) {
             sensorWidthMm_ = 2.0 * std::abs(optics::paraxialEfl(lens_, lines::d)) * std::tan(0.5 * o.fov * std::numbers::pi / 180.0);
+        }
+        if (o.diffraction == "physical") {
+            try {
+                aperture_ = diffraction::apertureOf(lens_);
+            } catch (const Error& e) {
+                note(std::string("no diffraction: ") + e.what());
+            }
         }
         // Options checked first: the backend (EGL) is touched last. The GL backend draws the shaped
         // model's polygons, or aggregates the fitted models with the Fourier options.
@@ -177,7 +191,6 @@ public:
                      " lights lie where no field angle of the lens images a source (outside its image circle on a " +
                      text::fixed(sensorWidthMm_, 1) + " mm wide sensor): they get no flare");
             flareRgb = flare.interleaved();
-            comp = image::composite(plate.rgb(), flareRgb);
             flareText = std::to_string(stats.drawn) + " ghost instances drawn (" + std::to_string(stats.triangles) +
                         " triangles), " + std::to_string(stats.culled) + " culled holding at most " +
                         text::scientific(stats.culledShare, 2) + " of a light's ghost flux";
@@ -209,10 +222,10 @@ public:
                      text::fixed(flare.seconds.accumulate, 4) + ", evaluate " + text::fixed(flare.seconds.evaluate, 4) +
                      ", direct " + text::fixed(flare.seconds.direct, 4));
             flareRgb = flare.image.interleaved();
-            // Composite on the device that holds the flare (bit-identical to image::composite).
-            const bool compositeOnGl =
-                gl_ && plate.width <= gl_->maxCompositeSide() && plate.height <= gl_->maxCompositeSide();
-            comp = compositeOnGl ? gl_->composite(plate.rgb()) : image::composite(plate.rgb(), flareRgb);
+            // Composite on the device that holds the flare (bit-identical to image::composite) when the
+            // flare is the ghosts alone.
+            if (gl_ && !aperture_ && plate.width <= gl_->maxCompositeSide() && plate.height <= gl_->maxCompositeSide())
+                comp = gl_->composite(plate.rgb());
             char buf[200];
             std::snprintf(buf, sizeof buf,
                           "%zu ghosts instanced; N %d x M %d, %zu through Fourier, %zu direct, %zu culled",
@@ -226,6 +239,32 @@ public:
         }
         const double tFlare = since(t);
 
+        // Diffraction: the lights' image convolved with the lens's PSF, the lights' flux taken from
+        // the pixels that hold it (docs/diffraction.md).
+        std::vector<float> diffractionRgb(flareRgb.size(), 0.0f), ghostsRgb;
+        image::Metadata diffractionMeta = {{"fourierflare:diffraction", "off"}};
+        if (aperture_) {
+            const double pitch = sensorWidthMm_ / plate.displayWidth;
+            if (!psf_ || psfPitch_ != pitch) {
+                diffraction::PsfSettings ps;
+                ps.pitchMm = pitch;
+                psf_ = std::make_unique<diffraction::Psf>(diffraction::pixelPsf(*aperture_, ps));
+                psfPitch_ = pitch;
+            }
+            std::vector<float> lightRgb = std::move(found.lightRgb);
+            if (!manualLights_.empty()) lightRgb = splatLights(lights, plate);
+            double offFrame = 0.0;
+            diffractionRgb = diffraction::diffractionLayer(lightRgb, plate.width, plate.height, *psf_,
+                                                           o_.diffractionGain, &offFrame);
+            diffractionMeta = {{"fourierflare:diffraction", describeDiffraction()}};
+        }
+        if (aperture_) {
+            ghostsRgb = flareRgb;
+            for (std::size_t i = 0; i < flareRgb.size(); ++i) flareRgb[i] += diffractionRgb[i];
+        }
+        if (comp.empty()) comp = image::composite(plate.rgb(), flareRgb);
+        const double tDiffraction = since(t);
+
         image::Metadata meta = {
             {"Software", std::string("fourierflare ") + kVersion},
             {"fourierflare:commandLine", g_.commandLine},
@@ -238,9 +277,16 @@ public:
             {"fourierflare:sensorWidthMm", text::roundTrip(sensorWidthMm_)},
             {"fourierflare:flareGain", text::roundTrip(o_.gain)},
             {"fourierflare:channels",
-             "input channels unchanged; flare.R/G/B = the flare alone; composite.R/G/B = plate + flare"}};
+             "input channels unchanged; ghosts.R/G/B = the ghosts; diffraction.R/G/B = the starburst (the lights' "
+             "flux spread by the iris, taken from their pixels: sums to 0); flare.R/G/B = ghosts + diffraction; "
+             "composite.R/G/B = plate + flare"}};
         meta.insert(meta.end(), modelMeta.begin(), modelMeta.end());
-        image::writeSimulatedExr(job.output, plate, flareRgb, comp, meta);
+        meta.insert(meta.end(), diffractionMeta.begin(), diffractionMeta.end());
+        const std::vector<float>& ghostsLayer = aperture_ ? ghostsRgb : flareRgb;
+        image::writeSimulatedExr(
+            job.output, plate,
+            {{"ghosts", &ghostsLayer}, {"diffraction", &diffractionRgb}, {"flare", &flareRgb}, {"composite", &comp}},
+            meta);
         if (!job.preview.empty()) {
             // The preview shows the flare where the plate is NaN or infinite.
             std::vector<float> shown = comp;
@@ -268,15 +314,44 @@ public:
                                      : std::to_string(lights.size()) + " lights given";
         if (lights.empty()) lightsText += ": no flare, the output is the plate plus a zero flare layer";
         std::fprintf(stderr,
-                     "fourierflare: %s: %s, %s; read %.2f s, detect %.2f s, table %.2f s, flare %.2f s, write %.2f s, "
-                     "total %.2f s -> %s\n",
-                     job.plate.c_str(), lightsText.c_str(), flareText.c_str(), tRead, tDetect, tTable, tFlare, tWrite,
-                     std::chrono::duration<double>(Clock::now() - start).count(), job.output.c_str());
+                     "fourierflare: %s: %s, %s; read %.2f s, detect %.2f s, table %.2f s, flare %.2f s, diffraction "
+                     "%.2f s, write %.2f s, total %.2f s -> %s\n",
+                     job.plate.c_str(), lightsText.c_str(), flareText.c_str(), tRead, tDetect, tTable, tFlare,
+                     tDiffraction, tWrite, std::chrono::duration<double>(Clock::now() - start).count(),
+                     job.output.c_str());
     }
 
 private:
     void note(const std::string& s) const {
         if (!g_.quiet) std::fprintf(stderr, "fourierflare: note: %s\n", s.c_str());
+    }
+
+    // Lights given by hand as an image over the plate's data window: each light's flux splatted
+    // bilinearly at its position (display-window pixels, centres at +0.5).
+    static std::vector<float> splatLights(const std::vector<ghosts::Light>& lights, const image::Plate& plate) {
+        std::vector<float> rgb(plate.pixelCount() * 3, 0.0f);
+        for (const auto& l : lights) {
+            const double fx = l.xPx - (plate.originX - plate.displayX) - 0.5,
+                         fy = l.yPx - (plate.originY - plate.displayY) - 0.5;
+            const double x0 = std::floor(fx), y0 = std::floor(fy);
+            for (int j = 0; j < 2; ++j)
+                for (int i = 0; i < 2; ++i) {
+                    const double x = x0 + i, y = y0 + j;
+                    if (x < 0 || y < 0 || x >= plate.width || y >= plate.height) continue;
+                    const double w = (i ? fx - x0 : 1.0 - (fx - x0)) * (j ? fy - y0 : 1.0 - (fy - y0));
+                    const std::size_t p = static_cast<std::size_t>(y) * plate.width + static_cast<std::size_t>(x);
+                    for (int c = 0; c < 3; ++c) rgb[p * 3 + c] += static_cast<float>(w * l.flux[c]);
+                }
+        }
+        return rgb;
+    }
+
+    std::string describeDiffraction() const {
+        return "physical, gain " + text::roundTrip(o_.diffractionGain) + "; working f/" +
+               text::fixed(aperture_->fNumber, 2) + ", " +
+               (aperture_->blades >= 3 ? std::to_string(aperture_->blades) + " blades" : std::string("circular iris")) +
+               "; " + std::to_string(psf_->wavelengthsNm.size()) + " wavelengths 400-700 nm; PSF to " +
+               std::to_string(psf_->radius) + " px, its edge at " + text::scientific(psf_->edge, 2) + " of the centre";
     }
 
     const SimulateOptions& o_;
@@ -292,6 +367,9 @@ private:
     std::pair<int, int> shapedFor_; ///< the display window shaped_ was made for
     gpu::GlBackend* gl_ = nullptr;  ///< fourier_.backend when it is the GL one (fitted models)
     ghosts::PolygonRaster* raster_ = nullptr; ///< the GL backend's, drawing the shaped model
+    std::optional<diffraction::Aperture> aperture_; ///< with --diffraction physical
+    std::unique_ptr<diffraction::Psf> psf_;
+    double psfPitch_ = 0.0; ///< the pixel pitch psf_ was made for
     std::string checker_ = std::filesystem::read_symlink("/proc/self/exe").string(); // this program, for `plate-check`
 };
 
@@ -350,7 +428,10 @@ void addSimulateCommand(CLI::App& app, GlobalOptions& global) {
     CLI::App* cmd = app.add_subcommand("simulate", "Add a lens's physically based flare to an HDR plate (EXR with flare layers + PNG preview)");
     cmd->add_option("--lens", o->lens, "Lens file (.lens, .zmx or .dat)")->required()->check(CLI::ExistingFile);
     cmd->add_option("--plate", o->plate, "Plate: any image OpenImageIO reads (EXR, HDR, TIFF, PNG, ...); with --frames a %04d pattern")->required();
-    cmd->add_option("-o,--output", o->output, "EXR to write: the plate's channels unchanged + flare.R/G/B + composite.R/G/B")->required();
+    cmd->add_option("-o,--output", o->output,
+                    "EXR to write: the plate's channels unchanged + ghosts.R/G/B + diffraction.R/G/B + flare.R/G/B + "
+                    "composite.R/G/B")
+        ->required();
     cmd->add_option("--preview", o->preview, "Also write the composite as a tonemapped PNG");
     cmd->add_option("--preview-flare", o->previewFlare, "Also write the flare alone as a PNG (automatic exposure)");
     cmd->add_option("--sensor", o->sensor, "Sensor size in mm, WIDTHxHEIGHT; the plate spans its width (default: the lens file's, else 36x24)");
@@ -362,6 +443,12 @@ void addSimulateCommand(CLI::App& app, GlobalOptions& global) {
     cmd->add_option("--lights-out", o->lightsOut, "Write the lights used (found or given) as JSON");
     cmd->add_option("--exposure", o->exposure, "Preview exposure in EV (the composite x 2^EV before the tonemap)");
     cmd->add_option("--flare-gain", o->gain, "Multiply the flare (1 = physical: each ghost carries its traced share of its light's flux)");
+    cmd->add_option("--diffraction", o->diffraction,
+                    "The iris's starburst: physical (each light's flux spread by the lens's PSF, taken from the "
+                    "pixels that hold it) or off")
+        ->check(CLI::IsMember({"off", "physical"}));
+    cmd->add_option("--diffraction-gain", o->diffractionGain,
+                    "Multiply the diffraction layer (1 = physical); a pixel never loses more than its light");
     cmd->add_option("--ghost-model", o->ghostModel,
                     "Ghost model: shaped (each ghost's traced mesh), gaussian or cos2 (the ghost table's fits, "
                     "aggregated through Fourier)")

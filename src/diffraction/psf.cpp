@@ -3,7 +3,6 @@
 #include "core/error.h"
 #include "core/text.h"
 #include "core/units.h"
-#include "fourier/fftw_planner.h"
 #include "optics/paraxial.h"
 #include "trace/aperture.h"
 #include "trace/sequential_tracer.h"
@@ -17,6 +16,8 @@
 #include <memory>
 #include <mutex>
 #include <numbers>
+
+#include "diffraction/fftw.h"
 
 namespace ff::diffraction {
 
@@ -38,39 +39,13 @@ Aperture apertureOf(const optics::Lens& lens) {
 
 namespace {
 
-struct FftwFree {
-    void operator()(void* p) const { fftw_free(p); }
-};
-template <typename T>
-using FftwArray = std::unique_ptr<T, FftwFree>;
-template <typename T>
-FftwArray<T> fftwArray(std::size_t count) {
-    auto a = FftwArray<T>(static_cast<T*>(fftw_malloc(sizeof(T) * count)));
-    if (!a) throw Error(ErrorKind::Runtime, "out of memory for the PSF's transforms");
-    return a;
-}
-
-// A plan made and destroyed under ff_fourier's FFTW planner lock (the planner is not thread-safe).
-struct Plan {
-    fftw_plan plan = nullptr;
-    template <typename Make>
-    explicit Plan(Make make) {
-        std::lock_guard<std::mutex> lock(fourier::fftwPlannerMutex());
-        plan = make();
-        if (!plan) throw Error(ErrorKind::Runtime, "FFTW could not plan the PSF's transform");
-    }
-    ~Plan() {
-        std::lock_guard<std::mutex> lock(fourier::fftwPlannerMutex());
-        fftw_destroy_plan(plan);
-    }
-    Plan(const Plan&) = delete;
-    Plan& operator=(const Plan&) = delete;
-};
+constexpr int kMaxTransform = 16384;
 
 // The PSF's samples in the transform's order (sample (i, j) at offset ((i, j) mod F) x spacing from
 // the light, +y up the rows): share of the flux per sample, summing to 1.
 std::vector<double> intensity(const Aperture& aperture, double lambdaNm, double spacingMm, int F) {
-    if (F < 64 || F > 8192 || F % 2 != 0) throw Error(ErrorKind::Usage, "the PSF's transform must be even, 64 to 8192");
+    if (F < 64 || F > kMaxTransform || F % 2 != 0)
+        throw Error(ErrorKind::Usage, "the PSF's transform must be even, 64 to " + std::to_string(kMaxTransform));
     const double lambdaN = lambdaNm * 1e-6 * aperture.fNumber; // mm
     const double Q = F * spacingMm / lambdaN;                  // pupil samples across its diameter
     if (!(Q >= 32.0) || Q > 0.5 * F * (1.0 + 1e-9))
@@ -193,10 +168,20 @@ Psf pixelPsf(const Aperture& aperture, const PsfSettings& settings) {
     tbb::parallel_for(std::size_t(0), W, [&](std::size_t i) {
         const double lambdaN = out.wavelengthsNm[i] * 1e-6 * aperture.fNumber;
         // S samples per pixel, at most lambda N / 2 apart (the intensity's Nyquist rate).
-        const int S = std::max(1, static_cast<int>(std::ceil(settings.pitchMm / (0.5 * lambdaN) - 1e-9)));
+        // S and K (below) have no prime factor above 7: the transform's size K S stays fast.
+        const int S = fastSize(std::max(1, static_cast<int>(std::ceil(settings.pitchMm / (0.5 * lambdaN) - 1e-9))));
         out.binning[i] = S;
-        const std::vector<double> P = binned(intensity(aperture, out.wavelengthsNm[i], settings.pitchMm / S, F), F, S);
-        const int R = (F / 2 - 1) / S;
+        // A whole number K of pixels per period (K S samples, K even, about `transform`), so that the
+        // pixels' centres tile the period and sum to its flux exactly.
+        const int K = 2 * fastSize(std::max(2, static_cast<int>(std::lround(0.5 * F / S))));
+        const int T = K * S;
+        if (T > kMaxTransform) { // pixels over ~4 000 lambda N wide: the PSF is the light's own pixel
+            radius[i] = 0;
+            kernels[i] = {1.0};
+            return;
+        }
+        const std::vector<double> P = binned(intensity(aperture, out.wavelengthsNm[i], settings.pitchMm / S, T), T, S);
+        const int R = K / 2 - 1; // the row and column at K / 2 hold what wraps around: left out
         radius[i] = R;
         const int w = 2 * R + 1;
         std::vector<double>& b = kernels[i];
@@ -207,7 +192,7 @@ Psf pixelPsf(const Aperture& aperture, const PsfSettings& settings) {
                 // Pixel rows run down, sample rows up; rounding in the transforms can leave tiny negatives.
                 const double v = std::max(
                     0.0,
-                    P[static_cast<std::size_t>((-my * S + F) % F) * F + static_cast<std::size_t>((mx * S + F) % F)]);
+                    P[static_cast<std::size_t>((-my * S + T) % T) * T + static_cast<std::size_t>((mx * S + T) % T)]);
                 b[static_cast<std::size_t>(my + R) * w + (mx + R)] = v;
                 kept += v;
             }

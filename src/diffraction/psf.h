@@ -47,7 +47,7 @@ struct SampledPsf {
 };
 
 /// The PSF at lambdaNm with samples spacingMm apart on a transform x transform grid (even, 64 to
-/// 8192). The pupil's diameter takes Q = transform x spacing / (lambda N) samples: refused
+/// 16384). The pupil's diameter takes Q = transform x spacing / (lambda N) samples: refused
 /// (ff::Error, Usage) when Q is under 32 (too few for the iris's shape) or over transform / 2 (the
 /// intensity, band-limited at twice the pupil, would alias).
 SampledPsf sampledPsf(const Aperture& aperture, double lambdaNm, double spacingMm, int transform);
@@ -73,8 +73,10 @@ struct Psf {
 };
 
 /// Bins each wavelength's PSF over pixels of settings.pitchMm (S x S samples per pixel, the samples
-/// at most lambda N / 2 apart) and combines them into RGB. The kernel reaches transform / (2 S)
-/// pixels from the light. Each channel sums to 1: the flux beyond the
+/// at most lambda N / 2 apart; the transform rounded to a whole number of pixels) and combines them
+/// into RGB. The kernel reaches about transform / (2 S) pixels from the light; where a pixel spans
+/// more than 16384 / 4 samples (over 2 000 lambda N: a tiny plate on a large sensor) the PSF is the
+/// light's own pixel. Each channel sums to 1: the flux beyond the
 /// kernel (Psf::outside) is left in the light's own pixel, where the sharp image holds it.
 Psf pixelPsf(const Aperture& aperture, const PsfSettings& settings);
 

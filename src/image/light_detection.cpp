@@ -81,7 +81,13 @@ DetectionReport detectLights(const Plate& plate, const DetectionSettings& s) {
     const int W = plate.width, H = plate.height;
     Components comp(n);
     std::vector<char> bright(n, 0);
-    for (std::size_t p = 0; p < n; ++p) bright[p] = lum[p] > rep.threshold;
+    rep.lightRgb.assign(n * 3, 0.0f);
+    for (std::size_t p = 0; p < n; ++p) {
+        bright[p] = lum[p] > rep.threshold;
+        if (bright[p])
+            for (int c = 0; c < 3; ++c)
+                rep.lightRgb[p * 3 + c] = std::max(0.0f, plate.value(p, c == 0 ? plate.r : c == 1 ? plate.g : plate.b));
+    }
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x) {
             const std::size_t p = static_cast<std::size_t>(y) * W + x;

@@ -43,6 +43,9 @@ struct DetectionReport {
     double maxLuminance = 0.0;
     int blockSize = 0;         ///< the block size finally used
     std::size_t nonFinite = 0, negative = 0, emissiveZeroAlpha = 0, brightPixels = 0;
+    /// The lights as an image: R, G, B of the pixels above the threshold (negatives as 0), interleaved
+    /// over the data window, 0 elsewhere. Their sum is the lights' flux.
+    std::vector<float> lightRgb;
 };
 
 /// Rec. 709 luminance.

@@ -312,10 +312,12 @@ Plate readPlate(const std::string& path, const PlateLimits& limits) {
     return readDirect(path, limits, true);
 }
 
-void writeSimulatedExr(const std::string& path, const Plate& plate, const std::vector<float>& flare, const std::vector<float>& composite,
+void writeSimulatedExr(const std::string& path, const Plate& plate, const std::vector<Layer>& layers,
                        const Metadata& metadata) {
-    if (!plate.file || flare.size() != plate.pixelCount() * 3 || composite.size() != flare.size())
-        throwRuntimeError("writeSimulatedExr: the flare does not match the plate");
+    if (!plate.file) throwRuntimeError("writeSimulatedExr: the plate has no file");
+    for (const Layer& l : layers)
+        if (!l.rgb || l.rgb->size() != plate.pixelCount() * 3)
+            throwRuntimeError("writeSimulatedExr: the layer " + l.name + " does not match the plate");
     const OIIO::ImageSpec& in = plate.file->spec;
     const int n = in.nchannels;
     // Input channel formats; those EXR cannot store are written as float.
@@ -337,11 +339,12 @@ void writeSimulatedExr(const std::string& path, const Plate& plate, const std::v
     out.erase_attribute("oiio:subimages");
     out.erase_attribute("compression");
     out.attribute("compression", "zip");
-    for (const char* name : {"flare.R", "flare.G", "flare.B", "composite.R", "composite.G", "composite.B"}) {
-        out.channelnames.emplace_back(name);
-        outFormat.emplace_back(OIIO::TypeDesc::FLOAT);
-    }
-    out.nchannels = n + 6;
+    for (const Layer& l : layers)
+        for (const char* c : {".R", ".G", ".B"}) {
+            out.channelnames.emplace_back(l.name + c);
+            outFormat.emplace_back(OIIO::TypeDesc::FLOAT);
+        }
+    out.nchannels = n + 3 * static_cast<int>(layers.size());
     out.channelformats = outFormat;
     out.format = OIIO::TypeDesc::FLOAT;
     for (const auto& [k, v] : metadata) out.attribute(k, v);
@@ -361,8 +364,10 @@ void writeSimulatedExr(const std::string& path, const Plate& plate, const std::v
             }
             dst += outFormat[ci].size();
         }
-        std::memcpy(dst, &flare[p * 3], 3 * sizeof(float));
-        std::memcpy(dst + 3 * sizeof(float), &composite[p * 3], 3 * sizeof(float));
+        for (const Layer& l : layers) {
+            std::memcpy(dst, &(*l.rgb)[p * 3], 3 * sizeof(float));
+            dst += 3 * sizeof(float);
+        }
     }
     writeAtomic(path, out, OIIO::TypeDesc::UNKNOWN, buffer.data());
 }

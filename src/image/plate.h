@@ -56,12 +56,18 @@ Plate readPlate(const std::string& path, const PlateLimits& limits = {});
 /// is a usable plate, else 3 with the reason on stderr (a crash or a hang is the caller's to see).
 int checkPlate(const std::string& path, const PlateLimits& limits);
 
+/// A layer simulate adds to the plate: channels name.R, name.G, name.B (float) from `rgb`, R, G, B
+/// interleaved over the data window.
+struct Layer {
+    std::string name;
+    const std::vector<float>* rgb = nullptr;
+};
+
 /// Writes an EXR (zip, scanlines) holding every channel of the plate unchanged — names, order, data
 /// and display windows, metadata; channels stored as half, float or uint32 keep their bits, other
-/// formats (8/16-bit integers) are written as float of the values read — followed by flare.R, flare.G,
-/// flare.B and composite.R, composite.G, composite.B (float). `flare` and `composite` (composite.h) are
-/// R, G, B interleaved over the data window. Atomic.
-void writeSimulatedExr(const std::string& path, const Plate& plate, const std::vector<float>& flare, const std::vector<float>& composite,
+/// formats (8/16-bit integers) are written as float of the values read — followed by the layers'
+/// channels in order. Atomic.
+void writeSimulatedExr(const std::string& path, const Plate& plate, const std::vector<Layer>& layers,
                        const Metadata& metadata);
 
 } // namespace ff::image

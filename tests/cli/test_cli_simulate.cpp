@@ -104,7 +104,7 @@ TEST(CliSimulate, KeepsEveryChannelAndAddsFlareLayers) {
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("1 lights above luminance"), std::string::npos) << r.err;
     const Exr e = readExr(dir / "out.exr");
-    ASSERT_EQ(e.spec.nchannels, 11);
+    ASSERT_EQ(e.spec.nchannels, 17); // R G B A Z + ghosts, diffraction, flare, composite
     EXPECT_EQ(e.spec.x, 3);
     EXPECT_EQ(e.spec.y, 2);
     EXPECT_EQ(e.spec.full_width, kW + 6);
@@ -114,20 +114,29 @@ TEST(CliSimulate, KeepsEveryChannelAndAddsFlareLayers) {
     EXPECT_EQ(e.spec.get_string_attribute("fourierflare:ghostModel"), "shaped");
     EXPECT_NE(e.spec.get_string_attribute("fourierflare:culled").find("of a light's ghost flux"), std::string::npos);
     // Input channels bit for bit (half values read back as float are exact) and in their formats.
-    const int R = e.channel("R"), A = e.channel("A"), Z = e.channel("Z"), fR = e.channel("flare.R"), cR = e.channel("composite.R");
-    ASSERT_TRUE(R >= 0 && A >= 0 && Z >= 0 && fR >= 0 && cR >= 0);
+    const int R = e.channel("R"), A = e.channel("A"), Z = e.channel("Z"), fR = e.channel("flare.R"),
+              cR = e.channel("composite.R"), gR = e.channel("ghosts.R"), dR = e.channel("diffraction.R");
+    ASSERT_TRUE(R >= 0 && A >= 0 && Z >= 0 && fR >= 0 && cR >= 0 && gR >= 0 && dR >= 0);
     EXPECT_EQ(e.spec.channelformat(R), OIIO::TypeDesc::HALF);
     EXPECT_EQ(e.spec.channelformat(Z), OIIO::TypeDesc::FLOAT);
     auto asHalf = [](float v) { return static_cast<float>(static_cast<Imath::half>(v)); };
-    double flare = 0.0;
+    double ghosts = 0.0, diffraction = 0.0, spread = 0.0;
     for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) {
         ASSERT_EQ(e.at(p, R), asHalf(plate.rgba[p * 4]));
         ASSERT_EQ(e.at(p, A), asHalf(plate.rgba[p * 4 + 3]));
         ASSERT_EQ(e.at(p, Z), plate.z[p]);
+        ASSERT_EQ(e.at(p, fR), e.at(p, gR) + e.at(p, dR)); // flare = ghosts + diffraction
         ASSERT_EQ(e.at(p, cR), e.at(p, R) + e.at(p, fR)); // composite = plate + flare
-        flare += e.at(p, fR);
+        ghosts += e.at(p, gR);
+        diffraction += e.at(p, dR);
+        spread += std::max(0.0f, e.at(p, dR));
     }
-    EXPECT_GT(flare, 0.0);
+    EXPECT_GT(ghosts, 0.0);
+    // The diffraction moves some of the light's flux (4 x 400 in R) from its pixels into the pattern
+    // (how much: tests/diffraction): it sums to zero, the pattern staying in the frame.
+    EXPECT_NEAR(diffraction, 0.0, 1e-4 * 1600.0);
+    EXPECT_GT(spread, 0.0);
+    EXPECT_NE(e.spec.get_string_attribute("fourierflare:diffraction").find("physical, gain 1"), std::string::npos);
     EXPECT_TRUE(fs::exists(dir / "out.png"));
     const auto lights = nlohmann::json::parse(ff::test::readFile(dir / "lights.json"));
     ASSERT_EQ(lights["lights"].size(), 1u);
@@ -154,7 +163,7 @@ TEST(CliSimulate, ShapedFlareIsTheTracedFlareOfTheLightFound) {
     ASSERT_EQ(t.code, 0) << t.err;
     const Exr e = readExr(dir / "out.exr"), ref = readExr(dir / "traced.exr");
     ASSERT_EQ(ref.spec.width, W);
-    const char* names[3] = {"flare.R", "flare.G", "flare.B"};
+    const char* names[3] = {"ghosts.R", "ghosts.G", "ghosts.B"};
     for (int c = 0; c < 3; ++c) {
         const int ch = e.channel(names[c]);
         ASSERT_GE(ch, 0);
@@ -173,7 +182,7 @@ TEST(CliSimulate, ShapedFlareIsTheTracedFlareOfTheLightFound) {
 
 // A light beyond the lens's image circle (the Cooke triplet on a 200 mm wide sensor: the plate's
 // corner is some 65 degrees off the axis, past any ray through the lens) has no direct image there, so
-// no field to draw ghosts for: it gets no flare and a note, and the run succeeds.
+// no field to draw ghosts for: it gets no ghosts and a note, and the run succeeds.
 TEST(CliSimulate, LightsBeyondTheImageCircleGetNoFlareAndANote) {
     ff::test::TempDir dir;
     writePlate(dir / "plate.exr", 1, 1, 800.0f);
@@ -182,9 +191,9 @@ TEST(CliSimulate, LightsBeyondTheImageCircleGetNoFlareAndANote) {
     EXPECT_NE(r.err.find("1 of 1 lights lie where no field angle of the lens images a source"), std::string::npos)
         << r.err;
     const Exr e = readExr(dir / "out.exr");
-    const int fG = e.channel("flare.G");
-    ASSERT_GE(fG, 0);
-    for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) ASSERT_EQ(e.at(p, fG), 0.0f);
+    const int gG = e.channel("ghosts.G");
+    ASSERT_GE(gG, 0);
+    for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) ASSERT_EQ(e.at(p, gG), 0.0f);
 }
 
 // A light at the frame centre, Gaussian model: every ghost is centred, so the flare is
@@ -203,7 +212,7 @@ TEST(CliSimulate, CentredLightFluxAndSymmetryFollowTheTable) {
     const double pitch = 36.0 / kW, halfW = 0.5 * kW * pitch, halfH = 0.5 * kH * pitch;
     const double lightFlux = 4 * 500.0;
     const std::vector<double> lambdas = table["wavelengths_nm"].get<std::vector<double>>();
-    const char* names[3] = {"flare.R", "flare.G", "flare.B"};
+    const char* names[3] = {"ghosts.R", "ghosts.G", "ghosts.B"};
     const double targets[3] = {650.0, 550.0, 450.0};
     for (int c = 0; c < 3; ++c) {
         std::size_t w = 0;

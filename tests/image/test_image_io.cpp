@@ -80,7 +80,8 @@ TEST(PlateReading, ALuminanceChromaPlateReadsAsRgb) {
     EXPECT_NE(plate.notes.back().find("luminance/chroma"), std::string::npos);
     // And simulate's writer keeps the converted channels beside the flare layers.
     const std::vector<float> flare(plate.pixelCount() * 3, 0.0f);
-    image::writeSimulatedExr((dir / "out.exr").string(), plate, flare, plate.rgb(), {});
+    const std::vector<float> composite = plate.rgb();
+    image::writeSimulatedExr((dir / "out.exr").string(), plate, {{"flare", &flare}, {"composite", &composite}}, {});
     const image::Plate back = image::readPlate((dir / "out.exr").string());
     EXPECT_EQ(back.channels.size(), 9u);
     EXPECT_EQ(back.value(5, back.r), plate.value(5, plate.r));
