@@ -9,9 +9,8 @@
 #include "core/file_io.h"
 #include "core/text.h"
 #include "core/units.h"
-#include "ff/version.h"
-#include "image/image_output.h"
 #include "fourier/render.h"
+#include "image/image_output.h"
 #include "trace/traced_flare.h"
 
 #include <CLI/CLI.hpp>
@@ -19,6 +18,9 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+
+#include "diffraction/convolution.h"
+#include "ff/version.h"
 
 namespace ff::cli {
 
@@ -146,6 +148,20 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
                       "over wavelengths: " +
                       text::scientific(traced.inFrame, 4) + " in the frame, " + text::scientific(traced.outside, 4) +
                       " outside; " + traced.describeRefinement();
+        } else if (o.mode == "diffraction") {
+            const diffraction::Aperture aperture = diffraction::apertureOf(lens);
+            diffraction::PsfSettings ps;
+            ps.pitchMm = t.frame.pitchMm;
+            const diffraction::Psf psf = diffraction::pixelPsf(aperture, ps);
+            double off = 0.0;
+            const std::vector<float> spread = diffraction::convolve(splatLights(lights, W, H), W, H, psf, &off);
+            image = fourier::FlareImage(W, H);
+            for (std::size_t p = 0; p < image.pixels(); ++p)
+                for (int c = 0; c < 3; ++c) image.channel[c][p] = spread[p * 3 + c];
+            meta.push_back({"fourierflare:diffraction", describePsf(aperture, psf)});
+            summary = "the lens's diffraction (" + describePsf(aperture, psf) + ") of " +
+                      std::to_string(lights.size()) + " light(s); " + text::scientific(off, 3) +
+                      " of the flux outside the frame";
         } else if (o.mode == "shaped") {
             ghosts::ShapedSettings ss;
             ss.sensor = t.sensor;
@@ -217,8 +233,9 @@ void addRenderCommand(CLI::App& app, GlobalOptions& global) {
     cmd->add_option("--size", o->size, "Image size in pixels, WIDTHxHEIGHT; the image spans the sensor width");
     cmd->add_option("--mode", o->mode,
                     "traced (every ghost ray-traced), shaped (the ghosts' traced meshes), fitted (the table's profiles "
-                    "drawn directly) or fourier (aggregated)")
-        ->check(CLI::IsMember({"traced", "shaped", "fitted", "fourier"}));
+                    "drawn directly), fourier (aggregated) or diffraction (the iris's starburst: the lights through "
+                    "the lens's PSF)")
+        ->check(CLI::IsMember({"traced", "shaped", "fitted", "fourier", "diffraction"}));
     cmd->add_option("--ghost-model", o->ghostModel,
                     "The table's fitted profile drawn by fitted and fourier: gaussian or cos2 (the shaped model is "
                     "--mode shaped)")

@@ -252,7 +252,9 @@ public:
                 psfPitch_ = pitch;
             }
             std::vector<float> lightRgb = std::move(found.lightRgb);
-            if (!manualLights_.empty()) lightRgb = splatLights(lights, plate);
+            if (!manualLights_.empty())
+                lightRgb = splatLights(lights, plate.width, plate.height, plate.originX - plate.displayX,
+                                       plate.originY - plate.displayY);
             double offFrame = 0.0;
             diffractionRgb = diffraction::diffractionLayer(lightRgb, plate.width, plate.height, *psf_,
                                                            o_.diffractionGain, &offFrame);
@@ -324,26 +326,6 @@ public:
 private:
     void note(const std::string& s) const {
         if (!g_.quiet) std::fprintf(stderr, "fourierflare: note: %s\n", s.c_str());
-    }
-
-    // Lights given by hand as an image over the plate's data window: each light's flux splatted
-    // bilinearly at its position (display-window pixels, centres at +0.5).
-    static std::vector<float> splatLights(const std::vector<ghosts::Light>& lights, const image::Plate& plate) {
-        std::vector<float> rgb(plate.pixelCount() * 3, 0.0f);
-        for (const auto& l : lights) {
-            const double fx = l.xPx - (plate.originX - plate.displayX) - 0.5,
-                         fy = l.yPx - (plate.originY - plate.displayY) - 0.5;
-            const double x0 = std::floor(fx), y0 = std::floor(fy);
-            for (int j = 0; j < 2; ++j)
-                for (int i = 0; i < 2; ++i) {
-                    const double x = x0 + i, y = y0 + j;
-                    if (x < 0 || y < 0 || x >= plate.width || y >= plate.height) continue;
-                    const double w = (i ? fx - x0 : 1.0 - (fx - x0)) * (j ? fy - y0 : 1.0 - (fy - y0));
-                    const std::size_t p = static_cast<std::size_t>(y) * plate.width + static_cast<std::size_t>(x);
-                    for (int c = 0; c < 3; ++c) rgb[p * 3 + c] += static_cast<float>(w * l.flux[c]);
-                }
-        }
-        return rgb;
     }
 
     std::string describeDiffraction() const {

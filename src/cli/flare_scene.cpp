@@ -228,4 +228,30 @@ fourier::FlareImage renderShapedScene(const optics::Lens& lens, const ghosts::Sh
     return image;
 }
 
+std::vector<float> splatLights(const std::vector<ghosts::Light>& lights, int width, int height, double originX,
+                               double originY) {
+    std::vector<float> rgb(static_cast<std::size_t>(std::max(width, 0)) * std::max(height, 0) * 3, 0.0f);
+    for (const auto& l : lights) {
+        const double fx = l.xPx - originX - 0.5, fy = l.yPx - originY - 0.5;
+        const double x0 = std::floor(fx), y0 = std::floor(fy);
+        if (!(std::abs(x0) < 1e9 && std::abs(y0) < 1e9)) continue;
+        for (int j = 0; j < 2; ++j)
+            for (int i = 0; i < 2; ++i) {
+                const double x = x0 + i, y = y0 + j;
+                if (x < 0 || y < 0 || x >= width || y >= height) continue;
+                const double w = (i ? fx - x0 : 1.0 - (fx - x0)) * (j ? fy - y0 : 1.0 - (fy - y0));
+                const std::size_t p = static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x);
+                for (int c = 0; c < 3; ++c) rgb[p * 3 + c] += static_cast<float>(w * l.flux[c]);
+            }
+    }
+    return rgb;
+}
+
+std::string describePsf(const diffraction::Aperture& aperture, const diffraction::Psf& psf) {
+    return "working f/" + text::fixed(aperture.fNumber, 2) + ", " +
+           (aperture.blades >= 3 ? std::to_string(aperture.blades) + " blades" : std::string("circular iris")) + "; " +
+           std::to_string(psf.wavelengthsNm.size()) + " wavelengths 400-700 nm; PSF to " + std::to_string(psf.radius) +
+           " px, its edge at " + text::scientific(psf.edge, 2) + " of the centre";
+}
+
 } // namespace ff::cli

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "diffraction/psf.h"
+
 namespace ff::cli {
 
 /// "X,Y" or "X,Y,R,G,B" (pixels; RGB flux of the light's direct image, default 1,1,1).
@@ -47,6 +49,14 @@ TracedScene renderTracedScene(const optics::Lens& lens, const std::vector<ghosts
 
 /// The traced flare of one source at options.field with unit flux.
 TracedScene renderTracedField(const optics::Lens& lens, const trace::TracedFlareOptions& options);
+
+/// The lights as an image (R, G, B interleaved, width x height): each light's flux splatted bilinearly
+/// at its position (pixels, centres at +0.5) less (originX, originY).
+std::vector<float> splatLights(const std::vector<ghosts::Light>& lights, int width, int height, double originX = 0.0,
+                               double originY = 0.0);
+
+/// "working f/N, B blades; W wavelengths 400-700 nm; PSF to R px, its edge at E of the centre".
+std::string describePsf(const diffraction::Aperture& aperture, const diffraction::Psf& psf);
 
 /// The shaped ghosts of all lights (ghosts/shaped_ghosts.h), each light's field found as the traced
 /// scene finds it, summed with the lights' RGB flux. With `outside`, a light that no field angle
