@@ -116,6 +116,33 @@ TEST(CliFourier, FittedAndFourierOfALensAgreeAndKeepFlux) {
     EXPECT_EQ(run(common + "--mode fourier --angle 5 -o '" + (dir / "c.exr").string() + "'", env).code, 2); // --angle is traced-only
 }
 
+// render --mode diffraction: the light's flux spread by the lens's PSF, all of it in the frame (printed
+// to 5 digits), and symmetric through the light's pixel (the pattern of a real pupil is).
+TEST(CliRender, DiffractionModeSpreadsTheLightsFlux) {
+    ff::test::TempDir dir;
+    // Pixels of 20 um: the PSF reaches 39 pixels, inside the frame.
+    const auto r = run("render lenses/cooke-triplet-50mm-f5.lens --mode diffraction --light 64.5,64.5,2,1,0.5 "
+                       "--size 129x129 --sensor-size 2.58x2.58 --probe 64,64 --probe 65,64 --probe 63,64 --probe 68,61 "
+                       "--probe 60,67 -o '" +
+                       (dir / "d.exr").string() + "'");
+    ASSERT_EQ(r.code, 0) << r.err;
+    std::array<double, 3> f{};
+    const std::size_t p = r.err.find("flux in the frame (R, G, B): ");
+    ASSERT_NE(p, std::string::npos) << r.err;
+    std::sscanf(r.err.c_str() + p + 29, "%lf %lf %lf", &f[0], &f[1], &f[2]);
+    const double light[3] = {2.0, 1.0, 0.5};
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(f[c], light[c], 1e-4 * light[c]) << c;
+    const auto v = probes(r.out);
+    ASSERT_EQ(v.size(), 5u);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_GT(v[0][c], v[1][c]);                   // the core at the light's pixel
+        EXPECT_NEAR(v[1][c], v[2][c], 1e-5 * v[0][c]); // symmetric through it
+        EXPECT_NEAR(v[3][c], v[4][c], 1e-5 * v[0][c]);
+        EXPECT_GT(v[3][c], 0.0);
+    }
+    EXPECT_NE(r.err.find("working f/"), std::string::npos) << r.err;
+}
+
 TEST(CliCompare, WritesTheReport) {
     ff::test::TempDir dir;
     const std::string env = "FF_CACHE_DIR='" + (dir / "cache").string() + "' ";

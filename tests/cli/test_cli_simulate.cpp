@@ -309,6 +309,40 @@ TEST(CliSimulate, RefusesBadInputsWithoutWritingAnything) {
     EXPECT_FALSE(fs::exists(out));
 }
 
+// --diffraction off leaves the ghosts alone; --diffraction-gain scales the layer (away from the
+// lights' own pixels, where a pixel never gives more than its light); lights given by hand are
+// diffracted where they are; bad values are refused.
+TEST(CliSimulate, DiffractionOffGainAndLightsGivenByHand) {
+    ff::test::TempDir dir;
+    writePlate(dir / "plate.exr", -1, -1, 0.0f);
+    const std::string light = " --light 40.5,30.5,5000,5000,5000";
+    ASSERT_EQ(run(simulate(dir / "plate.exr", dir / "off.exr", "--diffraction off" + light), kEnv).code, 0);
+    ASSERT_EQ(run(simulate(dir / "plate.exr", dir / "one.exr", light), kEnv).code, 0);
+    ASSERT_EQ(run(simulate(dir / "plate.exr", dir / "two.exr", "--diffraction-gain 2" + light), kEnv).code, 0);
+    const Exr off = readExr(dir / "off.exr"), one = readExr(dir / "one.exr"), two = readExr(dir / "two.exr");
+    EXPECT_EQ(off.spec.get_string_attribute("fourierflare:diffraction"), "off");
+    const int d = one.channel("diffraction.G"), f = one.channel("flare.G"), g = one.channel("ghosts.G");
+    ASSERT_TRUE(d >= 0 && f >= 0 && g >= 0);
+    const std::size_t lightPixel = static_cast<std::size_t>(30) * kW + 40;
+    double sum = 0.0, spread = 0.0;
+    for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) {
+        ASSERT_EQ(off.at(p, d), 0.0f);
+        ASSERT_EQ(off.at(p, f), off.at(p, g));
+        ASSERT_EQ(one.at(p, g), off.at(p, g)); // the ghosts do not depend on the diffraction
+        sum += one.at(p, d);
+        if (p != lightPixel) {
+            spread += one.at(p, d);
+            EXPECT_NEAR(two.at(p, d), 2.0f * one.at(p, d), 1e-5f * 5000.0f) << p;
+        }
+    }
+    EXPECT_NEAR(one.at(lightPixel, d), -spread, 1e-4 * 5000.0); // what the pattern holds left the light's pixel
+    EXPECT_NEAR(sum, 0.0, 1e-4 * 5000.0);
+    EXPECT_GT(spread, 0.0);
+    for (const std::string bad : {"--diffraction-gain -1", "--diffraction-gain nan", "--diffraction bogus"})
+        EXPECT_EQ(run(simulate(dir / "plate.exr", dir / "bad.exr", bad + light), kEnv).code, 2) << bad;
+    EXPECT_FALSE(fs::exists(dir / "bad.exr"));
+}
+
 TEST(CliSimulate, SequencesRenderEveryFrame) {
     ff::test::TempDir dir;
     writePlate(dir / "shot.0007.exr", 20, 12, 400.0f);
