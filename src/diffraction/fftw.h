@@ -23,16 +23,13 @@ inline int fastSize(int n) {
     }
 }
 
-struct FftwFree {
-    void operator()(void* p) const { fftw_free(p); }
-};
 template <typename T>
-using FftwArray = std::unique_ptr<T, FftwFree>;
+using FftwArray = fourier::FftwDoubleArray<T>;
 
 /// `count` elements from fftw_malloc (uninitialised); throws ff::Error (Runtime) when out of memory.
 template <typename T>
 FftwArray<T> fftwArray(std::size_t count) {
-    auto a = FftwArray<T>(static_cast<T*>(fftw_malloc(sizeof(T) * count)));
+    auto a = fourier::fftwDoubleArray<T>(count);
     if (!a) throw Error(ErrorKind::Runtime, "out of memory for the diffraction's transforms");
     return a;
 }
