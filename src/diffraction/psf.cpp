@@ -51,8 +51,9 @@ std::vector<double> intensity(const Aperture& aperture, double lambdaNm, double 
     if (!(Q >= 32.0) || Q > 0.5 * F * (1.0 + 1e-9))
         throw Error(ErrorKind::Usage, "the PSF's sampling puts " + text::fixed(Q, 1) +
                                           " samples across the pupil: it needs 32 to half the transform");
-    // The pupil, centred on sample (0, 0) (wrapped), +y up the rows; each sample's coverage from its
-    // distance to the iris's edge (linear across the sample: exact for a straight edge through it).
+    // The pupil, centred on sample (0, 0) (wrapped), +y up the rows; each sample's coverage is
+    // 1/2 + its centre's distance inside the iris's edge (in samples), clamped to [0, 1]: the area a
+    // straight edge leaves inside a sample, to first order.
     const trace::Iris iris(aperture.blades, aperture.rotationRad, 0.5 * Q);
     const std::size_t N = static_cast<std::size_t>(F), H = N / 2 + 1;
     auto in = fftwArray<double>(N * N);
