@@ -1,7 +1,11 @@
 // The diffraction stage (docs/diffraction.md, docs/performance.md): the RGB PSF of the bundled double
 // Gauss stopped down to f/8 with 6 blades (8 wavelengths, transform 1024), binned at the pixel pitch of
 // a 36 mm wide sensor at 1920 and 3840 pixels across; and the convolution of a frame of lights with it
-// (three channels, double-precision FFTs), at 1920 x 1080 and 3840 x 2160. Baseline: the 1080p PSF.
+// (three channels, double-precision FFTs), at 1920 x 1080 and 3840 x 2160, with FFTW on the CPU and
+// with the GL backend's compute-shader FFT (llvmpipe without a GPU: 1080p only there).
+
+#include "gpu/gl_context.h"
+#include "gpu/gl_fft.h"
 
 #include <benchmark/benchmark.h>
 
@@ -33,7 +37,8 @@ void BM_Psf(benchmark::State& state) {
 }
 BENCHMARK(BM_Psf)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-void BM_Convolve(benchmark::State& state) {
+// The layer of 300 lights at the frame's pitch, convolved by `device` (null: FFTW).
+void layers(benchmark::State& state, Convolver* device) {
     const int W = kWidths[state.range(0)], H = W * 9 / 16;
     PsfSettings s;
     s.pitchMm = 36.0 / W;
@@ -45,12 +50,33 @@ void BM_Convolve(benchmark::State& state) {
         lights[p] = lights[p + 1] = lights[p + 2] = 1000.0f;
     }
     for (auto _ : state) {
-        const auto layer = diffractionLayer(lights, W, H, psf, 1.0);
+        const auto layer = diffractionLayer(lights, W, H, psf, 1.0, nullptr, device);
         benchmark::DoNotOptimize(layer.data());
     }
     state.counters["radius_px"] = psf.radius;
 }
+
+void BM_Convolve(benchmark::State& state) {
+    layers(state, nullptr);
+}
 BENCHMARK(BM_Convolve)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_ConvolveGl(benchmark::State& state) {
+    static std::string why;
+    static const std::unique_ptr<ff::gpu::GlContext> context = ff::gpu::GlContext::create(why);
+    if (!context) {
+        state.SkipWithError(("no OpenGL 4.5 context: " + why).c_str());
+        return;
+    }
+    if (!context->hardware() && state.range(0) > 0) {
+        state.SkipWithError("software rasteriser: skipped");
+        return;
+    }
+    state.SetLabel(context->renderer());
+    ff::gpu::GlFft fft(*context);
+    layers(state, &fft);
+}
+BENCHMARK(BM_ConvolveGl)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 } // namespace
 

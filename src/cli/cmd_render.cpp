@@ -154,7 +154,10 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
             ps.pitchMm = t.frame.pitchMm;
             const diffraction::Psf psf = diffraction::pixelPsf(aperture, ps);
             double off = 0.0;
-            const std::vector<float> spread = diffraction::convolve(splatLights(lights, W, H), W, H, psf, &off);
+            diffraction::Convolver* device = diffractionDevice(fs);
+            const std::vector<float> lightRgb = splatLights(lights, W, H);
+            const std::vector<float> spread =
+                device ? device->convolve(lightRgb, W, H, psf, &off) : diffraction::convolve(lightRgb, W, H, psf, &off);
             image = fourier::FlareImage(W, H);
             for (std::size_t p = 0; p < image.pixels(); ++p)
                 for (int c = 0; c < 3; ++c) image.channel[c][p] = spread[p * 3 + c];

@@ -122,6 +122,7 @@ public:
         // Options checked first: the backend (EGL) is touched last. The GL backend draws the shaped
         // model's polygons, or aggregates the fitted models with the Fourier options.
         fourier_ = o.fourier.settings(g);
+        convolver_ = diffractionDevice(fourier_);
         if (o.ghostModel == "shaped") {
             raster_ = polygonRaster(fourier_);
             return;
@@ -257,7 +258,7 @@ public:
                                        plate.originY - plate.displayY);
             double offFrame = 0.0;
             diffractionRgb = diffraction::diffractionLayer(lightRgb, plate.width, plate.height, *psf_,
-                                                           o_.diffractionGain, &offFrame);
+                                                           o_.diffractionGain, &offFrame, convolver_);
             diffractionMeta = {{"fourierflare:diffraction", describeDiffraction()}};
         }
         if (aperture_) {
@@ -329,11 +330,8 @@ private:
     }
 
     std::string describeDiffraction() const {
-        return "physical, gain " + text::roundTrip(o_.diffractionGain) + "; working f/" +
-               text::fixed(aperture_->fNumber, 2) + ", " +
-               (aperture_->blades >= 3 ? std::to_string(aperture_->blades) + " blades" : std::string("circular iris")) +
-               "; " + std::to_string(psf_->wavelengthsNm.size()) + " wavelengths 400-700 nm; PSF to " +
-               std::to_string(psf_->radius) + " px, its edge at " + text::scientific(psf_->edge, 2) + " of the centre";
+        return "physical, gain " + text::roundTrip(o_.diffractionGain) + "; " + describePsf(*aperture_, *psf_) +
+               (convolver_ ? "; convolved on " + fourier_.backend->describe() : std::string("; convolved on the CPU"));
     }
 
     const SimulateOptions& o_;
@@ -349,6 +347,7 @@ private:
     std::pair<int, int> shapedFor_; ///< the display window shaped_ was made for
     gpu::GlBackend* gl_ = nullptr;  ///< fourier_.backend when it is the GL one (fitted models)
     ghosts::PolygonRaster* raster_ = nullptr; ///< the GL backend's, drawing the shaped model
+    diffraction::Convolver* convolver_ = nullptr;   ///< the GL backend's FFT, convolving the lights
     std::optional<diffraction::Aperture> aperture_; ///< with --diffraction physical
     std::unique_ptr<diffraction::Psf> psf_;
     double psfPitch_ = 0.0; ///< the pixel pitch psf_ was made for

@@ -76,6 +76,11 @@ fourier::FourierSettings FourierOptions::settings(const GlobalOptions& g) const 
     return s;
 }
 
+diffraction::Convolver* diffractionDevice(const fourier::FourierSettings& settings) {
+    auto* gl = dynamic_cast<gpu::GlBackend*>(settings.backend.get());
+    return gl ? &gl->fft() : nullptr;
+}
+
 ghosts::PolygonRaster* polygonRaster(const fourier::FourierSettings& settings) {
     auto* gl = dynamic_cast<gpu::GlBackend*>(settings.backend.get());
     return gl ? &gl->polygonRaster() : nullptr;

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "diffraction/convolution.h"
+
 namespace CLI {
 class App;
 }
@@ -36,5 +38,7 @@ struct FourierOptions {
 
 /// The shaped ghosts' polygon raster of the settings' GL backend, or null (the CPU draws them).
 ghosts::PolygonRaster* polygonRaster(const fourier::FourierSettings& settings);
+/// The diffraction's convolution on the settings' GL backend, or null (FFTW on the CPU).
+diffraction::Convolver* diffractionDevice(const fourier::FourierSettings& settings);
 
 } // namespace ff::cli

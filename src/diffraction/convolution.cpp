@@ -76,9 +76,10 @@ std::vector<float> convolve(const std::vector<float>& image, int width, int heig
 }
 
 std::vector<float> diffractionLayer(const std::vector<float>& lights, int width, int height, const Psf& psf,
-                                    double gain, double* offFrame) {
+                                    double gain, double* offFrame, Convolver* device) {
     double off = 0.0;
-    std::vector<float> spread = convolve(lights, width, height, psf, &off);
+    std::vector<float> spread =
+        device ? device->convolve(lights, width, height, psf, &off) : convolve(lights, width, height, psf, &off);
     if (offFrame) *offFrame += gain * off;
     const float g = static_cast<float>(gain);
     for (std::size_t i = 0; i < spread.size(); ++i) spread[i] = std::max(g * (spread[i] - lights[i]), -lights[i]);

@@ -8,6 +8,15 @@
 
 namespace ff::diffraction {
 
+/// Where the convolution runs when not on the CPU (FFTW): the GL backend's compute-shader FFT.
+class Convolver {
+  public:
+    virtual ~Convolver() = default;
+    /// As diffraction::convolve.
+    virtual std::vector<float> convolve(const std::vector<float>& image, int width, int height, const Psf& psf,
+                                        double* offFrame) = 0;
+};
+
 /// image (R, G, B interleaved, width x height) convolved with the PSF's channels (linear, not
 /// circular: zero outside the frame). The flux the kernel carries beyond the frame is added to
 /// *offFrame (summed over the channels) when given.
@@ -18,7 +27,8 @@ std::vector<float> convolve(const std::vector<float>& image, int width, int heig
 /// that is the lights' sharp image): gain x (lights * PSF - lights), the lights' flux spread into
 /// the pattern and taken from the pixels that held it, so it sums to zero (less what leaves the
 /// frame). Where a gain above 1 would take more than a pixel's light from it, it takes that light.
+/// The convolution runs on `device` when one is given.
 std::vector<float> diffractionLayer(const std::vector<float>& lights, int width, int height, const Psf& psf,
-                                    double gain, double* offFrame = nullptr);
+                                    double gain, double* offFrame = nullptr, Convolver* device = nullptr);
 
 } // namespace ff::diffraction

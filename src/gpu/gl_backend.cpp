@@ -67,6 +67,11 @@ void GlBackend::finish(fourier::FlareImage& image) {
 
 std::vector<float> GlBackend::composite(const std::vector<float>& plate) { return compositor_->composite(plate, width_, height_, image_); }
 
+GlFft& GlBackend::fft() {
+    if (!fft_) fft_ = std::make_unique<GlFft>(*context_);
+    return *fft_;
+}
+
 GlPolygonRaster& GlBackend::polygonRaster() {
     if (!polygons_) polygons_ = std::make_unique<GlPolygonRaster>(*context_);
     return *polygons_;

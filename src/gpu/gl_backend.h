@@ -10,6 +10,7 @@
 #include "gpu/gl_context.h"
 #include "gpu/gl_direct.h"
 #include "gpu/gl_evaluator.h"
+#include "gpu/gl_fft.h"
 #include "gpu/gl_polygon_raster.h"
 
 #include <memory>
@@ -32,6 +33,8 @@ public:
     int maxCompositeSide() const { return compositor_->maxSide(); }
     /// The shaped ghosts' polygon raster on this backend's context (made on first use).
     GlPolygonRaster& polygonRaster();
+    /// The diffraction's FFT convolution on this backend's context (made on first use).
+    GlFft& fft();
     const GlContext& context() const { return *context_; }
 
 private:
@@ -41,6 +44,7 @@ private:
     std::unique_ptr<GlDirect> direct_;
     std::unique_ptr<GlCompositor> compositor_;
     std::unique_ptr<GlPolygonRaster> polygons_;
+    std::unique_ptr<GlFft> fft_;
     Buffer z_, image_;
     int width_ = 0, height_ = 0;
 };
