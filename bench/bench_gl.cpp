@@ -5,7 +5,8 @@
 //    3840 x 2160 at N = 64, 128, 256, next to the CPU's matrix evaluation of the same coefficients;
 //  - the whole GL render (accumulation + evaluation + read-back) against the number of ghosts K;
 //  - the hybrid's direct drawing (GlDirect: axis integrals, then their products per pixel) of a few
-//    frame-wide ghosts and of many small ones at 1280 x 720, next to fourier::drawDirect.
+//    frame-wide ghosts and of many small ones at 1280 x 720, next to fourier::drawDirect;
+//  - the shaped ghosts' polygon raster against the CPU's coverage raster on 4 M small triangles.
 // On a software rasteriser only the 1080p, N = 64 and K <= 1000 cases run (the rest take minutes).
 
 #include "fourier/direct.h"
@@ -13,6 +14,8 @@
 #include "gpu/gl_backend.h"
 #include "gpu/gl_direct.h"
 #include "gpu/gl_evaluator.h"
+#include "gpu/gl_polygon_raster.h"
+#include "trace/flare_raster.h"
 
 #include <benchmark/benchmark.h>
 #include <epoxy/gl.h>
@@ -204,6 +207,70 @@ void BM_CpuDirect(benchmark::State& state) {
     }
 }
 BENCHMARK(BM_CpuDirect)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The shaped ghosts' polygon raster (gpu::GlPolygonRaster) against the CPU's coverage raster on the
+// same polygons: 4 M triangles of 0.3-3 px (the size the shaped renderer's subdivision makes) over a
+// 1920 x 1080 frame, in 3 channels, with upload and read-back; the CPU draws them in one band on one
+// thread (renderShaped spreads its bands over the cores).
+std::vector<ff::ghosts::ShapedPolygons> triangles() {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<ff::ghosts::ShapedPolygons> out(3);
+    for (int k = 0; k < 4000000; ++k) {
+        const glm::dvec2 c(1920.0 * u(rng), 1080.0 * u(rng));
+        const double s = 0.3 + 2.7 * u(rng);
+        const glm::dvec2 p[3] = {c, c + s * glm::dvec2(u(rng), 0.2 * u(rng)), c + s * glm::dvec2(0.2 * u(rng), u(rng))};
+        out[static_cast<std::size_t>(k) % 3].add(p, 3, u(rng));
+    }
+    return out;
+}
+
+void BM_GlPolygons(benchmark::State& state) {
+    ff::gpu::GlBackend* gl = backendFor(state, true);
+    if (!gl) return;
+    const auto polys = triangles();
+    const ff::trace::ImageFrame frame{1920, 1080, 0.01875};
+    using Clock = std::chrono::steady_clock;
+    double draw = 0.0, finish = 0.0;
+    for (auto _ : state) {
+        ff::gpu::GlPolygonRaster& raster = gl->polygonRaster();
+        auto t = Clock::now();
+        raster.begin(frame, 3, 4e6);
+        for (std::size_t c = 0; c < 3; ++c) raster.draw(c, polys[c]);
+        glFinish();
+        draw += std::chrono::duration<double>(Clock::now() - t).count();
+        t = Clock::now();
+        const auto image = raster.finish();
+        finish += std::chrono::duration<double>(Clock::now() - t).count();
+        benchmark::DoNotOptimize(image[0].data());
+    }
+    // draw: staging, uploads and the edge passes of the full batches; finish: the last batch, the
+    // rows' prefix sums and the read-back.
+    state.counters["draw_ms"] = 1e3 * draw / double(state.iterations());
+    state.counters["finish_ms"] = 1e3 * finish / double(state.iterations());
+    state.counters["triangles/s"] = benchmark::Counter(4e6, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_GlPolygons)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_CpuPolygons(benchmark::State& state) {
+    const auto polys = triangles();
+    const ff::trace::ImageFrame frame{1920, 1080, 0.01875};
+    for (auto _ : state) {
+        for (const auto& ps : polys) {
+            ff::trace::CoverageRaster raster(frame);
+            ff::trace::RasterStats stats;
+            std::vector<glm::dvec2> p;
+            for (const auto& q : ps.polys) {
+                p.assign(ps.vertices.begin() + q.first, ps.vertices.begin() + q.first + q.count);
+                raster.polygon(p, q.energy, stats);
+            }
+            const auto image = std::move(raster).release();
+            benchmark::DoNotOptimize(image.data());
+        }
+    }
+    state.counters["triangles/s"] = benchmark::Counter(4e6, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_CpuPolygons)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 } // namespace
 

@@ -25,10 +25,11 @@ uniform int batch;
 uniform int count;
 uniform int inverse; // 0: forward (exp(-i ...)), 1: inverse (exp(+i ...))
 uniform int step;    // L / (2 ns): twiddle q = k * step
+uniform int across;  // 1: invocation x runs across transforms (columns: neighbours read neighbouring memory)
 
 void main() {
-    const int j = int(gl_GlobalInvocationID.x);
-    const int t = int(gl_GlobalInvocationID.y + gl_GlobalInvocationID.z * gl_NumWorkGroups.y);
+    const int x = int(gl_GlobalInvocationID.x), y = int(gl_GlobalInvocationID.y + gl_GlobalInvocationID.z * gl_NumWorkGroups.y);
+    const int j = across != 0 ? y : x, t = across != 0 ? x : y;
     if (j >= n / 2 || t >= count) return;
     const int base = t * batch;
     const dvec2 v0 = src[base + j * stride];

@@ -33,7 +33,7 @@ uniform int height;
 uniform int count;
 uniform double scale; // fixed-point units per unit of energy
 
-const double kWord = 4294967296.0;
+const double kWord = 4294967296.0LF;
 
 // Adds v (energy) to entry (x, y) of channel c: v x scale rounded, modulo 2^64.
 void addEntry(uint c, int y, int x, double v) {
@@ -63,7 +63,7 @@ void pixel(uint c, int px, int py, double e) {
 void splat(uint c, dvec2 p, double e) {
     const double fx = p.x - 0.5, fy = p.y - 0.5;
     const double ix = floor(fx), iy = floor(fy);
-    if (!(abs(ix) < 1e9 && abs(iy) < 1e9)) return;
+    if (!(abs(ix) < 1e9LF && abs(iy) < 1e9LF)) return;
     const double ax = fx - ix, ay = fy - iy;
     const int x = int(ix), y = int(iy);
     pixel(c, x, y, e * (1.0 - ax) * (1.0 - ay));
@@ -155,7 +155,7 @@ void main() {
     const int n = min(int(g.count), kMaxPolygon);
     if (n == 0 || g.energy == 0.0) return;
     dvec2 poly[kMaxPolygon];
-    dvec2 lo = dvec2(1e300), hi = dvec2(-1e300);
+    dvec2 lo = dvec2(1e300LF), hi = dvec2(-1e300LF);
     double area = 0.0;
     for (int i = 0; i < n; ++i) {
         poly[i] = dvec2(vertices[g.first + uint(i)]);
@@ -168,7 +168,7 @@ void main() {
     }
     area *= 0.5;
     if (isnan(area) || isinf(area)) return; // a vertex at infinity or NaN: nowhere in the image
-    const bool nearFrame = abs(lo.x) < 1e9 && abs(lo.y) < 1e9;
+    const bool nearFrame = abs(lo.x) < 1e9LF && abs(lo.y) < 1e9LF;
     if (nearFrame && floor(lo.x) == floor(hi.x) && floor(lo.y) == floor(hi.y) && area != 0.0) {
         pixel(g.channel, int(floor(lo.x)), int(floor(lo.y)), g.energy);
         return;

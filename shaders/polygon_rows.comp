@@ -22,7 +22,7 @@ void main() {
         const uint sum = lo + a;
         hi += b + (sum < lo ? 1u : 0u);
         lo = sum;
-        const double v = double(int(hi)) * 4294967296.0 + double(lo);
+        const double v = double(int(hi)) * 4294967296.0LF + double(lo);
         image[uint(r) * uint(width) + uint(x)] = float(max(v, 0.0) / scale);
     }
 }

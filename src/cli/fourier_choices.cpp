@@ -60,8 +60,8 @@ fourier::FourierSettings FourierOptions::settings(const GlobalOptions& g) const 
     s.dropDc = dropDc;
     s.hybrid = !noHybrid;
     s.basis = basis == "bessel" ? fourier::Basis::Bessel : fourier::Basis::Separable;
-    // The GL backend: required with gl; with auto, taken only on a hardware device (no software
-    // context is made just to be dropped).
+    // The GL backend: required with gl; with auto, taken only where the renderer is not a software
+    // rasteriser.
     if (backend != "cpu") {
         std::string why;
         auto context = gpu::GlContext::create(why, backend == "auto");

@@ -63,11 +63,7 @@ std::unique_ptr<GlContext> GlContext::create(std::string& why, bool hardwareOnly
         why = "no EGL library (libEGL.so.1) on this machine";
         return nullptr;
     }
-    struct Candidate {
-        EGLDisplay display;
-        bool hardware;
-    };
-    std::vector<Candidate> candidates;
+    std::vector<EGLDisplay> candidates;
     const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     if (hasExtension(clientExtensions, "EGL_EXT_device_enumeration") && hasExtension(clientExtensions, "EGL_EXT_platform_device")) {
         EGLDeviceEXT devices[16];
@@ -77,38 +73,47 @@ std::unique_ptr<GlContext> GlContext::create(std::string& why, bool hardwareOnly
                 const bool software = hasExtension(eglQueryDeviceStringEXT(devices[i], EGL_EXTENSIONS), "EGL_MESA_device_software");
                 if (software) continue; // Mesa's software device: the surfaceless platform below covers it
                 const EGLDisplay d = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
-                if (d != EGL_NO_DISPLAY) candidates.push_back({d, true});
+                if (d != EGL_NO_DISPLAY) candidates.push_back(d);
             }
     }
-    if (!hardwareOnly && hasExtension(clientExtensions, "EGL_MESA_platform_surfaceless")) {
+    // The surfaceless platform is tried with hardwareOnly too: NVIDIA's EGL offers its GPU there when
+    // device enumeration finds nothing; what the context renders with decides below.
+    if (hasExtension(clientExtensions, "EGL_MESA_platform_surfaceless")) {
         const EGLDisplay d = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-        if (d != EGL_NO_DISPLAY) candidates.push_back({d, false});
+        if (d != EGL_NO_DISPLAY) candidates.push_back(d);
     }
     if (candidates.empty()) {
         why = hardwareOnly ? "EGL offers no hardware device" : "EGL offers neither a device nor Mesa's surfaceless platform";
         return nullptr;
     }
-    for (const Candidate& cand : candidates) {
+    bool software = false;
+    for (const EGLDisplay display : candidates) {
         EGLint major = 0, minor = 0;
-        if (!eglInitialize(cand.display, &major, &minor)) continue;
-        if (!hasExtension(eglQueryString(cand.display, EGL_EXTENSIONS), "EGL_KHR_no_config_context") &&
-            !hasExtension(eglQueryString(cand.display, EGL_EXTENSIONS), "EGL_MESA_configless_context")) {
-            eglTerminate(cand.display);
+        if (!eglInitialize(display, &major, &minor)) continue;
+        if (!hasExtension(eglQueryString(display, EGL_EXTENSIONS), "EGL_KHR_no_config_context") &&
+            !hasExtension(eglQueryString(display, EGL_EXTENSIONS), "EGL_MESA_configless_context")) {
+            eglTerminate(display);
             continue;
         }
-        const EGLContext c = makeContext(cand.display);
+        const EGLContext c = makeContext(display);
         if (c == EGL_NO_CONTEXT) {
-            eglTerminate(cand.display);
+            eglTerminate(display);
             continue;
         }
         std::unique_ptr<GlContext> ctx(new GlContext());
-        ctx->display_ = cand.display;
+        ctx->display_ = display;
         ctx->context_ = c;
         const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
         const char* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
         ctx->renderer_ = std::string(renderer ? renderer : "?") + ", OpenGL " + (version ? version : "?");
         const std::string r = renderer ? renderer : "";
-        ctx->hardware_ = cand.hardware && r.find("llvmpipe") == std::string::npos && r.find("softpipe") == std::string::npos;
+        // Hardware is what the renderer says it is: Mesa's software rasterisers name themselves.
+        ctx->hardware_ = r.find("llvmpipe") == std::string::npos && r.find("softpipe") == std::string::npos &&
+                         r.find("swrast") == std::string::npos && r.find("Software") == std::string::npos;
+        if (hardwareOnly && !ctx->hardware_) { // ~GlContext releases it
+            software = true;
+            continue;
+        }
         glGetIntegerv(GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS, &ctx->maxInvocations_);
 #ifndef NDEBUG
         glEnable(GL_DEBUG_OUTPUT);
@@ -117,7 +122,7 @@ std::unique_ptr<GlContext> GlContext::create(std::string& why, bool hardwareOnly
 #endif
         return ctx;
     }
-    why = "no EGL display could make an OpenGL 4.5 core context";
+    why = software ? "EGL offers only a software rasteriser" : "no EGL display could make an OpenGL 4.5 core context";
     return nullptr;
 }
 

@@ -12,16 +12,16 @@ namespace ff::gpu {
 
 class GlContext {
 public:
-    /// A context, or null with the reason in `why` (no EGL library, no device, no 4.5 core context).
-    /// hardwareOnly: do not fall back to the surfaceless platform (software rendering).
-    static std::unique_ptr<GlContext> create(std::string& why, bool hardwareOnly = false);
-    ~GlContext();
-    GlContext(const GlContext&) = delete;
-    GlContext& operator=(const GlContext&) = delete;
+  /// A context, or null with the reason in `why` (no EGL library, no device, no 4.5 core context).
+  /// hardwareOnly: refuse a context whose renderer is a software rasteriser (llvmpipe, softpipe).
+  static std::unique_ptr<GlContext> create(std::string& why, bool hardwareOnly = false);
+  ~GlContext();
+  GlContext(const GlContext&) = delete;
+  GlContext& operator=(const GlContext&) = delete;
 
-    const std::string& renderer() const { return renderer_; } ///< GL_RENDERER and GL_VERSION
-    bool hardware() const { return hardware_; }               ///< not a software rasteriser
-    int maxWorkGroupInvocations() const { return maxInvocations_; }
+  const std::string& renderer() const { return renderer_; } ///< GL_RENDERER and GL_VERSION
+  bool hardware() const { return hardware_; }               ///< not a software rasteriser
+  int maxWorkGroupInvocations() const { return maxInvocations_; }
 
 private:
     GlContext() = default;

@@ -63,14 +63,19 @@ void GlFft::transform(std::unique_ptr<Buffer>& data, std::unique_ptr<Buffer>& sc
         pass_->set("stride", stride);
         pass_->set("batch", batch);
         pass_->set("count", count);
-        const auto groupsX = static_cast<GLuint>((n / 2 + kGroup - 1) / kGroup);
-        const auto transforms = static_cast<GLuint>(count);
+        // Along columns the invocations of a work group take neighbouring columns, so that they read
+        // and write neighbouring memory; along rows, neighbouring butterflies.
+        const bool across = stride != 1;
+        pass_->set("across", across ? 1 : 0);
+        const auto inner = static_cast<GLuint>(across ? count : n / 2),
+                   outer = static_cast<GLuint>(across ? n / 2 : count);
+        const GLuint groupsX = (inner + kGroup - 1) / kGroup;
         for (int ns = 1; ns < n; ns *= 2) {
             pass_->set("ns", ns);
             pass_->set("step", twiddleLength_ / (2 * ns));
             data->bind(0);
             scratch->bind(1);
-            glDispatchCompute(groupsX, std::min(transforms, kMaxGroups), (transforms + kMaxGroups - 1) / kMaxGroups);
+            glDispatchCompute(groupsX, std::min(outer, kMaxGroups), (outer + kMaxGroups - 1) / kMaxGroups);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
             std::swap(data, scratch);
         }

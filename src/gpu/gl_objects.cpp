@@ -31,8 +31,13 @@ Buffer::Buffer() { glCreateBuffers(1, &id_); }
 Buffer::~Buffer() { glDeleteBuffers(1, &id_); }
 
 void Buffer::upload(const void* data, std::size_t bytes) {
-    glNamedBufferData(id_, static_cast<GLsizeiptr>(bytes), data, GL_DYNAMIC_DRAW);
-    bytes_ = bytes;
+    // The same size keeps the storage (a reallocation costs more than the copy on some drivers).
+    if (bytes == bytes_ && bytes > 0) {
+        if (data) glNamedBufferSubData(id_, 0, static_cast<GLsizeiptr>(bytes), data);
+    } else {
+        glNamedBufferData(id_, static_cast<GLsizeiptr>(bytes), data, GL_DYNAMIC_DRAW);
+        bytes_ = bytes;
+    }
     checkGl("a buffer upload");
 }
 
