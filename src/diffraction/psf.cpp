@@ -170,13 +170,21 @@ Psf pixelPsf(const Aperture& aperture, const PsfSettings& settings) {
         const double lambdaN = out.wavelengthsNm[i] * 1e-6 * aperture.fNumber;
         // S samples per pixel, at most lambda N / 2 apart (the intensity's Nyquist rate).
         // S and K (below) have no prime factor above 7: the transform's size K S stays fast.
-        const int S = fastSize(std::max(1, static_cast<int>(std::ceil(settings.pitchMm / (0.5 * lambdaN) - 1e-9))));
+        const double samples = std::ceil(settings.pitchMm / (0.5 * lambdaN) - 1e-9);
+        // A whole number K >= 4 of pixels per period (K S samples, K even, about `transform`), so that
+        // the pixels' centres tile the period and sum to its flux exactly. Pixels over ~2 000 lambda N
+        // wide (the period over kMaxTransform samples): the PSF is the light's own pixel.
+        if (4.0 * samples > kMaxTransform) {
+            out.binning[i] = static_cast<int>(std::min(samples, 1e9));
+            radius[i] = 0;
+            kernels[i] = {1.0};
+            return;
+        }
+        const int S = fastSize(std::max(1, static_cast<int>(samples)));
         out.binning[i] = S;
-        // A whole number K of pixels per period (K S samples, K even, about `transform`), so that the
-        // pixels' centres tile the period and sum to its flux exactly.
         const int K = 2 * fastSize(std::max(2, static_cast<int>(std::lround(0.5 * F / S))));
         const int T = K * S;
-        if (T > kMaxTransform) { // pixels over ~4 000 lambda N wide: the PSF is the light's own pixel
+        if (T > kMaxTransform) {
             radius[i] = 0;
             kernels[i] = {1.0};
             return;
