@@ -43,7 +43,8 @@ constexpr int kMaxTransform = 16384;
 
 // The PSF's samples in the transform's order (sample (i, j) at offset ((i, j) mod F) x spacing from
 // the light, +y up the rows): share of the flux per sample, summing to 1.
-std::vector<double> intensity(const Aperture& aperture, double lambdaNm, double spacingMm, int F) {
+std::vector<double> intensity(const Aperture& aperture, double lambdaNm, double spacingMm, int F,
+                              const Wavefront& wavefront) {
     if (F < 64 || F > kMaxTransform || F % 2 != 0)
         throw Error(ErrorKind::Usage, "the PSF's transform must be even, 64 to " + std::to_string(kMaxTransform));
     const double lambdaN = lambdaNm * 1e-6 * aperture.fNumber; // mm
@@ -53,40 +54,63 @@ std::vector<double> intensity(const Aperture& aperture, double lambdaNm, double 
                                           " samples across the pupil: it needs 32 to half the transform");
     // The pupil, centred on sample (0, 0) (wrapped), +y up the rows; each sample's coverage is
     // 1/2 + its centre's distance inside the iris's edge (in samples), clamped to [0, 1]: the area a
-    // straight edge leaves inside a sample, to first order.
+    // straight edge leaves inside a sample, to first order. With a wavefront W the pupil function is
+    // coverage x exp(2 pi i W / lambda).
     const trace::Iris iris(aperture.blades, aperture.rotationRad, 0.5 * Q);
     const std::size_t N = static_cast<std::size_t>(F), H = N / 2 + 1;
-    auto in = fftwArray<double>(N * N);
-    auto out = fftwArray<fftw_complex>(N * H);
-    std::fill(in.get(), in.get() + N * N, 0.0);
     const int reach = static_cast<int>(std::ceil(iris.circumradius)) + 1;
+    auto index = [&](int x, int y) {
+        return static_cast<std::size_t>((y + F) % F) * N + static_cast<std::size_t>((x + F) % F);
+    };
     double power = 0.0;
+    std::vector<double> I(N * N);
+    if (!wavefront) {
+        auto in = fftwArray<double>(N * N);
+        auto out = fftwArray<fftw_complex>(N * H);
+        std::fill(in.get(), in.get() + N * N, 0.0);
+        for (int y = -reach; y <= reach; ++y)
+            for (int x = -reach; x <= reach; ++x) {
+                const double v = std::clamp(0.5 + iris.margin(x, y), 0.0, 1.0);
+                in.get()[index(x, y)] = v;
+                power += v * v;
+            }
+        const Plan plan([&] { return fftw_plan_dft_r2c_2d(F, F, in.get(), out.get(), FFTW_ESTIMATE); });
+        fftw_execute(plan.plan);
+        // |X_k|^2 / (F^2 sum |p|^2) sums to 1 (Parseval); the r2c transform holds kx <= F/2, the rest
+        // is the conjugate at (-ky, -kx).
+        const double norm = 1.0 / (double(F) * F * power);
+        for (std::size_t ky = 0; ky < N; ++ky)
+            for (std::size_t kx = 0; kx < N; ++kx) {
+                const fftw_complex& z = kx < H ? out.get()[ky * H + kx] : out.get()[((N - ky) % N) * H + (N - kx)];
+                I[ky * N + kx] = (z[0] * z[0] + z[1] * z[1]) * norm;
+            }
+        return I;
+    }
+    auto field = fftwArray<fftw_complex>(N * N);
+    std::fill(field.get()[0], field.get()[0] + 2 * N * N, 0.0);
+    const double toRadians = 2.0 * std::numbers::pi / (lambdaNm * 1e-6), unit = 1.0 / iris.radius;
     for (int y = -reach; y <= reach; ++y)
         for (int x = -reach; x <= reach; ++x) {
             const double v = std::clamp(0.5 + iris.margin(x, y), 0.0, 1.0);
-            in.get()[static_cast<std::size_t>((y + F) % F) * N + static_cast<std::size_t>((x + F) % F)] = v;
+            if (v <= 0.0) continue;
+            const double phase = toRadians * wavefront(x * unit, y * unit);
+            field.get()[index(x, y)][0] = v * std::cos(phase);
+            field.get()[index(x, y)][1] = v * std::sin(phase);
             power += v * v;
         }
-    {
-        const Plan plan([&] { return fftw_plan_dft_r2c_2d(F, F, in.get(), out.get(), FFTW_ESTIMATE); });
-        fftw_execute(plan.plan);
-    }
-    // |X_k|^2 / (F^2 sum |p|^2) sums to 1 (Parseval); the r2c transform holds kx <= F/2, the rest is
-    // the conjugate at (-ky, -kx).
-    std::vector<double> I(N * N);
+    const Plan plan([&] { return fftw_plan_dft_2d(F, F, field.get(), field.get(), FFTW_FORWARD, FFTW_ESTIMATE); });
+    fftw_execute(plan.plan);
     const double norm = 1.0 / (double(F) * F * power);
-    for (std::size_t ky = 0; ky < N; ++ky)
-        for (std::size_t kx = 0; kx < N; ++kx) {
-            const fftw_complex& z = kx < H ? out.get()[ky * H + kx] : out.get()[((N - ky) % N) * H + (N - kx)];
-            I[ky * N + kx] = (z[0] * z[0] + z[1] * z[1]) * norm;
-        }
+    for (std::size_t k = 0; k < N * N; ++k)
+        I[k] = (field.get()[k][0] * field.get()[k][0] + field.get()[k][1] * field.get()[k][1]) * norm;
     return I;
 }
 
 } // namespace
 
-SampledPsf sampledPsf(const Aperture& aperture, double lambdaNm, double spacingMm, int transform) {
-    const std::vector<double> I = intensity(aperture, lambdaNm, spacingMm, transform);
+SampledPsf sampledPsf(const Aperture& aperture, double lambdaNm, double spacingMm, int transform,
+                      const Wavefront& wavefront) {
+    const std::vector<double> I = intensity(aperture, lambdaNm, spacingMm, transform, wavefront);
     const int F = transform;
     SampledPsf psf;
     psf.size = F;
@@ -189,7 +213,8 @@ Psf pixelPsf(const Aperture& aperture, const PsfSettings& settings) {
             kernels[i] = {1.0};
             return;
         }
-        const std::vector<double> P = binned(intensity(aperture, out.wavelengthsNm[i], settings.pitchMm / S, T), T, S);
+        const std::vector<double> P =
+            binned(intensity(aperture, out.wavelengthsNm[i], settings.pitchMm / S, T, settings.wavefront), T, S);
         const int R = K / 2 - 1; // the row and column at K / 2 hold what wraps around: left out
         radius[i] = R;
         const int w = 2 * R + 1;

@@ -22,6 +22,7 @@
 #include "optics/lens.h"
 
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,11 @@ struct Aperture {
 /// f-number from the paraxial exit pupil (the header's f-number where the exit pupil is at infinity).
 Aperture apertureOf(const optics::Lens& lens);
 
+/// Optical path difference over the exit pupil, mm, at pupil coordinates (u, v) in units of the
+/// iris's equal-area radius (+u right, +v up; u^2 + v^2 <= 1 on a round iris). A defocus is
+/// W020 (u^2 + v^2); its rays spread over a disc of radius 4 N W020 on the sensor.
+using Wavefront = std::function<double(double u, double v)>;
+
 /// One wavelength's PSF sampled (not binned) on a square grid centred on the light.
 struct SampledPsf {
     int size = 0;              ///< samples per side; the light at sample (size / 2, size / 2)
@@ -49,13 +55,17 @@ struct SampledPsf {
 /// The PSF at lambdaNm with samples spacingMm apart on a transform x transform grid (even, 64 to
 /// 16384). The pupil's diameter takes Q = transform x spacing / (lambda N) samples: refused
 /// (ff::Error, Usage) when Q is under 32 (too few for the iris's shape) or over transform / 2 (the
-/// intensity, band-limited at twice the pupil, would alias).
-SampledPsf sampledPsf(const Aperture& aperture, double lambdaNm, double spacingMm, int transform);
+/// intensity, band-limited at twice the pupil, would alias). With a wavefront the pupil function is
+/// the iris x exp(2 pi i W / lambda) (a complex transform); its phase must change by under pi from
+/// one pupil sample to the next.
+SampledPsf sampledPsf(const Aperture& aperture, double lambdaNm, double spacingMm, int transform,
+                      const Wavefront& wavefront = {});
 
 struct PsfSettings {
     double pitchMm = 0.0;              ///< the sensor's pixel pitch
     std::vector<double> wavelengthsNm; ///< empty: 8 over 400-700 nm
     int transform = 1024;              ///< FFT size per side, per wavelength
+    Wavefront wavefront;               ///< none: the aberration-free PSF
 };
 
 /// The RGB PSF binned over the sensor's pixels.

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -120,6 +121,36 @@ TEST(Psf, BladesGiveSpikesAlongTheirNormals) {
             EXPECT_LT(nearest, 1.0 * kPi / 180.0) << t * 180.0 / kPi;
         }
     }
+}
+
+// A defocus W020 (u^2 + v^2) moves each ray by the transverse aberration -(R / r_p) dW/du, R = N D the
+// distance to the sensor and r_p = D / 2: the rays spread over a disc of radius r = 4 N W020. For defocus of many waves
+// the PSF tends to that uniform disc, whose half-energy radius is r / sqrt(2); it grows in proportion to W020.
+TEST(Psf, DefocusSpreadsTheLightOverTheGeometricBlurDisc) {
+    const Aperture a{0, 0.0, 8.0};
+    const double lambda = 550.0, lambdaN = lambda * 1e-6 * a.fNumber, spacing = lambdaN / 4.0;
+    std::vector<double> halfEnergy;
+    for (double waves : {10.0, 20.0}) {
+        const double w020 = waves * lambda * 1e-6; // mm
+        const SampledPsf p =
+            sampledPsf(a, lambda, spacing, 1024, [w020](double u, double v) { return w020 * (u * u + v * v); });
+        // The radius holding half the flux, from the samples sorted by radius.
+        std::vector<std::pair<double, double>> byRadius;
+        for (int y = -p.size / 2; y < p.size / 2; ++y)
+            for (int x = -p.size / 2; x < p.size / 2; ++x)
+                byRadius.push_back({std::hypot(x, y) * spacing, at(p, x, y)});
+        std::sort(byRadius.begin(), byRadius.end());
+        double sum = 0.0, r50 = 0.0;
+        for (const auto& [r, v] : byRadius)
+            if ((sum += v) >= 0.5) {
+                r50 = r;
+                break;
+            }
+        const double geometric = 4.0 * a.fNumber * w020;
+        EXPECT_NEAR(r50 / (geometric / std::sqrt(2.0)), 1.0, 0.05) << waves << " waves";
+        halfEnergy.push_back(r50);
+    }
+    EXPECT_NEAR(halfEnergy[1] / halfEnergy[0], 2.0, 0.1);
 }
 
 TEST(Psf, RefusesSamplingsThatCannotHoldThePupil) {
