@@ -1,0 +1,404 @@
+#include "core/error.h"
+#include "core/units.h"
+#include "ghosts/mesh_clip.h"
+#include "ghosts/shaped_ghosts.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <span>
+
+namespace ff::ghosts {
+
+namespace {
+
+// Per-blade edge lines of an iris turned by `turn`: c = apothem - n . p (mm, >= 0 inside). A circle
+// is one constraint, radius - |p|.
+struct IrisEdges {
+    std::vector<glm::dvec2> normals;
+    double apothem = 0.0, radius = 0.0;
+    IrisEdges(const trace::Iris& iris, double turn) : radius(iris.radius) {
+        if (iris.blades < 3) return;
+        const double sector = 2.0 * std::numbers::pi / iris.blades;
+        apothem = iris.circumradius * std::cos(0.5 * sector);
+        for (int k = 0; k < iris.blades; ++k) {
+            const double phi = iris.rotationRad + turn + (k + 0.5) * sector;
+            normals.push_back({std::cos(phi), std::sin(phi)});
+        }
+    }
+    std::size_t count() const { return normals.empty() ? 1 : normals.size(); }
+    double value(std::size_t k, double x, double y) const {
+        if (normals.empty()) return radius - std::hypot(x, y);
+        return apothem - (normals[k].x * x + normals[k].y * y);
+    }
+};
+
+// One light's ghost at the two table angles around its field angle.
+struct Instance {
+    std::size_t light, ghost;
+    int a0;
+    double t;
+    double flux = 0.0;       ///< summed over the channels
+    double flatnessPx = 0.0; ///< the subdivision's tolerance for this instance (ShapedRenderSettings)
+};
+
+// Cuts one instance's mesh at one wavelength into clipped polygons (pixels; shaped_ghosts.h).
+void meshPolygons(const ShapedTable& table, const Instance& in, std::size_t w, const ShapedLight& light,
+                  const trace::ImageFrame& frame, const ShapedRenderSettings& settings, ShapedPolygons& out) {
+    const ShapedGhost& gh = table.ghosts[in.ghost];
+    const int A = table.angles();
+    const ShapedMesh& m0 = gh.meshes[w][in.a0];
+    const ShapedMesh& m1 = gh.meshes[w][std::min(in.a0 + 1, A - 1)];
+    const std::size_t stride = gh.stride(), nA = gh.apertureSteps.size();
+    const int n = gh.grid;
+    const std::size_t V = static_cast<std::size_t>(n + 1) * (n + 1);
+    const double cs = std::cos(light.field.azimuthRad), sn = std::sin(light.field.azimuthRad);
+    const IrisEdges iris(table.iris, -light.field.azimuthRad);
+    const std::size_t C = std::min(kMaxConstraints, nA + gh.stopCrossings * iris.count());
+
+    // Per vertex: pixel x, y, weight, then the constraints' values.
+    const std::size_t S = 3 + C;
+    std::vector<double> attr(V * S, 0.0);
+    std::vector<char> ok(V, 0);
+    double xMin = std::numeric_limits<double>::infinity(), xMax = -xMin, yMin = xMin, yMax = -xMin;
+    for (std::size_t v = 0; v < V; ++v) {
+        const float* p = &m0.data[v * stride];
+        const float* q = &m1.data[v * stride];
+        // A ray lost at one of the two angles is taken from the other up to the middle between
+        // them, and lost beyond it.
+        double t = in.t;
+        if (std::isnan(p[0]) || std::isnan(q[0])) {
+            if (std::isnan(p[0]) == std::isnan(q[0]) || std::isnan(p[0]) == (t < 0.5)) continue;
+            t = std::isnan(p[0]) ? 1.0 : 0.0;
+        }
+        auto lerp = [t](float a, float b) {
+            return t == 0.0 ? double(a) : t == 1.0 ? double(b) : (1.0 - t) * a + t * b;
+        };
+        const double x = lerp(p[0], q[0]), y = lerp(p[1], q[1]);
+        const glm::dvec2 px = frame.sensorToPixel(cs * x - sn * y, sn * x + cs * y);
+        double* o = &attr[v * S];
+        o[0] = px.x;
+        o[1] = px.y;
+        o[2] = lerp(p[2], q[2]);
+        ok[v] = 1;
+        std::size_t k = 0;
+        for (; k < nA && k < C; ++k) o[3 + k] = lerp(p[3 + k], q[3 + k]);
+        for (std::size_t s = 0; s < gh.stopCrossings; ++s) {
+            const double sx = lerp(p[3 + nA + 2 * s], q[3 + nA + 2 * s]);
+            const double sy = lerp(p[4 + nA + 2 * s], q[4 + nA + 2 * s]);
+            for (std::size_t b = 0; b < iris.count() && k < C; ++b) o[3 + k++] = iris.value(b, sx, sy);
+        }
+        xMin = std::min(xMin, px.x), xMax = std::max(xMax, px.x), yMin = std::min(yMin, px.y),
+        yMax = std::max(yMax, px.y);
+    }
+    if (!(xMax >= xMin)) return;
+    // Cells are split into k x k sub-cells placed by bicubic (Catmull-Rom) interpolation of the grid,
+    // k growing until the bicubic surface, and the aperture edges crossing the cell, lie within
+    // in.flatnessPx of the sub-cells' flat triangles (the deviation falls as 1 / k^2). Cells next to
+    // the grid's border or a lost ray are interpolated bilinearly; those an edge crosses are cut
+    // until a sub-cell spans about settings.subcellPx pixels.
+    const double cellPx = std::max(xMax - xMin, yMax - yMin) / n;
+    const int kEdge = std::clamp(static_cast<int>(std::ceil(cellPx / settings.subcellPx)), 1, settings.maxSubdivision);
+    const double flux = light.flux[w];
+    TriangleClipper clipper;
+    std::array<std::array<double, 3>, kMaxConstraints> c{};
+    std::array<glm::dvec2, kMaxPolygon> poly{};
+    auto triangle = [&](const double* P, const double* Q, const double* R, double area) {
+        const double e = flux * area * (P[2] + Q[2] + R[2]) / 3.0;
+        if (!(e > 0.0)) return;
+        std::size_t active = 0;
+        for (std::size_t k = 0; k < C; ++k) {
+            const double a = P[3 + k], b = Q[3 + k], d = R[3 + k];
+            if (a < 0.0 && b < 0.0 && d < 0.0) return;
+            if (a < 0.0 || b < 0.0 || d < 0.0) c[active++] = {a, b, d};
+        }
+        if (active == 0) {
+            poly[0] = {P[0], P[1]}, poly[1] = {Q[0], Q[1]}, poly[2] = {R[0], R[1]};
+            out.add(poly.data(), 3, e);
+            return;
+        }
+        const double share = clipper.clip(c.data(), active);
+        if (share <= 0.0) return;
+        for (std::size_t q = 0; q < clipper.size(); ++q) {
+            const glm::dvec3& b = clipper[q];
+            poly[q] = {b.x * P[0] + b.y * Q[0] + b.z * R[0], b.x * P[1] + b.y * Q[1] + b.z * R[1]};
+        }
+        out.add(poly.data(), clipper.size(), e * share);
+    };
+    // Catmull-Rom weights of the four grid points around a position u in [0, 1] of a cell.
+    auto catmullRom = [](double u) {
+        const double u2 = u * u, u3 = u2 * u;
+        return std::array<double, 4>{0.5 * (-u + 2 * u2 - u3), 0.5 * (2 - 5 * u2 + 3 * u3), 0.5 * (u + 4 * u2 - 3 * u3),
+                                     0.5 * (-u2 + u3)};
+    };
+    std::vector<std::vector<std::array<double, 4>>> weights(settings.maxSubdivision + 1);
+    auto weightsFor = [&](int K) -> const std::vector<std::array<double, 4>>& {
+        auto& cr = weights[K];
+        if (cr.empty())
+            for (int a = 0; a <= K; ++a) cr.push_back(catmullRom(double(a) / K));
+        return cr;
+    };
+    std::vector<double> sub;
+    std::array<const double*, 16> nb{};
+    auto bicubic = [&](const std::array<double, 4>& wx, const std::array<double, 4>& wy, std::size_t z) {
+        double acc = 0.0;
+        for (int q = 0; q < 4; ++q)
+            acc += wy[q] * (wx[0] * nb[q * 4][z] + wx[1] * nb[q * 4 + 1][z] + wx[2] * nb[q * 4 + 2][z] +
+                            wx[3] * nb[q * 4 + 3][z]);
+        return acc;
+    };
+    const auto half = catmullRom(0.5);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const std::size_t v00 = static_cast<std::size_t>(j) * (n + 1) + i, v10 = v00 + 1, v01 = v00 + n + 1,
+                              v11 = v01 + 1;
+            const bool all = ok[v00] && ok[v10] && ok[v01] && ok[v11];
+            // The 4 x 4 neighbourhood; bilinear where it leaves the grid or meets a lost ray.
+            bool cubic = all;
+            for (int q = -1; q <= 2 && cubic; ++q)
+                for (int r = -1; r <= 2 && cubic; ++r) {
+                    const int x = i + r, y = j + q;
+                    if (x < 0 || y < 0 || x > n || y > n || !ok[static_cast<std::size_t>(y) * (n + 1) + x])
+                        cubic = false;
+                    else
+                        nb[(q + 1) * 4 + (r + 1)] = &attr[(static_cast<std::size_t>(y) * (n + 1) + x) * S];
+                }
+            // A cell with its four corners outside one aperture is dark (the margins are smooth at
+            // the grid's scale; a curved edge bulging into it from outside would carry a sliver).
+            bool dark = false;
+            for (std::size_t k = 0; k < C && all && !dark; ++k)
+                dark = attr[v00 * S + 3 + k] < 0.0 && attr[v10 * S + 3 + k] < 0.0 && attr[v01 * S + 3 + k] < 0.0 &&
+                       attr[v11 * S + 3 + k] < 0.0;
+            if (dark) continue;
+            int K = 1;
+            if (all) {
+                // Deviation of the bicubic surface from the flat cell at its centre, in pixels: of
+                // the landing point, and of where a cutting aperture's edge (a constraint's zero)
+                // crosses the cell (the constraint's deviation over its gradient across the cell).
+                auto deviation = [&](std::size_t z) {
+                    const double flat =
+                        0.25 * (attr[v00 * S + z] + attr[v10 * S + z] + attr[v01 * S + z] + attr[v11 * S + z]);
+                    return std::abs(bicubic(half, half, z) - flat);
+                };
+                bool edge = false;
+                double dev = cubic ? std::max(deviation(0), deviation(1)) : 0.0;
+                const double sizePx = std::max(
+                    {std::abs(attr[v11 * S] - attr[v00 * S]), std::abs(attr[v10 * S] - attr[v01 * S]),
+                     std::abs(attr[v11 * S + 1] - attr[v00 * S + 1]), std::abs(attr[v10 * S + 1] - attr[v01 * S + 1])});
+                for (std::size_t k = 0; k < C; ++k) {
+                    const double a = attr[v00 * S + 3 + k], b = attr[v10 * S + 3 + k], d = attr[v01 * S + 3 + k],
+                                 e = attr[v11 * S + 3 + k];
+                    const double lo = std::min({a, b, d, e}), hi = std::max({a, b, d, e});
+                    if (!(lo < 0.0 && hi >= 0.0)) continue;
+                    edge = true;
+                    if (cubic) dev = std::max(dev, deviation(3 + k) * sizePx / (hi - lo));
+                }
+                if (edge && !cubic)
+                    K = kEdge;
+                else
+                    K = std::clamp(static_cast<int>(std::ceil(std::sqrt(dev / in.flatnessPx))), 1,
+                                   settings.maxSubdivision);
+            }
+            if (K == 1) {
+                const std::array<std::size_t, 4> corners{v00, v10, v01, v11};
+                for (const auto& tri : cellTriangles(ok[v00], ok[v10], ok[v01], ok[v11]))
+                    if (tri[0] < 4)
+                        triangle(&attr[corners[tri[0]] * S], &attr[corners[tri[1]] * S], &attr[corners[tri[2]] * S],
+                                 0.5);
+                continue;
+            }
+            const auto& cr = weightsFor(K);
+            sub.resize(static_cast<std::size_t>(K + 1) * (K + 1) * S);
+            for (int b = 0; b <= K; ++b)
+                for (int a = 0; a <= K; ++a) {
+                    double* o = &sub[(static_cast<std::size_t>(b) * (K + 1) + a) * S];
+                    if (cubic) {
+                        for (std::size_t z = 0; z < S; ++z) o[z] = bicubic(cr[a], cr[b], z);
+                    } else {
+                        const double u = double(a) / K, v = double(b) / K;
+                        for (std::size_t z = 0; z < S; ++z)
+                            o[z] = (1 - v) * ((1 - u) * attr[v00 * S + z] + u * attr[v10 * S + z]) +
+                                   v * ((1 - u) * attr[v01 * S + z] + u * attr[v11 * S + z]);
+                    }
+                }
+            const double subArea = 0.5 / (double(K) * K);
+            for (int b = 0; b < K; ++b)
+                for (int a = 0; a < K; ++a) {
+                    const double* s00 = &sub[(static_cast<std::size_t>(b) * (K + 1) + a) * S];
+                    const double* s10 = s00 + S;
+                    const double* s01 = s00 + (K + 1) * S;
+                    const double* s11 = s01 + S;
+                    triangle(s00, s10, s11, subArea);
+                    triangle(s00, s11, s01, subArea);
+                }
+        }
+}
+
+} // namespace
+
+void ShapedPolygons::add(const glm::dvec2* p, std::size_t n, double e) {
+    Poly q{static_cast<std::uint32_t>(vertices.size()), static_cast<std::uint32_t>(n),
+           std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(), e};
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::vec2 v(p[i]);
+        vertices.push_back(v);
+        q.yMin = std::min(q.yMin, v.y);
+        q.yMax = std::max(q.yMax, v.y);
+    }
+    polys.push_back(q);
+    energy += e;
+    ++triangles;
+}
+
+ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLight>& lights,
+                          const trace::ImageFrame& frame, const ShapedRenderSettings& settings, PolygonRaster* raster) {
+    ShapedRender out;
+    const std::size_t W = std::min<std::size_t>(3, table.wavelengthsNm.size()), G = table.ghosts.size();
+    const int A = table.angles();
+
+    // Per light: the interpolation between table angles and the ghosts kept after culling.
+    std::vector<Instance> instances;
+    for (std::size_t l = 0; l < lights.size(); ++l) {
+        const double deg = std::clamp(radToDeg(lights[l].field.angleRad), 0.0, table.maxAngleDeg);
+        const double x = A > 1 ? deg / table.angleStep() : 0.0;
+        const int a0 = std::clamp(static_cast<int>(std::floor(x)), 0, std::max(0, A - 2));
+        const double t = A > 1 ? std::clamp(x - a0, 0.0, 1.0) : 0.0;
+        std::vector<std::pair<double, std::size_t>> flux;
+        double total = 0.0;
+        for (std::size_t g = 0; g < G; ++g) {
+            double f = 0.0;
+            for (std::size_t w = 0; w < W; ++w) {
+                const auto& m = table.ghosts[g].meshes[w];
+                f += lights[l].flux[w] * ((1.0 - t) * m[a0].flux + t * m[std::min(a0 + 1, A - 1)].flux);
+            }
+            flux.push_back({f, g});
+            total += f;
+        }
+        std::sort(flux.begin(), flux.end());
+        double dropped = 0.0;
+        for (const auto& [f, g] : flux) {
+            if (f <= 0.0) continue;
+            if (dropped + f <= settings.cullShare * total) {
+                dropped += f;
+                ++out.culled;
+                continue;
+            }
+            instances.push_back({l, g, a0, t, f});
+        }
+        if (total > 0.0) out.culledShare = std::max(out.culledShare, dropped / total);
+    }
+    out.drawn = instances.size();
+
+    // Each instance's tolerance: settings.flatnessPx for the instance of highest mean irradiance
+    // (flux over the area its mesh spans), growing in inverse proportion to the irradiance up to
+    // settings.maxFlatnessPx: a ghost's share of the image's squared error is its irradiance
+    // squared times the area its misplaced edges sweep.
+    {
+        std::vector<double> irradiance(instances.size(), 0.0);
+        tbb::parallel_for(std::size_t(0), instances.size(), [&](std::size_t i) {
+            const ShapedGhost& gh = table.ghosts[instances[i].ghost];
+            const ShapedMesh& m = gh.meshes[W / 2][instances[i].a0];
+            const int n = gh.grid;
+            const std::size_t stride = gh.stride();
+            auto at = [&](int x, int y) { return &m.data[(static_cast<std::size_t>(y) * (n + 1) + x) * stride]; };
+            double area = 0.0;
+            if (!m.data.empty())
+                for (int y = 0; y < n; ++y)
+                    for (int x = 0; x < n; ++x) {
+                        const float *p = at(x, y), *q = at(x + 1, y), *r = at(x + 1, y + 1), *u = at(x, y + 1);
+                        const double c = 0.5 * std::abs((r[0] - p[0]) * (u[1] - q[1]) - (r[1] - p[1]) * (u[0] - q[0]));
+                        if (std::isfinite(c)) area += c;
+                    }
+            area /= frame.pitchMm * frame.pitchMm;
+            irradiance[i] = area > 0.0 ? instances[i].flux / area : 0.0;
+        });
+        const double top = irradiance.empty() ? 0.0 : *std::max_element(irradiance.begin(), irradiance.end());
+        for (std::size_t i = 0; i < instances.size(); ++i)
+            instances[i].flatnessPx = irradiance[i] > 0.0
+                                          ? std::min(settings.maxFlatnessPx, settings.flatnessPx * top / irradiance[i])
+                                          : settings.maxFlatnessPx;
+    }
+
+    // A chunk of instances at a time: their polygons made in parallel, then drawn, on the CPU into
+    // bands of rows in parallel, each band in the instances' order (the image does not depend on
+    // the number of threads), or by the raster given.
+    const int bands = raster ? 0 : std::clamp(frame.height / 64, 1, 16);
+    std::vector<trace::ImageFrame> bandFrames;
+    std::vector<int> bandRow;
+    for (int b = 0; b < bands; ++b) {
+        const int r0 = frame.height * b / bands, r1 = frame.height * (b + 1) / bands;
+        trace::ImageFrame f = frame;
+        f.height = r1 - r0;
+        bandFrames.push_back(f);
+        bandRow.push_back(r0);
+    }
+    std::vector<std::vector<trace::CoverageRaster>> rasters(W);
+    for (std::size_t w = 0; w < W; ++w)
+        for (const auto& f : bandFrames) rasters[w].emplace_back(f);
+    if (raster) {
+        // A pixel receives at most the energy of all polygons, which the instances' fluxes bound
+        // (the drawn energy follows the interpolated flux within a few per cent).
+        double bound = 0.0;
+        for (const Instance& in : instances) bound += in.flux;
+        raster->begin(frame, W, 2.0 * bound + std::numeric_limits<double>::min());
+    }
+    constexpr std::size_t kChunk = 16;
+    double energy = 0.0;
+    std::vector<ShapedPolygons> polys(kChunk * W);
+    for (std::size_t i0 = 0; i0 < instances.size(); i0 += kChunk) {
+        const std::size_t i1 = std::min(instances.size(), i0 + kChunk);
+        tbb::parallel_for(std::size_t(0), (i1 - i0) * W, [&](std::size_t k) {
+            const Instance& in = instances[i0 + k / W];
+            polys[k] = {};
+            meshPolygons(table, in, k % W, lights[in.light], frame, settings, polys[k]);
+        });
+        if (raster)
+            for (std::size_t k = 0; k < (i1 - i0) * W; ++k) raster->draw(k % W, polys[k]);
+        else
+            tbb::parallel_for(std::size_t(0), W * bands, [&](std::size_t k) {
+                const std::size_t w = k / bands, b = k % bands;
+                const float r0 = static_cast<float>(bandRow[b]), r1 = r0 + static_cast<float>(bandFrames[b].height);
+                trace::RasterStats unused;
+                std::array<glm::dvec2, kMaxPolygon> p{};
+                for (std::size_t i = i0; i < i1; ++i) {
+                    const ShapedPolygons& ps = polys[(i - i0) * W + w];
+                    for (const ShapedPolygons::Poly& q : ps.polys) {
+                        if (q.yMax < r0 - 1.0f || q.yMin > r1 + 1.0f) continue; // a splat reaches a pixel further
+                        for (std::uint32_t v = 0; v < q.count; ++v)
+                            p[v] = {ps.vertices[q.first + v].x, ps.vertices[q.first + v].y - r0};
+                        rasters[w][b].polygon(std::span(p.data(), q.count), q.energy, unused);
+                    }
+                }
+            });
+        for (std::size_t k = 0; k < (i1 - i0) * W; ++k) {
+            energy += polys[k].energy;
+            out.triangles += polys[k].triangles;
+        }
+    }
+    const std::size_t pixels = static_cast<std::size_t>(frame.width) * frame.height;
+    std::vector<std::vector<double>> drawn;
+    if (raster) drawn = raster->finish();
+    for (std::size_t w = 0; w < 3; ++w) {
+        out.channel[w].assign(pixels, 0.0);
+        if (w >= W) continue;
+        if (raster) {
+            out.channel[w] = std::move(drawn.at(w));
+            if (out.channel[w].size() != pixels)
+                throw Error(ErrorKind::Runtime, "the polygon raster drew another frame");
+        }
+        for (int b = 0; b < bands; ++b) {
+            const std::vector<double> band = std::move(rasters[w][b]).release();
+            std::copy(band.begin(), band.end(),
+                      out.channel[w].begin() + static_cast<std::ptrdiff_t>(bandRow[b]) * frame.width);
+        }
+        for (double v : out.channel[w]) out.deposited += v;
+    }
+    out.offImage = std::max(0.0, energy - out.deposited);
+    return out;
+}
+
+} // namespace ff::ghosts
