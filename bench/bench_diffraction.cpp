@@ -4,7 +4,6 @@
 // (three channels, double-precision FFTs), at 1920 x 1080 and 3840 x 2160, with FFTW on the CPU and
 // with the GL backend's compute-shader FFT (llvmpipe without a GPU: 1080p only there).
 
-#include "gpu/gl_context.h"
 #include "gpu/gl_fft.h"
 
 #include <benchmark/benchmark.h>
@@ -13,6 +12,7 @@
 
 #include "diffraction/convolution.h"
 #include "diffraction/psf.h"
+#include "gl_bench.h"
 
 namespace {
 
@@ -62,17 +62,8 @@ void BM_Convolve(benchmark::State& state) {
 BENCHMARK(BM_Convolve)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_ConvolveGl(benchmark::State& state) {
-    static std::string why;
-    static const std::unique_ptr<ff::gpu::GlContext> context = ff::gpu::GlContext::create(why);
-    if (!context) {
-        state.SkipWithError(("no OpenGL 4.5 context: " + why).c_str());
-        return;
-    }
-    if (!context->hardware() && state.range(0) > 0) {
-        state.SkipWithError("software rasteriser: skipped");
-        return;
-    }
-    state.SetLabel(context->renderer());
+    const ff::gpu::GlContext* context = ff::bench::glContextFor(state, state.range(0) > 0, "2160p");
+    if (!context) return;
     ff::gpu::GlFft fft(*context);
     layers(state, &fft);
 }

@@ -11,7 +11,6 @@
 #include "ghosts/instancing.h"
 #include "ghosts/shaped_cache.h"
 #include "ghosts/shaped_ghosts.h"
-#include "gpu/gl_context.h"
 #include "gpu/gl_polygon_raster.h"
 #include "image/composite.h"
 #include "image/image_output.h"
@@ -27,6 +26,8 @@
 #include <functional>
 #include <memory>
 #include <random>
+
+#include "gl_bench.h"
 
 namespace {
 
@@ -148,17 +149,9 @@ BENCHMARK(BM_SimulateShaped)->Arg(3)->Arg(30)->Arg(300)->Unit(benchmark::kMillis
 // The same frames with the polygons drawn by the GL backend (gpu::GlPolygonRaster; llvmpipe without
 // a GPU): flare_ms against BM_SimulateShaped's is the GPU's share.
 void BM_SimulateShapedGl(benchmark::State& state) {
-    static std::string why;
-    static const std::unique_ptr<gpu::GlContext> context = gpu::GlContext::create(why);
-    if (!context) {
-        state.SkipWithError(("no OpenGL 4.5 context: " + why).c_str());
-        return;
-    }
-    if (!context->hardware() && state.range(0) > 3) {
-        state.SkipWithError("software rasteriser: skipped (158 s for 300 lights on llvmpipe, 2 cores)");
-        return;
-    }
-    state.SetLabel(context->renderer());
+    const gpu::GlContext* context =
+        bench::glContextFor(state, state.range(0) > 3, "158 s for 300 lights on llvmpipe, 2 cores");
+    if (!context) return;
     gpu::GlPolygonRaster raster(*context);
     shapedFrames(state, &raster);
 }
