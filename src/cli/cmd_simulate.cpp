@@ -119,6 +119,7 @@ public:
                 note(std::string("no diffraction: ") + e.what());
             }
         }
+        detection_.lightImage = aperture_.has_value();
         // Options checked first: the backend (EGL) is touched last. The GL backend draws the shaped
         // model's polygons, or aggregates the fitted models with the Fourier options.
         fourier_ = o.fourier.settings(g);

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 namespace ff::cli {
@@ -250,8 +251,10 @@ std::vector<float> splatLights(const std::vector<ghosts::Light>& lights, int wid
 std::string describePsf(const diffraction::Aperture& aperture, const diffraction::Psf& psf) {
     return "working f/" + text::fixed(aperture.fNumber, 2) + ", " +
            (aperture.blades >= 3 ? std::to_string(aperture.blades) + " blades" : std::string("circular iris")) + "; " +
-           std::to_string(psf.wavelengthsNm.size()) + " wavelengths 400-700 nm; PSF to " + std::to_string(psf.radius) +
-           " px, its edge at " + text::scientific(psf.edge, 2) + " of the centre";
+           std::to_string(psf.wavelengthsNm.size()) + " wavelengths " +
+           text::fixed(*std::min_element(psf.wavelengthsNm.begin(), psf.wavelengthsNm.end()), 0) + "-" +
+           text::fixed(*std::max_element(psf.wavelengthsNm.begin(), psf.wavelengthsNm.end()), 0) + " nm; PSF to " +
+           std::to_string(psf.radius) + " px, its edge at " + text::scientific(psf.edge, 2) + " of the centre";
 }
 
 } // namespace ff::cli

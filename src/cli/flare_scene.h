@@ -55,7 +55,8 @@ TracedScene renderTracedField(const optics::Lens& lens, const trace::TracedFlare
 std::vector<float> splatLights(const std::vector<ghosts::Light>& lights, int width, int height, double originX = 0.0,
                                double originY = 0.0);
 
-/// "working f/N, B blades; W wavelengths 400-700 nm; PSF to R px, its edge at E of the centre".
+/// "working f/N, B blades; W wavelengths from the shortest to the longest (nm); PSF to R px, its edge at E of the
+/// centre".
 std::string describePsf(const diffraction::Aperture& aperture, const diffraction::Psf& psf);
 
 /// The shaped ghosts of all lights (ghosts/shaped_ghosts.h), each light's field found as the traced

@@ -28,7 +28,8 @@ void FourierOptions::addTo(CLI::App& cmd) {
         ->check(CLI::IsMember({"separable", "bessel"}));
     cmd.add_flag("--no-hybrid", noHybrid, "Send every ghost through Fourier, however many terms it needs");
     cmd.add_option("--backend", backend,
-                   "Where the flare is drawn (the shaped ghosts' polygons, or the Fourier series): cpu, gl (OpenGL 4.5 "
+                   "Where the flare is drawn (the shaped ghosts' polygons or the Fourier series, and the diffraction's "
+                   "convolution): cpu, gl (OpenGL 4.5 "
                    "compute through EGL; llvmpipe without a GPU) or auto (gl on a GPU, else cpu)")
         ->check(CLI::IsMember({"cpu", "gl", "auto"}));
 }

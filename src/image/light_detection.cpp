@@ -81,10 +81,10 @@ DetectionReport detectLights(const Plate& plate, const DetectionSettings& s) {
     const int W = plate.width, H = plate.height;
     Components comp(n);
     std::vector<char> bright(n, 0);
-    rep.lightRgb.assign(n * 3, 0.0f);
+    if (s.lightImage) rep.lightRgb.assign(n * 3, 0.0f);
     for (std::size_t p = 0; p < n; ++p) {
         bright[p] = lum[p] > rep.threshold;
-        if (bright[p])
+        if (bright[p] && s.lightImage)
             for (int c = 0; c < 3; ++c)
                 rep.lightRgb[p * 3 + c] = std::max(0.0f, plate.value(p, c == 0 ? plate.r : c == 1 ? plate.g : plate.b));
     }

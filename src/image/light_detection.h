@@ -24,6 +24,7 @@ struct DetectionSettings {
     double value = 2.0;    ///< absolute luminance; fraction of the maximum; or percentile (0-100)
     int blockSize = 32;    ///< pixels per side of the blocks an extended source is split into
     std::size_t maxLights = 4096; ///< beyond this, blocks double in size until the lights fit
+    bool lightImage = false;      ///< also return the lights as an image (DetectionReport::lightRgb)
 };
 
 /// Parses "2" (absolute), "max:0.25" (fraction of the plate's largest luminance) or "p:99.9"
@@ -43,8 +44,9 @@ struct DetectionReport {
     double maxLuminance = 0.0;
     int blockSize = 0;         ///< the block size finally used
     std::size_t nonFinite = 0, negative = 0, emissiveZeroAlpha = 0, brightPixels = 0;
-    /// The lights as an image: R, G, B of the pixels above the threshold (negatives as 0), interleaved
-    /// over the data window, 0 elsewhere. Their sum is the lights' flux.
+    /// With DetectionSettings::lightImage, the lights as an image: R, G, B of the pixels above the
+    /// threshold (negatives as 0), interleaved over the data window, 0 elsewhere. Their sum is the
+    /// lights' flux.
     std::vector<float> lightRgb;
 };
 
