@@ -44,7 +44,7 @@ constexpr int kMaxTransform = 16384;
 // The PSF's samples in the transform's order (sample (i, j) at offset ((i, j) mod F) x spacing from
 // the light, +y up the rows): share of the flux per sample, summing to 1.
 std::vector<double> intensity(const Aperture& aperture, double lambdaNm, double spacingMm, int F,
-                              const Wavefront& wavefront) {
+                              const Wavefront& wavefront, const Transmission& open) {
     if (F < 64 || F > kMaxTransform || F % 2 != 0)
         throw Error(ErrorKind::Usage, "the PSF's transform must be even, 64 to " + std::to_string(kMaxTransform));
     const double lambdaN = lambdaNm * 1e-6 * aperture.fNumber; // mm
@@ -64,7 +64,7 @@ std::vector<double> intensity(const Aperture& aperture, double lambdaNm, double 
     };
     double power = 0.0;
     std::vector<double> I(N * N);
-    if (!wavefront) {
+    if (!wavefront && !open) {
         auto in = fftwArray<double>(N * N);
         auto out = fftwArray<fftw_complex>(N * H);
         std::fill(in.get(), in.get() + N * N, 0.0);
@@ -89,15 +89,25 @@ std::vector<double> intensity(const Aperture& aperture, double lambdaNm, double 
     auto field = fftwArray<fftw_complex>(N * N);
     std::fill(field.get()[0], field.get()[0] + 2 * N * N, 0.0);
     const double toRadians = 2.0 * std::numbers::pi / (lambdaNm * 1e-6), unit = 1.0 / iris.radius;
+    const int row = 2 * reach + 1;
+    std::vector<double> phase(static_cast<std::size_t>(row) * row, NAN);
+    double step = 0.0; // the largest phase change between neighbouring open samples, radians
     for (int y = -reach; y <= reach; ++y)
         for (int x = -reach; x <= reach; ++x) {
             const double v = std::clamp(0.5 + iris.margin(x, y), 0.0, 1.0);
-            if (v <= 0.0) continue;
-            const double phase = toRadians * wavefront(x * unit, y * unit);
-            field.get()[index(x, y)][0] = v * std::cos(phase);
-            field.get()[index(x, y)][1] = v * std::sin(phase);
+            if (v <= 0.0 || (open && !open(x * unit, y * unit))) continue;
+            const std::size_t at = static_cast<std::size_t>(y + reach) * row + (x + reach);
+            const double p = phase[at] = wavefront ? toRadians * wavefront(x * unit, y * unit) : 0.0;
+            if (x > -reach && !std::isnan(phase[at - 1])) step = std::max(step, std::abs(p - phase[at - 1]));
+            if (y > -reach && !std::isnan(phase[at - row])) step = std::max(step, std::abs(p - phase[at - row]));
+            field.get()[index(x, y)][0] = v * std::cos(p);
+            field.get()[index(x, y)][1] = v * std::sin(p);
             power += v * v;
         }
+    if (step >= std::numbers::pi)
+        throw Error(ErrorKind::Input, "the wavefront's phase changes by " + text::fixed(step / std::numbers::pi, 2) +
+                                          " pi between pupil samples: the PSF's transform is too small for it");
+    if (!(power > 0.0)) throw Error(ErrorKind::Input, "the lens lets no light through the iris at this field");
     const Plan plan([&] { return fftw_plan_dft_2d(F, F, field.get(), field.get(), FFTW_FORWARD, FFTW_ESTIMATE); });
     fftw_execute(plan.plan);
     const double norm = 1.0 / (double(F) * F * power);
@@ -109,8 +119,8 @@ std::vector<double> intensity(const Aperture& aperture, double lambdaNm, double 
 } // namespace
 
 SampledPsf sampledPsf(const Aperture& aperture, double lambdaNm, double spacingMm, int transform,
-                      const Wavefront& wavefront) {
-    const std::vector<double> I = intensity(aperture, lambdaNm, spacingMm, transform, wavefront);
+                      const Wavefront& wavefront, const Transmission& open) {
+    const std::vector<double> I = intensity(aperture, lambdaNm, spacingMm, transform, wavefront, open);
     const int F = transform;
     SampledPsf psf;
     psf.size = F;
@@ -206,15 +216,26 @@ Psf pixelPsf(const Aperture& aperture, const PsfSettings& settings) {
         }
         const int S = fastSize(std::max(1, static_cast<int>(samples)));
         out.binning[i] = S;
-        const int K = 2 * fastSize(std::max(2, static_cast<int>(std::lround(0.5 * F / S))));
+        // With a wavefront, the pupil gets Q = T / (2 S') samples across (S' = pitch / (lambda N / 2)
+        // rounded up to S): at least 8 |grad W| / lambda keeps the phase step under pi / 2.
+        const PupilFunction pupil = settings.pupil ? settings.pupil(out.wavelengthsNm[i]) : PupilFunction{};
+        const double spacing = settings.pitchMm / S, needed = 8.0 * pupil.maxSlopeMm / (out.wavelengthsNm[i] * 1e-6);
+        const int period = std::max(F, static_cast<int>(std::ceil(needed * lambdaN / spacing)));
+        const double half = 0.5 * period / S;
+        const int K = 2 * fastSize(std::max(2, static_cast<int>(period > F ? std::ceil(half) : std::round(half))));
         const int T = K * S;
+        if (T > kMaxTransform && (pupil.opd || pupil.open))
+            throw Error(ErrorKind::Input, "the lens's aberrations at this field (a spot of " +
+                                              text::fixed(2.0 * aperture.fNumber * pupil.maxSlopeMm * 1e3, 0) +
+                                              " um) need a PSF transform over " + std::to_string(kMaxTransform) +
+                                              " samples");
         if (T > kMaxTransform) {
             radius[i] = 0;
             kernels[i] = {1.0};
             return;
         }
         const std::vector<double> P =
-            binned(intensity(aperture, out.wavelengthsNm[i], settings.pitchMm / S, T, settings.wavefront), T, S);
+            binned(intensity(aperture, out.wavelengthsNm[i], spacing, T, pupil.opd, pupil.open), T, S);
         const int R = K / 2 - 1; // the row and column at K / 2 hold what wraps around: left out
         radius[i] = R;
         const int w = 2 * R + 1;

@@ -45,6 +45,19 @@ Aperture apertureOf(const optics::Lens& lens);
 /// W020 (u^2 + v^2); its rays spread over a disc of radius 4 N W020 on the sensor.
 using Wavefront = std::function<double(double u, double v)>;
 
+/// Whether the rest of the lens lets the iris's light through at pupil point (u, v): vignetting by
+/// the other elements' clear apertures. Empty: all of the iris.
+using Transmission = std::function<bool(double u, double v)>;
+
+/// The pupil function at one wavelength beyond the bare iris: its wavefront and vignetting.
+struct PupilFunction {
+    Wavefront opd;     ///< empty: aberration-free
+    Transmission open; ///< empty: unvignetted
+    /// The largest |grad W| over the open pupil, mm per unit of u: the rays land up to 2 N of it
+    /// from the light, so the transform is made large enough to sample the phase and hold the spot.
+    double maxSlopeMm = 0.0;
+};
+
 /// One wavelength's PSF sampled (not binned) on a square grid centred on the light.
 struct SampledPsf {
     int size = 0;              ///< samples per side; the light at sample (size / 2, size / 2)
@@ -56,16 +69,19 @@ struct SampledPsf {
 /// 16384). The pupil's diameter takes Q = transform x spacing / (lambda N) samples: refused
 /// (ff::Error, Usage) when Q is under 32 (too few for the iris's shape) or over transform / 2 (the
 /// intensity, band-limited at twice the pupil, would alias). With a wavefront the pupil function is
-/// the iris x exp(2 pi i W / lambda) (a complex transform); its phase must change by under pi from
-/// one pupil sample to the next.
+/// the iris x open x exp(2 pi i W / lambda) (a complex transform); its phase must change by under
+/// pi from one pupil sample to the next (refused otherwise, ff::Error Input): the rays then land
+/// within half a period of the light.
 SampledPsf sampledPsf(const Aperture& aperture, double lambdaNm, double spacingMm, int transform,
-                      const Wavefront& wavefront = {});
+                      const Wavefront& wavefront = {}, const Transmission& open = {});
 
 struct PsfSettings {
     double pitchMm = 0.0;              ///< the sensor's pixel pitch
     std::vector<double> wavelengthsNm; ///< empty: 8 over 400-700 nm
-    int transform = 1024;              ///< FFT size per side, per wavelength
-    Wavefront wavefront;               ///< none: the aberration-free PSF
+    int transform = 1024;              ///< FFT size per side, per wavelength (at least: see pupil)
+    /// Per wavelength, the pupil function beyond the bare iris (the traced wavefront and vignetting,
+    /// wavefront.h); none: the aberration-free PSF. The transform grows with its maxSlopeMm.
+    std::function<PupilFunction(double lambdaNm)> pupil;
 };
 
 /// The RGB PSF binned over the sensor's pixels.
