@@ -135,8 +135,10 @@ TracedWavefront tracedWavefront(const optics::Lens& lens, double angleRad, doubl
     std::size_t stopStep = 0;
     std::vector<std::size_t> clipping; // the steps whose surface has a clear aperture (not the stop)
     for (std::size_t k = 0; k < steps.size(); ++k) {
-        if (steps[k].surface == L.stop) stopStep = k;
-        else if (L.clipRadius[steps[k].surface] > 0.0) clipping.push_back(k);
+        if (steps[k].surface == L.stop)
+            stopStep = k;
+        else if (L.clipRadius[steps[k].surface] > 0.0)
+            clipping.push_back(k);
     }
     std::vector<double> margins(steps.size());
     std::vector<glm::dvec3> points(steps.size());
@@ -168,8 +170,10 @@ TracedWavefront tracedWavefront(const optics::Lens& lens, double angleRad, doubl
         return std::abs(glm::determinant(J)) > 0.0;
     };
     for (int it = 0; it < 50 && chief && glm::length(chief->stop) > 1e-10 * (1.0 + L.iris.radius); ++it) {
-        if (!jacobian(p, *chief)) chief.reset();
-        else chief = trace(p -= glm::inverse(J) * chief->stop);
+        if (!jacobian(p, *chief))
+            chief.reset();
+        else
+            chief = trace(p -= glm::inverse(J) * chief->stop);
     }
     if (!chief || !(glm::length(chief->stop) <= 1e-6 * (1.0 + L.iris.radius)) || !jacobian(p, *chief))
         throw Error(ErrorKind::Input, "the wavefront at field " + text::fixed(angleRad * 180.0 / 3.141592653589793, 2) +
@@ -184,8 +188,8 @@ TracedWavefront tracedWavefront(const optics::Lens& lens, double angleRad, doubl
     const glm::dvec3 chiefImage = onPlane(chief->last, L.sensorZ);
     const glm::dvec3 image = referenceMm ? glm::dvec3(*referenceMm, L.sensorZ) : chiefImage;
     const optics::FirstOrder fo = optics::analyzeFirstOrder(lens, lambdaNm);
-    const glm::dvec3 rim = std::isfinite(fo.exitPupilZ) ? onPlane(chief->last, L.vertexZ.back() + fo.exitPupilZ)
-                                                        : chief->last.origin;
+    const glm::dvec3 rim =
+        std::isfinite(fo.exitPupilZ) ? onPlane(chief->last, L.vertexZ.back() + fo.exitPupilZ) : chief->last.origin;
     const double radius = glm::length(rim - image);
     // OPL to the sphere: the ray's point where it crosses the sphere before reaching its centre.
     auto toSphere = [&](const Traced& t) -> std::optional<double> {
@@ -283,7 +287,8 @@ TracedWavefront tracedWavefront(const optics::Lens& lens, double angleRad, doubl
                                     (2.0 * e));
         ++n;
     }
-    if (n == 0) throw Error(ErrorKind::Input, "the wavefront: the lens blocks every ray through the iris at this field");
+    if (n == 0)
+        throw Error(ErrorKind::Input, "the wavefront: the lens blocks every ray through the iris at this field");
     mean /= static_cast<double>(n);
     double variance = 0.0;
     for (std::size_t r = 0; r < rows; ++r)

@@ -3,8 +3,6 @@
 // is symmetric about it, and the PSF made from an off-axis wavefront has the centroid of the
 // geometric spot (the Fraunhofer PSF's centroid is the mean of the rays' transverse aberrations).
 
-#include "diffraction/wavefront.h"
-
 #include "optics/lens_loader.h"
 #include "optics/paraxial.h"
 #include "trace/ghost_path.h"
@@ -16,6 +14,8 @@
 
 #include <cmath>
 #include <numbers>
+
+#include "diffraction/wavefront.h"
 
 namespace ff::diffraction {
 namespace {
@@ -55,7 +55,8 @@ TEST(Wavefront, MovingTheSensorAddsTheDefocusOfASphericalWave) {
     for (double share : {0.5, 0.9}) {
         const auto [stop, dir] = axialRay(lens, lambda, share * y0);
         const double u = stop.x / a, v = stop.y / a;
-        const double added = (back.pupil.opd(u, v) - back.pupil.opd(0.0, 0.0)) - (at.pupil.opd(u, v) - at.pupil.opd(0.0, 0.0));
+        const double added =
+            (back.pupil.opd(u, v) - back.pupil.opd(0.0, 0.0)) - (at.pupil.opd(u, v) - at.pupil.opd(0.0, 0.0));
         // The wave converges to F, the reference sphere (radius R) is centred delta behind it: a ray
         // at U' through F meets it at s = R - delta cos U' before F, the chief ray at R - delta, so
         // its path to the sphere is delta (cos U' - 1) longer than the chief's (air behind the lens).
@@ -72,7 +73,8 @@ TEST(Wavefront, IsSymmetricAboutTheAxisOnTheAxis) {
     const double wave = lambda * 1e-6;
     for (double r : {0.3, 0.6, 0.95})
         for (double phi : {0.4, 1.3, 2.2, 3.9, 5.1})
-            EXPECT_NEAR(w.pupil.opd(r * std::cos(phi), r * std::sin(phi)), w.pupil.opd(r, 0.0), 2e-3 * wave) << r << " " << phi;
+            EXPECT_NEAR(w.pupil.opd(r * std::cos(phi), r * std::sin(phi)), w.pupil.opd(r, 0.0), 2e-3 * wave)
+                << r << " " << phi;
     EXPECT_NEAR(w.imageMm.x, 0.0, 1e-9);
     EXPECT_NEAR(w.imageMm.y, 0.0, 1e-9);
 }
