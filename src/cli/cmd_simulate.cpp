@@ -34,6 +34,7 @@
 
 #include "diffraction/convolution.h"
 #include "diffraction/psf.h"
+#include "diffraction/wavefront.h"
 #include "ff/version.h"
 
 namespace ff::cli {
@@ -112,7 +113,7 @@ public:
         } else if (o.fov > 0.0) {
             sensorWidthMm_ = 2.0 * std::abs(optics::paraxialEfl(lens_, lines::d)) * std::tan(0.5 * o.fov * std::numbers::pi / 180.0);
         }
-        if (o.diffraction == "physical") {
+        if (o.diffraction == "physical" || o.diffraction == "traced") {
             try {
                 aperture_ = diffraction::apertureOf(lens_);
             } catch (const Error& e) {
@@ -258,8 +259,35 @@ public:
                 lightRgb = splatLights(lights, plate.width, plate.height, plate.originX - plate.displayX,
                                        plate.originY - plate.displayY);
             double offFrame = 0.0;
-            diffractionRgb = diffraction::diffractionLayer(lightRgb, plate.width, plate.height, *psf_,
-                                                           o_.diffractionGain, &offFrame, convolver_);
+            if (o_.diffraction == "traced") {
+                // The lens's own wavefront at the lights' fields: one PSF per tile of the frame that
+                // holds light, at its lights' centre (pixels of the data window; the axis at the
+                // display window's centre).
+                zones_.clear();
+                auto psfAt = [&](double x, double y) {
+                    const double xMm = (x + plate.originX - plate.displayX - 0.5 * plate.displayWidth) * pitch;
+                    const double yMm = (0.5 * plate.displayHeight - (y + plate.originY - plate.displayY)) * pitch;
+                    diffraction::PsfSettings ps;
+                    ps.pitchMm = pitch;
+                    try {
+                        ps.pupil = diffraction::tracedPupil(lens_, xMm, yMm);
+                        diffraction::Psf p = diffraction::pixelPsf(*aperture_, ps);
+                        zones_.push_back(text::fixed(x, 0) + "," + text::fixed(y, 0) + ": to " +
+                                         std::to_string(p.radius) + " px");
+                        return p;
+                    } catch (const Error& e) {
+                        note("the lights near pixel (" + text::fixed(x, 0) + ", " + text::fixed(y, 0) +
+                             ") get the aberration-free PSF: " + e.what());
+                        zones_.push_back(text::fixed(x, 0) + "," + text::fixed(y, 0) + ": aberration-free");
+                        return *psf_;
+                    }
+                };
+                diffractionRgb = diffraction::zonedDiffractionLayer(lightRgb, plate.width, plate.height, kZones, kZones,
+                                                                    psfAt, o_.diffractionGain, &offFrame, convolver_);
+            } else {
+                diffractionRgb = diffraction::diffractionLayer(lightRgb, plate.width, plate.height, *psf_,
+                                                               o_.diffractionGain, &offFrame, convolver_);
+            }
             diffractionMeta = {{"fourierflare:diffraction", describeDiffraction()}};
         }
         if (aperture_) {
@@ -331,7 +359,13 @@ private:
     }
 
     std::string describeDiffraction() const {
-        return "physical, gain " + text::roundTrip(o_.diffractionGain) + "; " + describePsf(*aperture_, *psf_) +
+        std::string zones;
+        for (const std::string& z : zones_) zones += (zones.empty() ? "" : "; ") + z;
+        return o_.diffraction + ", gain " + text::roundTrip(o_.diffractionGain) + "; " +
+               describePsf(*aperture_, *psf_) +
+               (o_.diffraction == "traced" ? "; the lens's wavefront per " + std::to_string(kZones) + " x " +
+                                                 std::to_string(kZones) + " tile, at (px) " + zones
+                                           : std::string()) +
                (convolver_ ? "; convolved on " + fourier_.backend->describe() : std::string("; convolved on the CPU"));
     }
 
@@ -350,7 +384,9 @@ private:
     ghosts::PolygonRaster* raster_ = nullptr; ///< the GL backend's, drawing the shaped model
     diffraction::Convolver* convolver_ = nullptr;   ///< the GL backend's FFT, convolving the lights
     std::optional<diffraction::Aperture> aperture_; ///< with --diffraction physical
-    std::unique_ptr<diffraction::Psf> psf_;
+    std::unique_ptr<diffraction::Psf> psf_;         ///< aberration-free (the traced PSFs' fallback)
+    std::vector<std::string> zones_;                ///< --diffraction traced: each tile's PSF, for the header
+    static constexpr int kZones = 3;                ///< --diffraction traced: tiles per side of the frame
     double psfPitch_ = 0.0; ///< the pixel pitch psf_ was made for
     std::string checker_ = std::filesystem::read_symlink("/proc/self/exe").string(); // this program, for `plate-check`
 };
@@ -426,9 +462,10 @@ void addSimulateCommand(CLI::App& app, GlobalOptions& global) {
     cmd->add_option("--exposure", o->exposure, "Preview exposure in EV (the composite x 2^EV before the tonemap)");
     cmd->add_option("--flare-gain", o->gain, "Multiply the flare (1 = physical: each ghost carries its traced share of its light's flux)");
     cmd->add_option("--diffraction", o->diffraction,
-                    "The iris's starburst: physical (each light's flux spread by the lens's PSF, taken from the "
-                    "pixels that hold it) or off")
-        ->check(CLI::IsMember({"off", "physical"}));
+                    "The iris's starburst: physical (each light's flux spread by the iris's aberration-free PSF, "
+                    "taken from the pixels that hold it), traced (the PSF with the lens's traced wavefront and "
+                    "vignetting, per tile of a 3 x 3 grid holding light) or off")
+        ->check(CLI::IsMember({"off", "physical", "traced"}));
     cmd->add_option("--diffraction-gain", o->diffractionGain,
                     "Multiply the diffraction layer (1 = physical); a pixel never loses more than its light");
     cmd->add_option("--ghost-model", o->ghostModel,

@@ -254,7 +254,8 @@ std::string describePsf(const diffraction::Aperture& aperture, const diffraction
            std::to_string(psf.wavelengthsNm.size()) + " wavelengths " +
            text::fixed(*std::min_element(psf.wavelengthsNm.begin(), psf.wavelengthsNm.end()), 0) + "-" +
            text::fixed(*std::max_element(psf.wavelengthsNm.begin(), psf.wavelengthsNm.end()), 0) + " nm; PSF to " +
-           std::to_string(psf.radius) + " px, its edge at " + text::scientific(psf.edge, 2) + " of the centre";
+           std::to_string(psf.radius) + " px (tapered from 0.6 of it, where it is at " + text::scientific(psf.edge, 2) +
+           " of the centre)";
 }
 
 } // namespace ff::cli

@@ -86,4 +86,31 @@ std::vector<float> diffractionLayer(const std::vector<float>& lights, int width,
     return spread;
 }
 
+std::vector<float> zonedDiffractionLayer(const std::vector<float>& lights, int width, int height, int tilesX,
+                                         int tilesY, const std::function<Psf(double x, double y)>& psfAt, double gain,
+                                         double* offFrame, Convolver* device) {
+    std::vector<float> layer(lights.size(), 0.0f), tile(lights.size());
+    for (int ty = 0; ty < tilesY; ++ty)
+        for (int tx = 0; tx < tilesX; ++tx) {
+            const int x0 = tx * width / tilesX, x1 = (tx + 1) * width / tilesX;
+            const int y0 = ty * height / tilesY, y1 = (ty + 1) * height / tilesY;
+            std::fill(tile.begin(), tile.end(), 0.0f);
+            double flux = 0.0, cx = 0.0, cy = 0.0;
+            for (int y = y0; y < y1; ++y)
+                for (int x = x0; x < x1; ++x) {
+                    const std::size_t p = (static_cast<std::size_t>(y) * width + x) * 3;
+                    double sum = 0.0;
+                    for (int c = 0; c < 3; ++c) sum += tile[p + c] = lights[p + c];
+                    flux += sum;
+                    cx += sum * (x + 0.5);
+                    cy += sum * (y + 0.5);
+                }
+            if (!(flux > 0.0)) continue;
+            const std::vector<float> part =
+                diffractionLayer(tile, width, height, psfAt(cx / flux, cy / flux), gain, offFrame, device);
+            for (std::size_t i = 0; i < layer.size(); ++i) layer[i] += part[i];
+        }
+    return layer;
+}
+
 } // namespace ff::diffraction

@@ -2,6 +2,7 @@
 // All lights' diffraction at once: the image of the light sources convolved with the PSF by FFT (one
 // transform per channel, any number of lights), and the diffraction layer simulate adds.
 
+#include <functional>
 #include <vector>
 
 #include "diffraction/psf.h"
@@ -30,5 +31,13 @@ std::vector<float> convolve(const std::vector<float>& image, int width, int heig
 /// The convolution runs on `device` when one is given.
 std::vector<float> diffractionLayer(const std::vector<float>& lights, int width, int height, const Psf& psf,
                                     double gain, double* offFrame = nullptr, Convolver* device = nullptr);
+
+/// The diffraction layer where the PSF changes over the frame (the lens's wavefront at each light's
+/// field): the lights split over a tilesX x tilesY grid of the frame, each tile's lights convolved
+/// with psfAt(x, y), the PSF at their flux-weighted centre (pixels from the frame's top-left corner,
+/// summed over the channels). Tiles without light cost nothing.
+std::vector<float> zonedDiffractionLayer(const std::vector<float>& lights, int width, int height, int tilesX,
+                                         int tilesY, const std::function<Psf(double x, double y)>& psfAt, double gain,
+                                         double* offFrame = nullptr, Convolver* device = nullptr);
 
 } // namespace ff::diffraction

@@ -40,6 +40,7 @@ Aperture apertureOf(const optics::Lens& lens) {
 namespace {
 
 constexpr int kMaxTransform = 16384;
+constexpr double kTaper = 0.6; // share of the kernel's reach left whole
 
 // The PSF's samples in the transform's order (sample (i, j) at offset ((i, j) mod F) x spacing from
 // the light, +y up the rows): share of the flux per sample, summing to 1.
@@ -199,7 +200,7 @@ Psf pixelPsf(const Aperture& aperture, const PsfSettings& settings) {
     std::vector<std::vector<double>> kernels(W);
     std::vector<int> radius(W);
     out.binning.resize(W);
-    std::vector<double> outside(W);
+    std::vector<double> outside(W), edge(W, 0.0);
     tbb::parallel_for(std::size_t(0), W, [&](std::size_t i) {
         const double lambdaN = out.wavelengthsNm[i] * 1e-6 * aperture.fNumber;
         // S samples per pixel, at most lambda N / 2 apart (the intensity's Nyquist rate).
@@ -241,21 +242,31 @@ Psf pixelPsf(const Aperture& aperture, const PsfSettings& settings) {
         const int w = 2 * R + 1;
         std::vector<double>& b = kernels[i];
         b.assign(static_cast<std::size_t>(w) * w, 0.0);
-        double kept = 0.0;
+        double kept = 0.0, centre = 0.0, tail = 0.0;
         for (int my = -R; my <= R; ++my)
             for (int mx = -R; mx <= R; ++mx) {
                 // Pixel rows run down, sample rows up; rounding in the transforms can leave tiny negatives.
                 const double v = std::max(
                     0.0,
                     P[static_cast<std::size_t>((-my * S + T) % T) * T + static_cast<std::size_t>((mx * S + T) % T)]);
-                b[static_cast<std::size_t>(my + R) * w + (mx + R)] = v;
-                kept += v;
+                // A round taper, 1 inside kTaper R, cos^2 down to 0 at R: the kernel ends smoothly and
+                // round, not at a square's edge (which shows around a bright extended light).
+                const double r = std::hypot(mx, my), t = (r - kTaper * R) / ((1.0 - kTaper) * R);
+                const double taper = t <= 0.0   ? 1.0
+                                     : t >= 1.0 ? 0.0
+                                                : std::pow(std::cos(0.5 * std::numbers::pi * t), 2);
+                if (mx == 0 && my == 0) centre = v;
+                if (t >= 0.0) tail = std::max(tail, v);
+                b[static_cast<std::size_t>(my + R) * w + (mx + R)] = v * taper;
+                kept += v * taper;
             }
+        edge[i] = centre > 0.0 ? tail / centre : 0.0;
         outside[i] = std::max(0.0, 1.0 - kept);
         b[static_cast<std::size_t>(R) * w + R] += outside[i];
     });
     out.radius = *std::max_element(radius.begin(), radius.end());
     out.outside = *std::max_element(outside.begin(), outside.end());
+    out.edge = *std::max_element(edge.begin(), edge.end());
     const int w = out.width();
     for (int c = 0; c < 3; ++c) {
         std::vector<double> k(static_cast<std::size_t>(w) * w, 0.0);
@@ -267,11 +278,6 @@ Psf pixelPsf(const Aperture& aperture, const PsfSettings& settings) {
                         weights[i][c] * kernels[i][static_cast<std::size_t>(y) * wi + x];
         }
         out.channel[c].assign(k.begin(), k.end());
-        const double centre = k[static_cast<std::size_t>(out.radius) * w + out.radius];
-        for (int t = 0; t < w; ++t)
-            for (double v : {k[static_cast<std::size_t>(t)], k[static_cast<std::size_t>(w - 1) * w + t],
-                             k[static_cast<std::size_t>(t) * w], k[static_cast<std::size_t>(t) * w + (w - 1)]})
-                out.edge = std::max(out.edge, centre > 0.0 ? v / centre : 0.0);
     }
     return out;
 }

@@ -90,8 +90,8 @@ struct Psf {
     std::array<std::vector<float>, 3> channel; ///< share of the light's flux per pixel, rows top to bottom
     std::vector<double> wavelengthsNm;
     std::vector<int> binning; ///< per wavelength: samples per pixel side (S)
-    double outside = 0.0;     ///< largest share of a wavelength's flux beyond the kernel
-    double edge = 0.0;        ///< largest pixel on the kernel's border over the centre pixel (a channel)
+    double outside = 0.0;     ///< largest share of a wavelength's flux the taper and the kernel's end leave out
+    double edge = 0.0; ///< largest pixel where the taper starts (0.6 radius and beyond) over the centre, a wavelength's
     int width() const { return 2 * radius + 1; }
     float at(int c, int dx, int dy) const { ///< offset (dx right, dy down) from the light's pixel
         return channel[c][static_cast<std::size_t>(dy + radius) * width() + (dx + radius)];
@@ -100,10 +100,11 @@ struct Psf {
 
 /// Bins each wavelength's PSF over pixels of settings.pitchMm (S x S samples per pixel, the samples
 /// at most lambda N / 2 apart; the transform rounded to a whole number of pixels) and combines them
-/// into RGB. The kernel reaches about transform / (2 S) pixels from the light; where a pixel spans
-/// more than 16384 / 4 samples (over 2 000 lambda N: a tiny plate on a large sensor) the PSF is the
-/// light's own pixel. Each channel sums to 1: the flux beyond the
-/// kernel (Psf::outside) is left in the light's own pixel, where the sharp image holds it.
+/// into RGB. The kernel reaches about transform / (2 S) pixels from the light, tapered round from 0.6
+/// of that reach (cos^2 to 0 at it); where a pixel spans more than 16384 / 4 samples (over 2 000
+/// lambda N: a tiny plate on a large sensor) the PSF is the light's own pixel. Each channel sums to
+/// 1: the flux the taper and the kernel's end leave out (Psf::outside) stays in the light's own
+/// pixel, where the sharp image holds it.
 Psf pixelPsf(const Aperture& aperture, const PsfSettings& settings);
 
 } // namespace ff::diffraction

@@ -2,10 +2,12 @@
 
 #include "core/error.h"
 #include "core/text.h"
+#include "core/units.h"
 #include "optics/paraxial.h"
 #include "trace/ghost_path.h"
 #include "trace/pupil_sampling.h"
 #include "trace/sequential_tracer.h"
+#include "trace/traced_flare.h"
 
 #include <glm/geometric.hpp>
 #include <glm/mat2x2.hpp>
@@ -300,6 +302,17 @@ TracedWavefront tracedWavefront(const optics::Lens& lens, double angleRad, doubl
     out.fitResidualMm = std::sqrt(residual / static_cast<double>(n));
     out.pupil.maxSlopeMm = slope;
     return out;
+}
+
+std::function<PupilFunction(double)> tracedPupil(const optics::Lens& lens, double xMm, double yMm, double sensorZ) {
+    const trace::LensAtWavelength L(lens, lines::d, sensorZ);
+    const trace::Field field = trace::fieldForSensorPoint(lens, L.sensorZ, xMm, yMm);
+    const glm::dvec2 reference = tracedWavefront(lens, field.angleRad, field.azimuthRad, lines::d, L.sensorZ).imageMm;
+    const optics::Lens* l = &lens;
+    const double z = L.sensorZ;
+    return [l, field, reference, z](double lambdaNm) {
+        return tracedWavefront(*l, field.angleRad, field.azimuthRad, lambdaNm, z, &reference).pupil;
+    };
 }
 
 } // namespace ff::diffraction

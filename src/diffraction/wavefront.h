@@ -19,6 +19,7 @@
 
 #include <glm/vec2.hpp>
 
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -47,5 +48,12 @@ struct TracedWavefront {
 TracedWavefront tracedWavefront(const optics::Lens& lens, double angleRad, double azimuthRad, double lambdaNm,
                                 double sensorZ = std::numeric_limits<double>::quiet_NaN(),
                                 const glm::dvec2* referenceMm = nullptr, int grid = 48);
+
+/// PsfSettings::pupil for a light whose image is at sensor point (xMm, yMm): each wavelength's
+/// traced wavefront, all referenced to the d line's chief point there (so lateral colour is a tilt
+/// and the RGB PSF stays centred on the light's pixel at the d line). Throws ff::Error (Input) as
+/// trace::fieldForSensorPoint and tracedWavefront do.
+std::function<PupilFunction(double lambdaNm)> tracedPupil(const optics::Lens& lens, double xMm, double yMm,
+                                                          double sensorZ = std::numeric_limits<double>::quiet_NaN());
 
 } // namespace ff::diffraction
