@@ -249,9 +249,9 @@ Psf pixelPsf(const Aperture& aperture, const PsfSettings& settings) {
                 const double v = std::max(
                     0.0,
                     P[static_cast<std::size_t>((-my * S + T) % T) * T + static_cast<std::size_t>((mx * S + T) % T)]);
-                // A round taper, 1 inside kTaper R, cos^2 down to 0 at R: the kernel ends smoothly and
-                // round, not at a square's edge (which shows around a bright extended light).
-                const double r = std::hypot(mx, my), t = (r - kTaper * R) / ((1.0 - kTaper) * R);
+                // A round taper, 1 inside kTaper (R + 1), cos^2 down to 0 at R + 1: the kernel ends
+                // smoothly and round, not at a square's edge (which shows around a bright extended light).
+                const double r = std::hypot(mx, my), t = (r - kTaper * (R + 1)) / ((1.0 - kTaper) * (R + 1));
                 const double taper = t <= 0.0   ? 1.0
                                      : t >= 1.0 ? 0.0
                                                 : std::pow(std::cos(0.5 * std::numbers::pi * t), 2);

@@ -101,7 +101,7 @@ struct Psf {
 /// Bins each wavelength's PSF over pixels of settings.pitchMm (S x S samples per pixel, the samples
 /// at most lambda N / 2 apart; the transform rounded to a whole number of pixels) and combines them
 /// into RGB. The kernel reaches about transform / (2 S) pixels from the light, tapered round from 0.6
-/// of that reach (cos^2 to 0 at it); where a pixel spans more than 16384 / 4 samples (over 2 000
+/// of that reach (cos^2 to 0 a pixel beyond it); where a pixel spans more than 16384 / 4 samples (over 2 000
 /// lambda N: a tiny plate on a large sensor) the PSF is the light's own pixel. Each channel sums to
 /// 1: the flux the taper and the kernel's end leave out (Psf::outside) stays in the light's own
 /// pixel, where the sharp image holds it.

@@ -343,6 +343,34 @@ TEST(CliSimulate, DiffractionOffGainAndLightsGivenByHand) {
     EXPECT_FALSE(fs::exists(dir / "bad.exr"));
 }
 
+// --diffraction traced: the PSF carries the lens's traced wavefront per tile holding light; the
+// layer still only moves the lights' flux (sums to 0), the ghosts do not change, and the f/5
+// triplet's aberrations near the frame's corner spread more of it out of the light's pixel than
+// the aberration-free PSF does.
+TEST(CliSimulate, DiffractionTracedUsesTheLensWavefrontPerTile) {
+    ff::test::TempDir dir;
+    writePlate(dir / "plate.exr", -1, -1, 0.0f);
+    const std::string lights = " --light 48.5,32.5,5000,5000,5000 --light 90.5,5.5,5000,5000,5000";
+    ASSERT_EQ(run(simulate(dir / "plate.exr", dir / "ideal.exr", "--sensor 36x24" + lights), kEnv).code, 0);
+    const auto r =
+        run(simulate(dir / "plate.exr", dir / "traced.exr", "--sensor 36x24 --diffraction traced" + lights), kEnv);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const Exr ideal = readExr(dir / "ideal.exr"), traced = readExr(dir / "traced.exr");
+    const std::string meta = traced.spec.get_string_attribute("fourierflare:diffraction");
+    EXPECT_NE(meta.find("traced, gain 1"), std::string::npos) << meta;
+    EXPECT_NE(meta.find("48,32: to"), std::string::npos) << meta; // the tiles' centres, one light each
+    EXPECT_NE(meta.find("90,6: to"), std::string::npos) << meta;
+    const int d = traced.channel("diffraction.G"), g = traced.channel("ghosts.G");
+    double sum = 0.0;
+    for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) {
+        ASSERT_EQ(traced.at(p, g), ideal.at(p, g));
+        sum += traced.at(p, d);
+    }
+    EXPECT_NEAR(sum, 0.0, 1e-4 * 10000.0);
+    const std::size_t corner = static_cast<std::size_t>(5) * kW + 90;
+    EXPECT_LT(traced.at(corner, d), ideal.at(corner, d)); // more of the light leaves its pixel
+}
+
 TEST(CliSimulate, SequencesRenderEveryFrame) {
     ff::test::TempDir dir;
     writePlate(dir / "shot.0007.exr", 20, 12, 400.0f);

@@ -90,5 +90,47 @@ TEST(Convolution, TheLayerRedistributesTheLightsFlux) {
     }
 }
 
+// Zones: each tile's lights get the PSF psfAt gives at their flux-weighted centre (derived here
+// from the lights placed); with one PSF for every tile the layer is the unzoned one (at gain 1 the
+// layer's floor -lights never binds, so splitting the lights changes nothing but rounding).
+TEST(Convolution, ZonesConvolveEachTilesLightsWithItsOwnPsf) {
+    const int W = 60, H = 30;
+    const Psf one = randomKernel(6, 3), other = randomKernel(6, 4);
+    std::vector<float> lights(static_cast<std::size_t>(W) * H * 3, 0.0f);
+    auto put = [&](int x, int y, float r, float g, float b) {
+        const std::size_t p = (static_cast<std::size_t>(y) * W + x) * 3;
+        lights[p] = r, lights[p + 1] = g, lights[p + 2] = b;
+    };
+    put(3, 4, 100.0f, 100.0f, 100.0f); // tile (0, 0) of 3 x 2 (20 x 15 pixels each)
+    put(9, 10, 300.0f, 0.0f, 0.0f);    // tile (0, 0)
+    put(45, 20, 10.0f, 20.0f, 30.0f);  // tile (2, 1)
+    std::vector<std::pair<double, double>> asked;
+    const auto zoned = zonedDiffractionLayer(
+        lights, W, H, 3, 2,
+        [&](double x, double y) {
+            asked.push_back({x, y});
+            return one;
+        },
+        1.0);
+    ASSERT_EQ(asked.size(), 2u);
+    // (3.5, 4.5) with 300, (9.5, 10.5) with 300; (45.5, 20.5) alone.
+    EXPECT_NEAR(asked[0].first, 6.5, 1e-9);
+    EXPECT_NEAR(asked[0].second, 7.5, 1e-9);
+    EXPECT_NEAR(asked[1].first, 45.5, 1e-9);
+    EXPECT_NEAR(asked[1].second, 20.5, 1e-9);
+    const auto whole = diffractionLayer(lights, W, H, one, 1.0);
+    for (std::size_t i = 0; i < whole.size(); ++i) EXPECT_NEAR(zoned[i], whole[i], 1e-5f * 300.0f) << i;
+
+    // A different PSF per tile: each tile's part is its lights through its own kernel.
+    const auto mixed = zonedDiffractionLayer(
+        lights, W, H, 3, 2, [&](double x, double) { return x < 20 ? one : other; }, 1.0);
+    std::vector<float> left = lights, right = lights;
+    for (std::size_t p = 0; p < lights.size() / 3; ++p)
+        (p % W < 20 ? right : left)[3 * p] = 0.0f, (p % W < 20 ? right : left)[3 * p + 1] = 0.0f,
+                                        (p % W < 20 ? right : left)[3 * p + 2] = 0.0f;
+    const auto a = diffractionLayer(left, W, H, one, 1.0), b = diffractionLayer(right, W, H, other, 1.0);
+    for (std::size_t i = 0; i < mixed.size(); ++i) EXPECT_NEAR(mixed[i], a[i] + b[i], 1e-5f * 300.0f) << i;
+}
+
 } // namespace
 } // namespace ff::diffraction
