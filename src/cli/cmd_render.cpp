@@ -11,6 +11,7 @@
 #include "core/units.h"
 #include "fourier/render.h"
 #include "image/image_output.h"
+#include "trace/ghost_analysis.h"
 #include "trace/traced_flare.h"
 
 #include <CLI/CLI.hpp>
@@ -20,6 +21,7 @@
 #include <memory>
 
 #include "diffraction/convolution.h"
+#include "diffraction/wavefront.h"
 #include "ff/version.h"
 
 namespace ff::cli {
@@ -33,6 +35,7 @@ struct RenderOptions {
     std::string lightsFile, ghostsFile;
     std::string size = "1280x720";
     std::string mode = "traced";
+    std::string diffraction = "physical"; ///< --mode diffraction: physical or traced
     std::string ghostModel = "gaussian";
     std::string output, preview;
     std::vector<std::string> probes;
@@ -155,15 +158,34 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
             const diffraction::Psf psf = diffraction::pixelPsf(aperture, ps);
             double off = 0.0;
             diffraction::Convolver* device = diffractionDevice(fs);
-            const std::vector<float> lightRgb = splatLights(lights, W, H);
-            const std::vector<float> spread =
-                device ? device->convolve(lightRgb, W, H, psf, &off) : diffraction::convolve(lightRgb, W, H, psf, &off);
+            auto convolve = [&](const std::vector<float>& l, const diffraction::Psf& p) {
+                return device ? device->convolve(l, W, H, p, &off) : diffraction::convolve(l, W, H, p, &off);
+            };
+            std::vector<float> spread;
+            std::string wavefronts;
+            if (o.diffraction == "traced") {
+                // Each light through the PSF with the lens's traced wavefront at its own field.
+                spread.assign(static_cast<std::size_t>(W) * H * 3, 0.0f);
+                const double z = trace::sensorPlaneZ(lens, t.sensor);
+                for (const ghosts::Light& l : lights) {
+                    const glm::dvec2 at = t.frame.pixelToSensor(l.xPx, l.yPx);
+                    ps.pupil = diffraction::tracedPupil(lens, at.x, at.y, z);
+                    const diffraction::Psf own = diffraction::pixelPsf(aperture, ps);
+                    const std::vector<float> one = convolve(splatLights({l}, W, H), own);
+                    for (std::size_t i = 0; i < spread.size(); ++i) spread[i] += one[i];
+                    wavefronts += "; at (" + text::fixed(l.xPx, 1) + ", " + text::fixed(l.yPx, 1) +
+                                  ") the lens's traced wavefront, PSF to " + std::to_string(own.radius) + " px";
+                }
+            } else {
+                spread = convolve(splatLights(lights, W, H), psf);
+            }
             image = fourier::FlareImage(W, H);
             for (std::size_t p = 0; p < image.pixels(); ++p)
                 for (int c = 0; c < 3; ++c) image.channel[c][p] = spread[p * 3 + c];
-            meta.push_back({"fourierflare:diffraction", describePsf(aperture, psf)});
-            summary = "the lens's diffraction (" + describePsf(aperture, psf) + ") of " +
-                      std::to_string(lights.size()) + " light(s); " + text::scientific(off, 3) +
+            meta.push_back(
+                {"fourierflare:diffraction", o.diffraction + "; " + describePsf(aperture, psf) + wavefronts});
+            summary = "the lens's diffraction (" + o.diffraction + "; " + describePsf(aperture, psf) + wavefronts +
+                      ") of " + std::to_string(lights.size()) + " light(s); " + text::scientific(off, 3) +
                       " of the flux outside the frame";
         } else if (o.mode == "shaped") {
             ghosts::ShapedSettings ss;
@@ -239,6 +261,10 @@ void addRenderCommand(CLI::App& app, GlobalOptions& global) {
                     "drawn directly), fourier (aggregated) or diffraction (the iris's starburst: the lights through "
                     "the lens's PSF)")
         ->check(CLI::IsMember({"traced", "shaped", "fitted", "fourier", "diffraction"}));
+    cmd->add_option("--diffraction", o->diffraction,
+                    "With --mode diffraction: physical (the iris's aberration-free PSF) or traced (each light through "
+                    "the PSF with the lens's traced wavefront and vignetting at its field)")
+        ->check(CLI::IsMember({"physical", "traced"}));
     cmd->add_option("--ghost-model", o->ghostModel,
                     "The table's fitted profile drawn by fitted and fourier: gaussian or cos2 (the shaped model is "
                     "--mode shaped)")

@@ -143,6 +143,35 @@ TEST(CliRender, DiffractionModeSpreadsTheLightsFlux) {
     EXPECT_NE(r.err.find("working f/"), std::string::npos) << r.err;
 }
 
+// render --mode diffraction --diffraction traced: the light on the axis, where the lens's wavefront
+// is symmetric about it, keeps its flux in the frame and its pattern symmetric through its pixel;
+// the lens's own aberrations (spherical, colour) change the pattern from the aberration-free one.
+TEST(CliRender, DiffractionTracedKeepsTheFluxAndTheAxialSymmetry) {
+    ff::test::TempDir dir;
+    const std::string common = "render lenses/cooke-triplet-50mm-f5.lens --mode diffraction --light 64.5,64.5,2,1,0.5 "
+                               "--size 129x129 --sensor-size 2.58x2.58 --probe 64,64 --probe 65,64 --probe 63,64 "
+                               "--probe 64,67 --probe 64,61 -o '" +
+                               (dir / "d.exr").string() + "' ";
+    const auto ideal = run(common), r = run(common + "--diffraction traced");
+    ASSERT_EQ(r.code, 0) << r.err;
+    ASSERT_EQ(ideal.code, 0) << ideal.err;
+    EXPECT_NE(r.err.find("the lens's traced wavefront"), std::string::npos) << r.err;
+    std::array<double, 3> f{};
+    const std::size_t p = r.err.find("flux in the frame (R, G, B): ");
+    ASSERT_NE(p, std::string::npos) << r.err;
+    std::sscanf(r.err.c_str() + p + 29, "%lf %lf %lf", &f[0], &f[1], &f[2]);
+    const double light[3] = {2.0, 1.0, 0.5};
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(f[c], light[c], 1e-4 * light[c]) << c;
+    const auto v = probes(r.out), w = probes(ideal.out);
+    ASSERT_EQ(v.size(), 5u);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(v[1][c], v[2][c], 1e-4 * v[0][c]); // symmetric through the light's pixel
+        EXPECT_NEAR(v[3][c], v[4][c], 1e-4 * v[0][c]);
+        EXPECT_GT(std::abs(v[0][c] - w[0][c]), 1e-3 * w[0][c]); // not the aberration-free core
+    }
+    EXPECT_EQ(run(common + "--diffraction off").code, 2);
+}
+
 TEST(CliCompare, WritesTheReport) {
     ff::test::TempDir dir;
     const std::string env = "FF_CACHE_DIR='" + (dir / "cache").string() + "' ";
