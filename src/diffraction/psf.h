@@ -78,7 +78,7 @@ SampledPsf sampledPsf(const Aperture& aperture, double lambdaNm, double spacingM
 struct PsfSettings {
     double pitchMm = 0.0;              ///< the sensor's pixel pitch
     std::vector<double> wavelengthsNm; ///< empty: 8 over 400-700 nm
-    int transform = 1024;              ///< FFT size per side, per wavelength (at least: see pupil)
+    int transform = 2048;              ///< FFT size per side, per wavelength (at least: see pupil)
     /// Per wavelength, the pupil function beyond the bare iris (the traced wavefront and vignetting,
     /// wavefront.h); none: the aberration-free PSF. The transform grows with its maxSlopeMm.
     std::function<PupilFunction(double lambdaNm)> pupil;
@@ -100,8 +100,8 @@ struct Psf {
 
 /// Bins each wavelength's PSF over pixels of settings.pitchMm (S x S samples per pixel, the samples
 /// at most lambda N / 2 apart; the transform rounded to a whole number of pixels) and combines them
-/// into RGB. The kernel reaches about transform / (2 S) pixels from the light, tapered round from 0.6
-/// of that reach (cos^2 to 0 a pixel beyond it); where a pixel spans more than 16384 / 4 samples (over 2 000
+/// into RGB. The kernel reaches about transform / (4 S) pixels from the light (a quarter of the period), tapered round
+/// from 0.6 of that reach (cos^2 to 0 a pixel beyond it); where a pixel spans more than 16384 / 4 samples (over 2 000
 /// lambda N: a tiny plate on a large sensor) the PSF is the light's own pixel. Each channel sums to
 /// 1: the flux the taper and the kernel's end leave out (Psf::outside) stays in the light's own
 /// pixel, where the sharp image holds it.
