@@ -1,10 +1,13 @@
 // The diffraction stage (docs/diffraction.md, docs/performance.md): the RGB PSF of the bundled double
-// Gauss stopped down to f/8 with 6 blades (8 wavelengths, transform 1024), binned at the pixel pitch of
-// a 36 mm wide sensor at 1920 and 3840 pixels across; and the convolution of a frame of lights with it
+// Gauss stopped down to f/8 with 6 blades (8 wavelengths, transform 2048), binned at the pixel pitch of
+// a 36 mm wide sensor at 1920 and 3840 pixels across; the PSF with the lens's traced wavefront (the
+// double Gauss at f/2, a light 15.5 mm from the axis: --diffraction traced's cost per tile); and the
+// convolution of a frame of lights with it
 // (three channels, double-precision FFTs), at 1920 x 1080 and 3840 x 2160, with FFTW on the CPU and
 // with the GL backend's compute-shader FFT (llvmpipe without a GPU: 1080p only there).
 
 #include "gpu/gl_fft.h"
+#include "optics/lens_loader.h"
 
 #include <benchmark/benchmark.h>
 
@@ -12,6 +15,7 @@
 
 #include "diffraction/convolution.h"
 #include "diffraction/psf.h"
+#include "diffraction/wavefront.h"
 #include "gl_bench.h"
 
 namespace {
@@ -36,6 +40,22 @@ void BM_Psf(benchmark::State& state) {
     state.counters["radius_px"] = radius;
 }
 BENCHMARK(BM_Psf)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_TracedPsf(benchmark::State& state) {
+    const ff::optics::Lens lens =
+        ff::optics::loadLens(std::string(FF_SOURCE_DIR) + "/lenses/double-gauss-50mm-f2.lens");
+    PsfSettings s;
+    s.pitchMm = 36.0 / kWidths[state.range(0)];
+    int radius = 0;
+    for (auto _ : state) {
+        s.pupil = tracedPupil(lens, 13.3, 7.9);
+        const Psf psf = pixelPsf(apertureOf(lens), s);
+        radius = psf.radius;
+        benchmark::DoNotOptimize(psf.channel[0].data());
+    }
+    state.counters["radius_px"] = radius;
+}
+BENCHMARK(BM_TracedPsf)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The layer of 300 lights at the frame's pitch, convolved by `device` (null: FFTW).
 void layers(benchmark::State& state, Convolver* device) {
