@@ -48,3 +48,9 @@ for d in physical traced; do
         --exposure 2 --preview "$tmp/corner-$d.png" > /dev/null
     oiiotool "$tmp/corner-$d.png" --cut 48x48+1677+127 --resample 192x192 -o "docs/images/diffraction-corner-$d.png"
 done
+
+# simulate on the bundled night-street plate with the double Gauss given 6 blades at f/8: the sun's
+# starburst (the composite's preview, 320 x 200 around the sun).
+"$ff" simulate --lens "$(variant 6 8 0)" --plate data/night-street.exr -o "$tmp/street.exr" --preview "$tmp/street.png" \
+    > /dev/null
+oiiotool "$tmp/street.png" --cut 320x200+890+270 -o docs/images/diffraction-night-street-6-blades-f8.png
