@@ -40,6 +40,7 @@ struct CompareOptions {
     std::string output;
     int grid = 32, tableGrid = 32;
     std::string sensorSize, zoom;
+    std::string diffraction = "off"; ///< off, physical or traced (then the aberration-free one too)
     FourierOptions fourier;
 };
 
@@ -94,6 +95,54 @@ std::string errorPlot(const std::vector<int>& ns, const std::vector<std::pair<st
                series[s].first + "</text>\n";
     }
     return svg + "</svg>\n";
+}
+
+// The lights' diffraction (docs/diffraction.md): the aberration-free PSF's, and with --diffraction
+// traced the one with the lens's traced wavefront at each light's field, compared with it. The
+// diffraction is the same for every ghost model, so it is shown apart from them.
+std::string compareDiffraction(const CompareOptions& o, const optics::Lens& lens,
+                               const std::vector<ghosts::Light>& lights, const trace::TracedFlareOptions& to,
+                               const fourier::FourierSettings& fs, const std::filesystem::path& dir,
+                               const image::Metadata& meta, nlohmann::json& report) {
+    const int W = to.frame.width, H = to.frame.height;
+    const double z = trace::sensorPlaneZ(lens, to.sensor);
+    std::string md =
+        "## Diffraction\n\nThe lights through the lens's point-spread function (the same for every ghost model; "
+        "the model: docs/diffraction.md):\n\n| PSF | flux in the frame / the lights' | seconds |\n|---|---|---|\n";
+    double lightsFlux = 0.0;
+    for (const auto& l : lights) lightsFlux += l.flux[0] + l.flux[1] + l.flux[2];
+    std::vector<std::string> modes = {"physical"};
+    if (o.diffraction == "traced") modes.push_back("traced");
+    std::vector<std::vector<float>> images;
+    for (const std::string& mode : modes) {
+        const auto t0 = Clock::now();
+        double off = 0.0;
+        std::string text;
+        images.push_back(renderDiffraction(lens, lights, to.frame, z, mode, diffractionDevice(fs), &off, &text));
+        const double s = seconds(t0);
+        double flux = 0.0;
+        for (float v : images.back()) flux += v;
+        const std::string name = "diffraction-" + mode;
+        image::Metadata m = meta;
+        m.push_back({"fourierflare:diffraction", text});
+        image::writeExr((dir / (name + ".exr")).string(), W, H, {"R", "G", "B"}, images.back(), m);
+        image::writePng((dir / (name + ".png")).string(), W, H,
+                        image::tonemapPreview(images.back(), image::autoExposure(images.back())), m);
+        report["diffraction"][mode] = {{"psf", text}, {"fluxInFrame", flux / lightsFlux}, {"seconds", s}};
+        md += "| " + text + " | " + text::fixed(flux / lightsFlux, 6) + " | " + text::fixed(s, 2) + " |\n";
+    }
+    if (images.size() == 2) {
+        const auto e = image::compareImages(images[1], images[0]);
+        const double scale = image::differenceQuantile(images[1], images[0], 0.999);
+        image::writePng((dir / "diff-diffraction-traced-vs-physical.png").string(), W, H,
+                        image::differencePicture(images[1], images[0], scale), meta);
+        report["diffraction"]["tracedVsPhysical"] = toJson(e);
+        md +=
+            "\n| comparison | relative L2 | PSNR (dB) | max error / peak | flux ratio |\n|---|---|---|---|---|\n" +
+            row("diffraction with the lens's traced wavefront vs aberration-free (what the lens's aberrations change)",
+                e);
+    }
+    return md + "\n";
 }
 
 void runCompare(const CompareOptions& o, const GlobalOptions& g) {
@@ -329,6 +378,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
             four.describe() + ")");
     }
     md += "\nPSNR uses the reference's peak. Flux ratio = total flux of the image / total flux of the reference.\n\n";
+    if (o.diffraction != "off") md += compareDiffraction(o, lens, lights, to, base, dir, meta, report);
     md += "## Error against the number of terms\n\nEvery ghost through Fourier with N terms along x (M in proportion to the periods), no hybrid "
           "split and no per-ghost trimming (ghosts whose copies would reach the frame on a period of twice its size go to a coarse level "
           "with its own period and terms, the same in every row); relative L2 against the fitted (truncation alone) and the traced image.\n\n| N |";
@@ -344,9 +394,12 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
         md += "\n";
     }
     md += "\n![error against N](error-vs-n.svg)\n\n## Wall time\n\nFourier backend: " + report["fourierBackend"].get<std::string>() + ".\n\n" + timing;
-    md += "\n## Files\n\n`traced`, `fitted-*`, `fourier-*` as EXR (linear) and PNG (same exposure); `diff-A-vs-B.png`: luminance of A minus B, "
-          "red where A is brighter, blue where darker, white where equal, full colour at the 99.9th percentile of |A − B| (values in report.json, "
-          "`differenceScales`).\n";
+    md +=
+        "\n## Files\n\n`traced`, `fitted-*`, `fourier-*` as EXR (linear) and PNG (same exposure); `diff-A-vs-B.png`: "
+        "luminance of A minus B, "
+        "red where A is brighter, blue where darker, white where equal, full colour at the 99.9th percentile of |A − "
+        "B| (values in report.json, "
+        "`differenceScales`); with --diffraction, `diffraction-physical` (and `diffraction-traced`) as EXR and PNG.\n";
     auto all = vsFitted;
     all.insert(all.end(), vsTraced.begin(), vsTraced.end());
     writeFileAtomic((dir / "error-vs-n.svg").string(), errorPlot(ns, all, base.error));
@@ -375,6 +428,11 @@ void addCompareCommand(CLI::App& app, GlobalOptions& global) {
     cmd->add_option("--table-grid", o->tableGrid, "Rays per side of each ghost's pupil grid for the ghost table")->check(CLI::Range(4, 512));
     cmd->add_option("--sensor-size", o->sensorSize, "Sensor size in mm, WIDTHxHEIGHT (default: the lens file's, else 36x24)");
     cmd->add_option("--zoom", o->zoom, "Zoom position (label or 1-based index)");
+    cmd->add_option(
+           "--diffraction", o->diffraction,
+           "Also show the lights' diffraction: physical (the iris's aberration-free PSF), traced (that and the "
+           "PSF with the lens's traced wavefront at each light's field, compared) or off")
+        ->check(CLI::IsMember({"off", "physical", "traced"}));
     o->fourier.addTo(*cmd);
     cmd->footer("Example: fourierflare compare lenses/double-gauss-50mm-f2.lens --light 1400,300 --light 600,700 --size 1920x1080 -o cmp/");
     cmd->callback([o, &global] { runCompare(*o, global); });

@@ -21,7 +21,6 @@
 #include <memory>
 
 #include "diffraction/convolution.h"
-#include "diffraction/wavefront.h"
 #include "ff/version.h"
 
 namespace ff::cli {
@@ -152,41 +151,17 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
                       text::scientific(traced.inFrame, 4) + " in the frame, " + text::scientific(traced.outside, 4) +
                       " outside; " + traced.describeRefinement();
         } else if (o.mode == "diffraction") {
-            const diffraction::Aperture aperture = diffraction::apertureOf(lens);
-            diffraction::PsfSettings ps;
-            ps.pitchMm = t.frame.pitchMm;
-            const diffraction::Psf psf = diffraction::pixelPsf(aperture, ps);
             double off = 0.0;
-            diffraction::Convolver* device = diffractionDevice(fs);
-            auto convolve = [&](const std::vector<float>& l, const diffraction::Psf& p) {
-                return device ? device->convolve(l, W, H, p, &off) : diffraction::convolve(l, W, H, p, &off);
-            };
-            std::vector<float> spread;
-            std::string wavefronts;
-            if (o.diffraction == "traced") {
-                // Each light through the PSF with the lens's traced wavefront at its own field.
-                spread.assign(static_cast<std::size_t>(W) * H * 3, 0.0f);
-                const double z = trace::sensorPlaneZ(lens, t.sensor);
-                for (const ghosts::Light& l : lights) {
-                    const glm::dvec2 at = t.frame.pixelToSensor(l.xPx, l.yPx);
-                    ps.pupil = diffraction::tracedPupil(lens, at.x, at.y, z);
-                    const diffraction::Psf own = diffraction::pixelPsf(aperture, ps);
-                    const std::vector<float> one = convolve(splatLights({l}, W, H), own);
-                    for (std::size_t i = 0; i < spread.size(); ++i) spread[i] += one[i];
-                    wavefronts += "; at (" + text::fixed(l.xPx, 1) + ", " + text::fixed(l.yPx, 1) +
-                                  ") the lens's traced wavefront, PSF to " + std::to_string(own.radius) + " px";
-                }
-            } else {
-                spread = convolve(splatLights(lights, W, H), psf);
-            }
+            std::string text;
+            const std::vector<float> spread =
+                renderDiffraction(lens, lights, t.frame, trace::sensorPlaneZ(lens, t.sensor), o.diffraction,
+                                  diffractionDevice(fs), &off, &text);
             image = fourier::FlareImage(W, H);
             for (std::size_t p = 0; p < image.pixels(); ++p)
                 for (int c = 0; c < 3; ++c) image.channel[c][p] = spread[p * 3 + c];
-            meta.push_back(
-                {"fourierflare:diffraction", o.diffraction + "; " + describePsf(aperture, psf) + wavefronts});
-            summary = "the lens's diffraction (" + o.diffraction + "; " + describePsf(aperture, psf) + wavefronts +
-                      ") of " + std::to_string(lights.size()) + " light(s); " + text::scientific(off, 3) +
-                      " of the flux outside the frame";
+            meta.push_back({"fourierflare:diffraction", text});
+            summary = "the lens's diffraction (" + text + ") of " + std::to_string(lights.size()) + " light(s); " +
+                      text::scientific(off, 3) + " of the flux outside the frame";
         } else if (o.mode == "shaped") {
             ghosts::ShapedSettings ss;
             ss.sensor = t.sensor;

@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "diffraction/wavefront.h"
+
 namespace ff::cli {
 
 ghosts::Light parseLight(const std::string& spec) {
@@ -256,6 +258,37 @@ std::string describePsf(const diffraction::Aperture& aperture, const diffraction
            text::fixed(*std::max_element(psf.wavelengthsNm.begin(), psf.wavelengthsNm.end()), 0) + " nm; PSF to " +
            std::to_string(psf.radius) + " px (tapered from 0.6 of it, where it is at " + text::scientific(psf.edge, 2) +
            " of the centre)";
+}
+
+std::vector<float> renderDiffraction(const optics::Lens& lens, const std::vector<ghosts::Light>& lights,
+                                     const trace::ImageFrame& frame, double sensorZ, const std::string& mode,
+                                     diffraction::Convolver* device, double* offFrame, std::string* summary) {
+    const int W = frame.width, H = frame.height;
+    const diffraction::Aperture aperture = diffraction::apertureOf(lens);
+    diffraction::PsfSettings ps;
+    ps.pitchMm = frame.pitchMm;
+    const diffraction::Psf psf = diffraction::pixelPsf(aperture, ps);
+    auto convolve = [&](const std::vector<float>& l, const diffraction::Psf& p) {
+        return device ? device->convolve(l, W, H, p, offFrame) : diffraction::convolve(l, W, H, p, offFrame);
+    };
+    std::string text = mode + "; " + describePsf(aperture, psf);
+    if (mode != "traced") {
+        if (summary) *summary = text;
+        return convolve(splatLights(lights, W, H), psf);
+    }
+    // Each light through the PSF with the lens's traced wavefront at its own field.
+    std::vector<float> spread(static_cast<std::size_t>(W) * H * 3, 0.0f);
+    for (const ghosts::Light& l : lights) {
+        const glm::dvec2 at = frame.pixelToSensor(l.xPx, l.yPx);
+        ps.pupil = diffraction::tracedPupil(lens, at.x, at.y, sensorZ);
+        const diffraction::Psf own = diffraction::pixelPsf(aperture, ps);
+        const std::vector<float> one = convolve(splatLights({l}, W, H), own);
+        for (std::size_t i = 0; i < spread.size(); ++i) spread[i] += one[i];
+        text += "; at (" + text::fixed(l.xPx, 1) + ", " + text::fixed(l.yPx, 1) +
+                ") the lens's traced wavefront, PSF to " + std::to_string(own.radius) + " px";
+    }
+    if (summary) *summary = text;
+    return spread;
 }
 
 } // namespace ff::cli

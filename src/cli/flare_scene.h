@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "diffraction/convolution.h"
 #include "diffraction/psf.h"
 
 namespace ff::cli {
@@ -58,6 +59,14 @@ std::vector<float> splatLights(const std::vector<ghosts::Light>& lights, int wid
 /// "working f/N, B blades; W wavelengths from the shortest to the longest (nm); PSF to R px, its edge at E of the
 /// centre".
 std::string describePsf(const diffraction::Aperture& aperture, const diffraction::Psf& psf);
+
+/// The lights through the lens's PSF (render --mode diffraction, compare): the aberration-free PSF
+/// ("physical"), or each light through the PSF with the lens's traced wavefront at its field
+/// ("traced"; sensor plane sensorZ). The convolution runs on `device` when given. `offFrame` (summed
+/// over the channels) and `summary` receive what left the frame and a description of the PSFs.
+std::vector<float> renderDiffraction(const optics::Lens& lens, const std::vector<ghosts::Light>& lights,
+                                     const trace::ImageFrame& frame, double sensorZ, const std::string& mode,
+                                     diffraction::Convolver* device, double* offFrame, std::string* summary);
 
 /// The shaped ghosts of all lights (ghosts/shaped_ghosts.h), each light's field found as the traced
 /// scene finds it, summed with the lights' RGB flux. With `outside`, a light that no field angle

@@ -176,11 +176,16 @@ TEST(CliCompare, WritesTheReport) {
     ff::test::TempDir dir;
     const std::string env = "FF_CACHE_DIR='" + (dir / "cache").string() + "' ";
     const auto out = dir / "cmp";
-    const auto r = run("compare lenses/cooke-triplet-50mm-f5.lens --light 150,40 --size 192x108 --grid 8 --table-grid 8 --n 8,16,32 -o '" +
-                           out.string() + "'", env);
+    const auto r = run(
+        "compare lenses/cooke-triplet-50mm-f5.lens --light 150,40 --size 192x108 --grid 8 --table-grid 8 --n 8,16,32 "
+        "--diffraction traced -o '" +
+            out.string() + "'",
+        env);
     ASSERT_EQ(r.code, 0) << r.err;
-    for (const char* f : {"report.md", "report.json", "error-vs-n.svg", "traced.exr", "traced.png", "fitted-gaussian.exr", "fourier-cos2.png",
-                          "diff-fourier-gaussian-vs-traced.png"})
+    for (const char* f :
+         {"report.md", "report.json", "error-vs-n.svg", "traced.exr", "traced.png", "fitted-gaussian.exr",
+          "fourier-cos2.png", "diff-fourier-gaussian-vs-traced.png", "diffraction-physical.exr",
+          "diffraction-traced.png", "diff-diffraction-traced-vs-physical.png"})
         EXPECT_TRUE(std::filesystem::exists(out / f)) << f;
     const auto j = nlohmann::json::parse(ff::test::readFile(out / "report.json"));
     for (const char* p : {"gaussian", "cos2"}) {
@@ -198,5 +203,11 @@ TEST(CliCompare, WritesTheReport) {
     const double own = j["reference"]["relativeL2"].get<double>();
     EXPECT_GE(own, 0.0);
     EXPECT_LT(own, 0.2 * j["profiles"]["gaussian"]["fittedVsTraced"]["relativeL2"].get<double>());
+    // --diffraction traced: both PSFs keep the light's flux in the frame (the light is 40 px from its
+    // edges, the kernels reach a few pixels) and differ by what the lens's aberrations change.
+    for (const char* mode : {"physical", "traced"})
+        EXPECT_NEAR(j["diffraction"][mode]["fluxInFrame"].get<double>(), 1.0, 1e-4) << mode;
+    EXPECT_GT(j["diffraction"]["tracedVsPhysical"]["relativeL2"].get<double>(), 0.0);
+    EXPECT_NE(ff::test::readFile(out / "report.md").find("## Diffraction"), std::string::npos);
     EXPECT_EQ(run("compare lenses/cooke-triplet-50mm-f5.lens --size 64x64 -o '" + out.string() + "'", env).code, 2); // no lights
 }
