@@ -6,6 +6,9 @@
 // (three channels, double-precision FFTs), at 1920 x 1080 and 3840 x 2160, with FFTW on the CPU and
 // with the GL backend's compute-shader FFT (llvmpipe without a GPU: 1080p only there).
 
+#include "diffraction/convolution.h"
+#include "diffraction/psf.h"
+#include "diffraction/wavefront.h"
 #include "gpu/gl_fft.h"
 #include "optics/lens_loader.h"
 
@@ -13,9 +16,6 @@
 
 #include <random>
 
-#include "diffraction/convolution.h"
-#include "diffraction/psf.h"
-#include "diffraction/wavefront.h"
 #include "gl_bench.h"
 
 namespace {

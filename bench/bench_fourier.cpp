@@ -11,8 +11,8 @@
 #include "fourier/render.h"
 
 #include <benchmark/benchmark.h>
-#include <cblas.h>
 
+#include <cblas.h>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -68,22 +68,36 @@ void BM_Evaluate(benchmark::State& state, Evaluation e) {
     }
     state.counters["M"] = z.m;
 }
-BENCHMARK_CAPTURE(BM_Evaluate, matrix, Evaluation::Matrix)->Arg(64)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Evaluate, fft, Evaluation::Fft)->Arg(64)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Evaluate, matrix, Evaluation::Matrix)
+    ->Arg(64)
+    ->Arg(128)
+    ->Arg(256)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_Evaluate, fft, Evaluation::Fft)
+    ->Arg(64)
+    ->Arg(128)
+    ->Arg(256)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // The same two sgemm calls per channel as the matrix evaluation, on ready float matrices.
 void BM_GemmFloor(benchmark::State& state) {
     const int n = static_cast<int>(state.range(0));
     const int m = static_cast<int>(std::ceil(n * kTy / kTx));
     std::vector<float> Z(static_cast<std::size_t>(4) * n * m, 0.5f), Y(static_cast<std::size_t>(2) * m * kH, 0.25f),
-        X(static_cast<std::size_t>(2) * n * kW, 0.25f), T(static_cast<std::size_t>(2) * n * kH), I(static_cast<std::size_t>(kW) * kH);
+        X(static_cast<std::size_t>(2) * n * kW, 0.25f), T(static_cast<std::size_t>(2) * n * kH),
+        I(static_cast<std::size_t>(kW) * kH);
     for (auto _ : state)
         for (int c = 0; c < 3; ++c) {
-            cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, 2 * n, kH, 2 * m, 1.0f, Z.data(), 2 * m, Y.data(), kH, 0.0f, T.data(), kH);
-            cblas_sgemm(CblasRowMajor, CblasTrans, CblasNoTrans, kH, kW, 2 * n, 1.0f, T.data(), kH, X.data(), kW, 0.0f, I.data(), kW);
+            cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, 2 * n, kH, 2 * m, 1.0f, Z.data(), 2 * m, Y.data(),
+                        kH, 0.0f, T.data(), kH);
+            cblas_sgemm(CblasRowMajor, CblasTrans, CblasNoTrans, kH, kW, 2 * n, 1.0f, T.data(), kH, X.data(), kW, 0.0f,
+                        I.data(), kW);
             benchmark::DoNotOptimize(I.data());
         }
-    state.counters["GFLOP/s"] = benchmark::Counter(3.0 * (8.0 * n * m * kH + 4.0 * n * double(kW) * kH), benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["GFLOP/s"] = benchmark::Counter(3.0 * (8.0 * n * m * kH + 4.0 * n * double(kW) * kH),
+                                                   benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_GemmFloor)->Arg(64)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -110,12 +124,22 @@ void BM_Accumulate(benchmark::State& state, Accumulation method) {
         benchmark::DoNotOptimize(z.z[0].data());
     }
     std::size_t gridded = 0;
-    for (const AccumulationGroup& group : plan.groups) gridded += group.method == Accumulation::Grid ? group.members.size() : 0;
+    for (const AccumulationGroup& group : plan.groups)
+        gridded += group.method == Accumulation::Grid ? group.members.size() : 0;
     state.counters["gridded"] = double(gridded);
 }
-BENCHMARK_CAPTURE(BM_Accumulate, gemm, Accumulation::Gemm)->RangeMultiplier(10)->Range(100, 100000)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Accumulate, grid, Accumulation::Grid)->RangeMultiplier(10)->Range(100, 100000)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Accumulate, auto, Accumulation::Auto)->RangeMultiplier(10)->Range(100, 100000)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Accumulate, gemm, Accumulation::Gemm)
+    ->RangeMultiplier(10)
+    ->Range(100, 100000)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_Accumulate, grid, Accumulation::Grid)
+    ->RangeMultiplier(10)
+    ->Range(100, 100000)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_Accumulate, auto, Accumulation::Auto) -> RangeMultiplier(10) -> Range(100, 100000)
+    -> Unit(benchmark::kMillisecond) -> UseRealTime();
 
 // Every ghost evaluated at every pixel (pixel centres, no footprint): K W H exponentials per channel.
 void BM_DirectFullFrame(benchmark::State& state) {
@@ -143,17 +167,21 @@ BENCHMARK(BM_DirectFullFrame)->Arg(10)->Arg(100)->Unit(benchmark::kMillisecond)-
 void BM_DirectSeparable(benchmark::State& state) {
     const int K = static_cast<int>(state.range(0));
     const auto g = ghosts(K);
-    std::vector<float> gx(static_cast<std::size_t>(K) * kW), gy(static_cast<std::size_t>(K) * kH), image(static_cast<std::size_t>(kW) * kH);
+    std::vector<float> gx(static_cast<std::size_t>(K) * kW), gy(static_cast<std::size_t>(K) * kH),
+        image(static_cast<std::size_t>(kW) * kH);
     for (auto _ : state)
         for (int c = 0; c < 3; ++c) {
             for (int k = 0; k < K; ++k) {
                 const Ghost& q = g[static_cast<std::size_t>(k)];
                 for (int x = 0; x < kW; ++x)
-                    gx[static_cast<std::size_t>(k) * kW + x] = static_cast<float>(q.peak(c) * profileIntegral(q.shape, q.widthX[c], x - q.x, x + 1 - q.x));
+                    gx[static_cast<std::size_t>(k) * kW + x] =
+                        static_cast<float>(q.peak(c) * profileIntegral(q.shape, q.widthX[c], x - q.x, x + 1 - q.x));
                 for (int y = 0; y < kH; ++y)
-                    gy[static_cast<std::size_t>(k) * kH + y] = static_cast<float>(profileIntegral(q.shape, q.widthY[c], y - q.y, y + 1 - q.y));
+                    gy[static_cast<std::size_t>(k) * kH + y] =
+                        static_cast<float>(profileIntegral(q.shape, q.widthY[c], y - q.y, y + 1 - q.y));
             }
-            cblas_sgemm(CblasRowMajor, CblasTrans, CblasNoTrans, kH, kW, K, 1.0f, gy.data(), kH, gx.data(), kW, 0.0f, image.data(), kW);
+            cblas_sgemm(CblasRowMajor, CblasTrans, CblasNoTrans, kH, kW, K, 1.0f, gy.data(), kH, gx.data(), kW, 0.0f,
+                        image.data(), kW);
             benchmark::DoNotOptimize(image.data());
         }
 }
@@ -212,8 +240,17 @@ void BM_AccuracyAgainstDirect(benchmark::State& state, Basis basis) {
     state.counters["N"] = r.plan.n;
     state.counters["direct"] = double(r.plan.direct);
 }
-BENCHMARK_CAPTURE(BM_AccuracyAgainstDirect, separable, Basis::Separable)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
-BENCHMARK_CAPTURE(BM_AccuracyAgainstDirect, bessel, Basis::Bessel)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_AccuracyAgainstDirect, separable, Basis::Separable)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
+BENCHMARK_CAPTURE(BM_AccuracyAgainstDirect, bessel, Basis::Bessel)
+    ->Arg(0)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
 
 } // namespace
 

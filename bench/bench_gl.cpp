@@ -47,9 +47,12 @@ ff::gpu::GlBackend* backend(std::string& why) {
 ff::gpu::GlBackend* backendFor(benchmark::State& state, bool heavy) {
     std::string why;
     ff::gpu::GlBackend* gl = backend(why);
-    if (!gl) state.SkipWithError(("no OpenGL 4.5 context: " + why).c_str());
-    else if (heavy && !gl->context().hardware()) state.SkipWithError("software rasteriser: skipped (minutes per iteration)");
-    else state.SetLabel(gl->context().renderer());
+    if (!gl)
+        state.SkipWithError(("no OpenGL 4.5 context: " + why).c_str());
+    else if (heavy && !gl->context().hardware())
+        state.SkipWithError("software rasteriser: skipped (minutes per iteration)");
+    else
+        state.SetLabel(gl->context().renderer());
     return gl && (!heavy || gl->context().hardware()) ? gl : nullptr;
 }
 
@@ -102,7 +105,8 @@ void BM_GlCopyFloor(benchmark::State& state) {
         glFinish();
         state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count());
     }
-    state.counters["GB/s copied"] = benchmark::Counter(double(bytes) * 1e-9, benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["GB/s copied"] =
+        benchmark::Counter(double(bytes) * 1e-9, benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_GlCopyFloor)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseManualTime();
 

@@ -20,8 +20,7 @@ const Lens& zoomLens() {
 
 void BM_ParaxialTrace_Baseline(benchmark::State& state) {
     const Lens& lens = zoomLens();
-    for (auto _ : state)
-        benchmark::DoNotOptimize(traceParaxial(lens, lines::d, {1.0, 0.0}, 0, lens.surfaces.size()));
+    for (auto _ : state) benchmark::DoNotOptimize(traceParaxial(lens, lines::d, {1.0, 0.0}, 0, lens.surfaces.size()));
     state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_ParaxialTrace_Baseline);
@@ -41,7 +40,8 @@ void BM_FirstOrderAnalysis(benchmark::State& state) {
 BENCHMARK(BM_FirstOrderAnalysis);
 
 void BM_LoadLensFile(benchmark::State& state) {
-    for (auto _ : state) benchmark::DoNotOptimize(loadLens(std::string(FF_SOURCE_DIR) + "/lenses/zoom-70-200mm-f2.8.lens"));
+    for (auto _ : state)
+        benchmark::DoNotOptimize(loadLens(std::string(FF_SOURCE_DIR) + "/lenses/zoom-70-200mm-f2.8.lens"));
 }
 BENCHMARK(BM_LoadLensFile);
 

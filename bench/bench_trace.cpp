@@ -52,8 +52,10 @@ void traceRays(benchmark::State& state, const char* file, int grid) {
     for (auto _ : state) {
         arena.execute([&] {
             for (const auto& steps : paths) {
-                if constexpr (UseEmbree) w.tracer->trace(*w.L, steps, w.bundle.rays, out);
-                else traceAnalytic(*w.L, steps, w.bundle.rays, out);
+                if constexpr (UseEmbree)
+                    w.tracer->trace(*w.L, steps, w.bundle.rays, out);
+                else
+                    traceAnalytic(*w.L, steps, w.bundle.rays, out);
             }
         });
         benchmark::DoNotOptimize(out.data());
@@ -61,14 +63,30 @@ void traceRays(benchmark::State& state, const char* file, int grid) {
     state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * paths.size() * w.bundle.rays.size()));
 }
 
-void BM_DoubleGauss_Direct_Analytic_Baseline(benchmark::State& s) { traceRays<false, false>(s, "double-gauss-50mm-f2.lens", 64); }
-void BM_DoubleGauss_Direct_Embree(benchmark::State& s) { traceRays<true, false>(s, "double-gauss-50mm-f2.lens", 64); }
-void BM_DoubleGauss_Ghosts_Analytic(benchmark::State& s) { traceRays<false, true>(s, "double-gauss-50mm-f2.lens", 64); }
-void BM_DoubleGauss_Ghosts_Embree(benchmark::State& s) { traceRays<true, true>(s, "double-gauss-50mm-f2.lens", 64); }
-void BM_Zoom_Direct_Analytic(benchmark::State& s) { traceRays<false, false>(s, "zoom-70-200mm-f2.8.lens", 64); }
-void BM_Zoom_Direct_Embree(benchmark::State& s) { traceRays<true, false>(s, "zoom-70-200mm-f2.8.lens", 64); }
-void BM_Zoom_Ghosts_Analytic(benchmark::State& s) { traceRays<false, true>(s, "zoom-70-200mm-f2.8.lens", 16); }
-void BM_Zoom_Ghosts_Embree(benchmark::State& s) { traceRays<true, true>(s, "zoom-70-200mm-f2.8.lens", 16); }
+void BM_DoubleGauss_Direct_Analytic_Baseline(benchmark::State& s) {
+    traceRays<false, false>(s, "double-gauss-50mm-f2.lens", 64);
+}
+void BM_DoubleGauss_Direct_Embree(benchmark::State& s) {
+    traceRays<true, false>(s, "double-gauss-50mm-f2.lens", 64);
+}
+void BM_DoubleGauss_Ghosts_Analytic(benchmark::State& s) {
+    traceRays<false, true>(s, "double-gauss-50mm-f2.lens", 64);
+}
+void BM_DoubleGauss_Ghosts_Embree(benchmark::State& s) {
+    traceRays<true, true>(s, "double-gauss-50mm-f2.lens", 64);
+}
+void BM_Zoom_Direct_Analytic(benchmark::State& s) {
+    traceRays<false, false>(s, "zoom-70-200mm-f2.8.lens", 64);
+}
+void BM_Zoom_Direct_Embree(benchmark::State& s) {
+    traceRays<true, false>(s, "zoom-70-200mm-f2.8.lens", 64);
+}
+void BM_Zoom_Ghosts_Analytic(benchmark::State& s) {
+    traceRays<false, true>(s, "zoom-70-200mm-f2.8.lens", 16);
+}
+void BM_Zoom_Ghosts_Embree(benchmark::State& s) {
+    traceRays<true, true>(s, "zoom-70-200mm-f2.8.lens", 16);
+}
 BENCHMARK(BM_DoubleGauss_Direct_Analytic_Baseline)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_DoubleGauss_Direct_Embree)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_DoubleGauss_Ghosts_Analytic)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();

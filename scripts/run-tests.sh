@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # Quick start, second command (and what CI runs): install what is missing, then
+#   stage 0: the C++ sources formatted as .clang-format says (scripts/check-format.sh);
 #   stage 1: Release build, whole test suite through CTest;
 #   stage 2: AddressSanitizer + UndefinedBehaviorSanitizer build, whole test suite again.
 # Exits non-zero if any stage fails.
@@ -7,6 +8,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 jobs="$(nproc 2>/dev/null || echo 2)"
+
+echo "== stage 0: formatting"
+scripts/check-format.sh
 
 echo "== stage 1: Release build and tests"
 scripts/build.sh release

@@ -10,14 +10,20 @@
 
 namespace ff::test {
 
-inline std::filesystem::path sourceDir() { return FF_SOURCE_DIR; }
-inline std::filesystem::path lensPath(const std::string& name) { return sourceDir() / "lenses" / name; }
+inline std::filesystem::path sourceDir() {
+    return FF_SOURCE_DIR;
+}
+inline std::filesystem::path lensPath(const std::string& name) {
+    return sourceDir() / "lenses" / name;
+}
 /// ../shared/data beside the repository; tests that need it skip when it is absent.
-inline std::filesystem::path sharedDataDir() { return FF_SHARED_DATA_DIR; }
+inline std::filesystem::path sharedDataDir() {
+    return FF_SHARED_DATA_DIR;
+}
 
 /// A fresh temporary folder, removed when the object goes away.
 class TempDir {
-public:
+  public:
     TempDir() {
         std::random_device rd;
         path_ = std::filesystem::temp_directory_path() / ("fftest-" + std::to_string(rd()) + std::to_string(rd()));
@@ -32,7 +38,7 @@ public:
     const std::filesystem::path& path() const { return path_; }
     std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
 
-private:
+  private:
     std::filesystem::path path_;
 };
 

@@ -53,7 +53,8 @@ struct Canvas {
     // A soft glow (light scattered in the air or pooled on the ground): Gaussian falloff.
     void glow(double cx, double cy, double sx, double sy, const Rgb& c) {
         for (int y = std::max(0, static_cast<int>(cy - 4 * sy)); y < std::min(kH, static_cast<int>(cy + 4 * sy)); ++y)
-            for (int x = std::max(0, static_cast<int>(cx - 4 * sx)); x < std::min(kW, static_cast<int>(cx + 4 * sx)); ++x) {
+            for (int x = std::max(0, static_cast<int>(cx - 4 * sx)); x < std::min(kW, static_cast<int>(cx + 4 * sx));
+                 ++x) {
                 const double dx = (x + 0.5 - cx) / sx, dy = (y + 0.5 - cy) / sy;
                 add(x, y, c, static_cast<float>(std::exp(-0.5 * (dx * dx + dy * dy))));
             }
@@ -73,7 +74,9 @@ int main(int argc, char** argv) {
         for (int x = 0; x < kW; ++x) {
             const double t = double(y) / kHorizon, sunward = std::exp(-std::pow((x - 1060.0) / 420.0, 2));
             const double warm = std::pow(t, 3.0) * (0.25 + 0.75 * sunward);
-            c.set(x, y, {static_cast<float>(0.012 + 0.42 * warm), static_cast<float>(0.018 + 0.20 * warm), static_cast<float>(0.05 + 0.06 * warm)});
+            c.set(x, y,
+                  {static_cast<float>(0.012 + 0.42 * warm), static_cast<float>(0.018 + 0.20 * warm),
+                   static_cast<float>(0.05 + 0.06 * warm)});
         }
     // The low sun on the horizon haze: some 1e5 times the sky, as the real one (half float tops out at 65504).
     c.glow(1060, 372, 60, 22, {1.6f, 0.7f, 0.25f});
@@ -94,14 +97,17 @@ int main(int argc, char** argv) {
     for (int y = kHorizon + 40; y < kH; ++y)
         for (int x = 0; x < kW; ++x) {
             const double depth = double(y - kHorizon) / (kH - kHorizon);
-            c.set(x, y, {static_cast<float>(0.010 + 0.02 * depth), static_cast<float>(0.010 + 0.018 * depth), static_cast<float>(0.012 + 0.016 * depth)});
+            c.set(x, y,
+                  {static_cast<float>(0.010 + 0.02 * depth), static_cast<float>(0.010 + 0.018 * depth),
+                   static_cast<float>(0.012 + 0.016 * depth)});
         }
     // Sodium street lamps along the left kerb, receding: pole, a bright lamp head, a pool of light.
     for (int i = 0; i < 6; ++i) {
-        const double s = std::pow(0.72, i);            // perspective scale
+        const double s = std::pow(0.72, i); // perspective scale
         const double x = 720.0 - 560.0 * s, base = kHorizon + 40 + 280 * s;
         const double top = base - 330 * s;
-        c.rect(static_cast<int>(x - 2 * s), static_cast<int>(top), static_cast<int>(x + 2 * s) + 1, static_cast<int>(base), {0.004f, 0.004f, 0.004f});
+        c.rect(static_cast<int>(x - 2 * s), static_cast<int>(top), static_cast<int>(x + 2 * s) + 1,
+               static_cast<int>(base), {0.004f, 0.004f, 0.004f});
         c.glow(x, base - 4 * s, 90 * s, 18 * s, {0.45f, 0.28f, 0.08f});
         c.glow(x + 10 * s, top, 26 * s, 26 * s, {0.9f, 0.55f, 0.15f});
         c.disc(x + 10 * s, top, std::max(1.6, 6.0 * s), {900.0f, 560.0f, 160.0f});
@@ -120,10 +126,13 @@ int main(int argc, char** argv) {
     spec.channelnames = {"R", "G", "B"};
     spec.attribute("compression", "zip");
     spec.attribute("Software", "FourierFlare tools/make_default_plate.cpp");
-    spec.attribute("ImageDescription", "Synthetic night street with a low sun, street lamps, windows, headlights and a traffic light (scene-linear)");
+    spec.attribute(
+        "ImageDescription",
+        "Synthetic night street with a low sun, street lamps, windows, headlights and a traffic light (scene-linear)");
     auto out = OIIO::ImageOutput::create(argv[1]);
     if (!out || !out->open(argv[1], spec) || !out->write_image(OIIO::TypeDesc::FLOAT, c.px.data()) || !out->close()) {
-        std::fprintf(stderr, "make-default-plate: cannot write %s: %s\n", argv[1], out ? out->geterror().c_str() : OIIO::geterror().c_str());
+        std::fprintf(stderr, "make-default-plate: cannot write %s: %s\n", argv[1],
+                     out ? out->geterror().c_str() : OIIO::geterror().c_str());
         return 1;
     }
     return 0;

@@ -45,22 +45,29 @@ struct CompareOptions {
 };
 
 using Clock = std::chrono::steady_clock;
-double seconds(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double seconds(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 nlohmann::json toJson(const image::ImageError& e) {
     auto finite = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
-    return {{"relativeL2", finite(e.relativeL2)}, {"psnrDb", finite(e.psnrDb)}, {"maxAbs", e.maxAbs},
-            {"maxRelative", e.maxRelative}, {"fluxRatio", e.fluxRatio}};
+    return {{"relativeL2", finite(e.relativeL2)},
+            {"psnrDb", finite(e.psnrDb)},
+            {"maxAbs", e.maxAbs},
+            {"maxRelative", e.maxRelative},
+            {"fluxRatio", e.fluxRatio}};
 }
 
 std::string row(const std::string& what, const image::ImageError& e) {
     char buf[256];
-    std::snprintf(buf, sizeof buf, "| %s | %.3e | %.1f | %.3e | %.4f |\n", what.c_str(), e.relativeL2, e.psnrDb, e.maxRelative, e.fluxRatio);
+    std::snprintf(buf, sizeof buf, "| %s | %.3e | %.1f | %.3e | %.4f |\n", what.c_str(), e.relativeL2, e.psnrDb,
+                  e.maxRelative, e.fluxRatio);
     return buf;
 }
 
 // Log-log plot of relative L2 against N, one polyline per series, as a small standalone SVG.
-std::string errorPlot(const std::vector<int>& ns, const std::vector<std::pair<std::string, std::vector<double>>>& series, double budget) {
+std::string errorPlot(const std::vector<int>& ns,
+                      const std::vector<std::pair<std::string, std::vector<double>>>& series, double budget) {
     const double W = 640, H = 400, left = 70, right = 150, top = 20, bottom = 50;
     double lo = budget, hi = budget;
     for (const auto& s : series)
@@ -70,18 +77,25 @@ std::string errorPlot(const std::vector<int>& ns, const std::vector<std::pair<st
     const double lx0 = std::log2(ns.front()), lx1 = std::max(lx0 + 1, std::log2(ns.back()));
     auto X = [&](double n) { return left + (std::log2(n) - lx0) / (lx1 - lx0) * (W - left - right); };
     auto Y = [&](double v) { return top + (ly1 - std::log10(v)) / (ly1 - ly0) * (H - top - bottom); };
-    std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"640\" height=\"400\" font-family=\"sans-serif\" font-size=\"12\">\n"
+    std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"640\" height=\"400\" "
+                      "font-family=\"sans-serif\" font-size=\"12\">\n"
                       "<rect width=\"640\" height=\"400\" fill=\"white\"/>\n";
     for (double e = ly0; e <= ly1; ++e)
-        svg += "<line x1=\"" + text::fixed(left, 1) + "\" x2=\"" + text::fixed(W - right, 1) + "\" y1=\"" + text::fixed(Y(std::pow(10, e)), 1) + "\" y2=\"" +
-               text::fixed(Y(std::pow(10, e)), 1) + "\" stroke=\"#ddd\"/><text x=\"" + text::fixed(left - 8, 1) + "\" y=\"" +
-               text::fixed(Y(std::pow(10, e)) + 4, 1) + "\" text-anchor=\"end\">1e" + std::to_string(static_cast<int>(e)) + "</text>\n";
+        svg += "<line x1=\"" + text::fixed(left, 1) + "\" x2=\"" + text::fixed(W - right, 1) + "\" y1=\"" +
+               text::fixed(Y(std::pow(10, e)), 1) + "\" y2=\"" + text::fixed(Y(std::pow(10, e)), 1) +
+               "\" stroke=\"#ddd\"/><text x=\"" + text::fixed(left - 8, 1) + "\" y=\"" +
+               text::fixed(Y(std::pow(10, e)) + 4, 1) + "\" text-anchor=\"end\">1e" +
+               std::to_string(static_cast<int>(e)) + "</text>\n";
     for (int n : ns)
-        svg += "<text x=\"" + text::fixed(X(n), 1) + "\" y=\"" + text::fixed(H - bottom + 18, 1) + "\" text-anchor=\"middle\">" + std::to_string(n) + "</text>\n";
-    svg += "<text x=\"" + text::fixed(0.5 * (left + W - right), 1) + "\" y=\"" + text::fixed(H - 10, 1) + "\" text-anchor=\"middle\">N (terms along x)</text>\n";
-    svg += "<text x=\"16\" y=\"" + text::fixed(0.5 * H, 1) + "\" transform=\"rotate(-90 16 " + text::fixed(0.5 * H, 1) + ")\" text-anchor=\"middle\">relative L2 error</text>\n";
-    svg += "<line x1=\"" + text::fixed(left, 1) + "\" x2=\"" + text::fixed(W - right, 1) + "\" y1=\"" + text::fixed(Y(budget), 1) + "\" y2=\"" +
-           text::fixed(Y(budget), 1) + "\" stroke=\"#888\" stroke-dasharray=\"4 3\"/><text x=\"" + text::fixed(W - right + 6, 1) + "\" y=\"" +
+        svg += "<text x=\"" + text::fixed(X(n), 1) + "\" y=\"" + text::fixed(H - bottom + 18, 1) +
+               "\" text-anchor=\"middle\">" + std::to_string(n) + "</text>\n";
+    svg += "<text x=\"" + text::fixed(0.5 * (left + W - right), 1) + "\" y=\"" + text::fixed(H - 10, 1) +
+           "\" text-anchor=\"middle\">N (terms along x)</text>\n";
+    svg += "<text x=\"16\" y=\"" + text::fixed(0.5 * H, 1) + "\" transform=\"rotate(-90 16 " + text::fixed(0.5 * H, 1) +
+           ")\" text-anchor=\"middle\">relative L2 error</text>\n";
+    svg += "<line x1=\"" + text::fixed(left, 1) + "\" x2=\"" + text::fixed(W - right, 1) + "\" y1=\"" +
+           text::fixed(Y(budget), 1) + "\" y2=\"" + text::fixed(Y(budget), 1) +
+           "\" stroke=\"#888\" stroke-dasharray=\"4 3\"/><text x=\"" + text::fixed(W - right + 6, 1) + "\" y=\"" +
            text::fixed(Y(budget) + 4, 1) + "\">budget</text>\n";
     const char* colours[] = {"#d62728", "#1f77b4", "#ff7f0e", "#2ca02c"};
     for (std::size_t s = 0; s < series.size(); ++s) {
@@ -90,9 +104,10 @@ std::string errorPlot(const std::vector<int>& ns, const std::vector<std::pair<st
             if (series[s].second[i] > 0 && std::isfinite(series[s].second[i]))
                 pts += text::fixed(X(ns[i]), 1) + "," + text::fixed(Y(series[s].second[i]), 1) + " ";
         const char* colour = colours[s % 4];
-        svg += std::string("<polyline fill=\"none\" stroke=\"") + colour + "\" stroke-width=\"2\" points=\"" + pts + "\"/>\n";
-        svg += "<text x=\"" + text::fixed(W - right + 6, 1) + "\" y=\"" + text::fixed(top + 16 + 16.0 * double(s), 1) + "\" fill=\"" + colour + "\">" +
-               series[s].first + "</text>\n";
+        svg += std::string("<polyline fill=\"none\" stroke=\"") + colour + "\" stroke-width=\"2\" points=\"" + pts +
+               "\"/>\n";
+        svg += "<text x=\"" + text::fixed(W - right + 6, 1) + "\" y=\"" + text::fixed(top + 16 + 16.0 * double(s), 1) +
+               "\" fill=\"" + colour + "\">" + series[s].first + "</text>\n";
     }
     return svg + "</svg>\n";
 }
@@ -147,7 +162,8 @@ std::string compareDiffraction(const CompareOptions& o, const optics::Lens& lens
 
 void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     if (int(!o.lights.empty()) + int(!o.lightsFile.empty()) + int(!o.plate.empty()) != 1)
-        throw Error(ErrorKind::Usage, "give the lights with --light X,Y[,R,G,B] (repeatable), --lights FILE or --plate IMAGE");
+        throw Error(ErrorKind::Usage,
+                    "give the lights with --light X,Y[,R,G,B] (repeatable), --lights FILE or --plate IMAGE");
     // With a plate, its lights (found as simulate finds them) and, unless --size says otherwise, its size.
     std::vector<ghosts::Light> plateLights;
     std::string size = o.size;
@@ -162,11 +178,16 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
         for (const auto& l : found.lights) plateLights.push_back({l.x, l.y, l.flux});
         // The traced reference costs seconds per light: keep the strongest.
         std::stable_sort(plateLights.begin(), plateLights.end(), [](const ghosts::Light& a, const ghosts::Light& b) {
-            return image::luminance(a.flux[0], a.flux[1], a.flux[2]) > image::luminance(b.flux[0], b.flux[1], b.flux[2]);
+            return image::luminance(a.flux[0], a.flux[1], a.flux[2]) >
+                   image::luminance(b.flux[0], b.flux[1], b.flux[2]);
         });
-        if (plateLights.size() > static_cast<std::size_t>(o.maxLights)) plateLights.resize(static_cast<std::size_t>(o.maxLights));
-        if (plateLights.empty()) throw Error(ErrorKind::Input, SourceLocation{o.plate}, "no light above the threshold (luminance " + text::fixed(found.threshold, 3) + ") to compare");
-        if (size.empty()) size = std::to_string(plate.displayWidth) + "x" + std::to_string(plate.displayHeight);
+        if (plateLights.size() > static_cast<std::size_t>(o.maxLights))
+            plateLights.resize(static_cast<std::size_t>(o.maxLights));
+        if (plateLights.empty())
+            throw Error(ErrorKind::Input, SourceLocation{o.plate},
+                        "no light above the threshold (luminance " + text::fixed(found.threshold, 3) + ") to compare");
+        if (size.empty())
+            size = std::to_string(plate.displayWidth) + "x" + std::to_string(plate.displayHeight);
         else {
             // Positions scale with the frame (the frame spans the sensor width); fluxes do not.
             const double scale = double(parseFrameSize(size, "--size", 8, 8192).first) / plate.displayWidth;
@@ -178,13 +199,15 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     std::vector<int> ns;
     for (auto p : text::split(o.ns, ',')) {
         const auto v = text::parseNumber(p);
-        if (!v || *v < 1 || *v > 2048 || *v != std::floor(*v)) throw Error(ErrorKind::Usage, "expected --n as whole numbers 1..2048, got " + text::quoted(o.ns));
+        if (!v || *v < 1 || *v > 2048 || *v != std::floor(*v))
+            throw Error(ErrorKind::Usage, "expected --n as whole numbers 1..2048, got " + text::quoted(o.ns));
         ns.push_back(static_cast<int>(*v));
     }
     std::sort(ns.begin(), ns.end());
     namespace fs = std::filesystem;
     const fs::path dir(o.output);
-    if (fs::exists(dir) && !fs::is_directory(dir)) throw Error(ErrorKind::Usage, "the report folder '" + o.output + "' exists and is not a folder");
+    if (fs::exists(dir) && !fs::is_directory(dir))
+        throw Error(ErrorKind::Usage, "the report folder '" + o.output + "' exists and is not a folder");
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec) throw Error(ErrorKind::Runtime, "cannot create the report folder '" + o.output + "': " + ec.message());
@@ -195,8 +218,10 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     if (!o.sensorSize.empty()) sensorMm = parseSensorSize(o.sensorSize, "--sensor-size");
     std::vector<ghosts::Light> lights = o.lightsFile.empty() ? plateLights : readLightsJson(o.lightsFile);
     for (const std::string& l : o.lights) lights.push_back(parseLight(l));
-    const image::Metadata meta = {{"Software", std::string("fourierflare ") + kVersion}, {"fourierflare:commandLine", g.commandLine},
-                                  {"fourierflare:lens", lens.file}, {"fourierflare:lensHash", lens.contentHash}};
+    const image::Metadata meta = {{"Software", std::string("fourierflare ") + kVersion},
+                                  {"fourierflare:commandLine", g.commandLine},
+                                  {"fourierflare:lens", lens.file},
+                                  {"fourierflare:lensHash", lens.contentHash}};
     auto say = [&](const std::string& s) {
         if (!g.quiet) std::fprintf(stderr, "fourierflare: %s\n", s.c_str());
     };
@@ -250,19 +275,24 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     report["reference"]["against"] = "the traced render with twice the refinement (--refine 2)";
     report["fourierBackend"] = base.backend ? base.backend->describe() : std::string("cpu");
     std::string md = "# Flare comparison: " + lens.name + "\n\n";
-    md += "Lens `" + lens.file + "`, frame " + std::to_string(W) + " x " + std::to_string(H) + " px over " + text::fixed(sensorMm.first, 1) + " x " +
-          text::fixed(sensorMm.second, 1) + " mm, " + std::to_string(lights.size()) + " light(s). Images are flux per pixel relative to each light's "
-          "direct image; previews share one exposure (" + text::fixed(exposure, 2) + " EV, from the traced image).\n\n";
+    md += "Lens `" + lens.file + "`, frame " + std::to_string(W) + " x " + std::to_string(H) + " px over " +
+          text::fixed(sensorMm.first, 1) + " x " + text::fixed(sensorMm.second, 1) + " mm, " +
+          std::to_string(lights.size()) +
+          " light(s). Images are flux per pixel relative to each light's "
+          "direct image; previews share one exposure (" +
+          text::fixed(exposure, 2) + " EV, from the traced image).\n\n";
     if (!o.plate.empty())
-        md += "Lights: the " + std::to_string(lights.size()) + " strongest of the " + std::to_string(plateLightCount) + " found in `" + o.plate +
-              "` (threshold " + o.threshold + ").\n\n";
+        md += "Lights: the " + std::to_string(lights.size()) + " strongest of the " + std::to_string(plateLightCount) +
+              " found in `" + o.plate + "` (threshold " + o.threshold + ").\n\n";
     md += "- **traced**: every ghost ray-traced (adaptive pupil grids from " + std::to_string(o.grid) +
           "² cells, 450/550/650 nm; " + tracedScene.describeRefinement() + ") and rasterised — the reference.\n";
     md += "- **shaped**: every ghost as the mesh its rays draw on the sensor (pupil grids with the apertures' edges "
           "clipped exactly, "
           "interpolated over field angle; docs/ghost-table.md), drawn with the traced renderer's raster.\n";
-    md += "- **fitted**: the ghost table's profiles (per ghost, field angle and wavelength), axis-aligned, drawn directly over every pixel (no truncation).\n";
-    md += "- **fourier**: the same profiles aggregated through the separable Fourier series (budget " + text::roundTrip(base.error) + ", hybrid).\n\n";
+    md += "- **fitted**: the ghost table's profiles (per ghost, field angle and wavelength), axis-aligned, drawn "
+          "directly over every pixel (no truncation).\n";
+    md += "- **fourier**: the same profiles aggregated through the separable Fourier series (budget " +
+          text::roundTrip(base.error) + ", hybrid).\n\n";
     md += "| comparison | relative L2 | PSNR (dB) | max error / peak | flux ratio |\n|---|---|---|---|---|\n";
     md += row("traced vs traced refined twice as far (the reference's own error)", eReference);
 
@@ -314,7 +344,8 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
         const std::vector<float> fittedRgb = fitted.interleaved(), fourierRgb = four.image.interleaved();
         save("fitted-" + name, fittedRgb);
         save("fourier-" + name, fourierRgb);
-        const auto eFit = image::compareImages(fittedRgb, tracedRgb), eTrunc = image::compareImages(fourierRgb, fittedRgb),
+        const auto eFit = image::compareImages(fittedRgb, tracedRgb),
+                   eTrunc = image::compareImages(fourierRgb, fittedRgb),
                    eTotal = image::compareImages(fourierRgb, tracedRgb);
         if (base.basis == fourier::Basis::Bessel) {
             // The Bessel basis draws each ghost isotropic: separate that model change from the truncation.
@@ -322,40 +353,55 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
             for (auto& k : iso)
                 for (int c = 0; c < 3; ++c) k.widthX[c] = k.widthY[c] = std::sqrt(k.widthX[c] * k.widthY[c]);
             const std::vector<float> isoRgb = fourier::renderDirect(iso, W, H).interleaved();
-            const auto eIso = image::compareImages(isoRgb, fittedRgb), eTruncIso = image::compareImages(fourierRgb, isoRgb);
+            const auto eIso = image::compareImages(isoRgb, fittedRgb),
+                       eTruncIso = image::compareImages(fourierRgb, isoRgb);
             md += row("fitted " + name + " made isotropic vs fitted (the Bessel basis's model)", eIso) +
                   row("fourier-bessel " + name + " vs isotropic fitted (truncation)", eTruncIso);
             report["profiles"][name]["isotropicVsFitted"] = toJson(eIso);
             report["profiles"][name]["fourierVsIsotropic"] = toJson(eTruncIso);
         }
         // Difference pictures, each scaled to its own 99.9th percentile of |luminance difference|.
-        const std::vector<std::pair<std::string, std::pair<const std::vector<float>*, const std::vector<float>*>>> diffs = {
-            {"diff-fitted-" + name + "-vs-traced", {&fittedRgb, &tracedRgb}},
-            {"diff-fourier-" + name + "-vs-fitted", {&fourierRgb, &fittedRgb}},
-            {"diff-fourier-" + name + "-vs-traced", {&fourierRgb, &tracedRgb}}};
+        const std::vector<std::pair<std::string, std::pair<const std::vector<float>*, const std::vector<float>*>>>
+            diffs = {{"diff-fitted-" + name + "-vs-traced", {&fittedRgb, &tracedRgb}},
+                     {"diff-fourier-" + name + "-vs-fitted", {&fourierRgb, &fittedRgb}},
+                     {"diff-fourier-" + name + "-vs-traced", {&fourierRgb, &tracedRgb}}};
         nlohmann::json scales;
         for (const auto& [file, pair] : diffs) {
             const double scale = image::differenceQuantile(*pair.first, *pair.second, 0.999);
-            image::writePng((dir / (file + ".png")).string(), W, H, image::differencePicture(*pair.first, *pair.second, scale), meta);
+            image::writePng((dir / (file + ".png")).string(), W, H,
+                            image::differencePicture(*pair.first, *pair.second, scale), meta);
             scales[file] = scale;
         }
-        const std::string truncation = base.basis == fourier::Basis::Bessel ? " vs fitted (isotropic model + truncation)" : " vs fitted (truncation)";
+        const std::string truncation = base.basis == fourier::Basis::Bessel
+                                           ? " vs fitted (isotropic model + truncation)"
+                                           : " vs fitted (truncation)";
         md += row("fitted " + name + " vs traced (profile model)", eFit) + row("fourier " + name + truncation, eTrunc) +
               row("fourier " + name + " vs traced (total)", eTotal);
-        timing += "| fitted " + name + " (direct, " + std::to_string(ghosts.size()) + " ghosts) | " + text::fixed(fittedSeconds, 3) + " |\n";
-        timing += "| fourier " + name + " (" + four.describe() + ") | " + text::fixed(four.seconds.total(), 3) + " (accumulate " +
-                  text::fixed(four.seconds.accumulate, 3) + ", evaluate " + text::fixed(four.seconds.evaluate, 3) + ", direct " +
-                  text::fixed(four.seconds.direct, 3) + ") |\n";
+        timing += "| fitted " + name + " (direct, " + std::to_string(ghosts.size()) + " ghosts) | " +
+                  text::fixed(fittedSeconds, 3) + " |\n";
+        timing += "| fourier " + name + " (" + four.describe() + ") | " + text::fixed(four.seconds.total(), 3) +
+                  " (accumulate " + text::fixed(four.seconds.accumulate, 3) + ", evaluate " +
+                  text::fixed(four.seconds.evaluate, 3) + ", direct " + text::fixed(four.seconds.direct, 3) + ") |\n";
         nlohmann::json& p = report["profiles"][name];
         p["ghosts"] = ghosts.size();
         p["fittedVsTraced"] = toJson(eFit);
         p["fourierVsFitted"] = toJson(eTrunc);
         p["fourierVsTraced"] = toJson(eTotal);
-        p["fourier"] = {{"plan", four.describe()}, {"n", four.plan.n}, {"m", four.plan.m}, {"periodX", four.plan.periodX},
-                        {"periodY", four.plan.periodY}, {"throughFourier", four.fourierCount()}, {"direct", four.directCount()},
-                        {"culled", four.culledCount()}, {"coarseLevel", four.coarse ? four.coarse->describe() : std::string()}, {"evaluation", fourier::toString(four.plan.evaluation)}};
-        p["seconds"] = {{"fitted", fittedSeconds}, {"fourier", four.seconds.total()}, {"accumulate", four.seconds.accumulate},
-                        {"evaluate", four.seconds.evaluate}, {"direct", four.seconds.direct}};
+        p["fourier"] = {{"plan", four.describe()},
+                        {"n", four.plan.n},
+                        {"m", four.plan.m},
+                        {"periodX", four.plan.periodX},
+                        {"periodY", four.plan.periodY},
+                        {"throughFourier", four.fourierCount()},
+                        {"direct", four.directCount()},
+                        {"culled", four.culledCount()},
+                        {"coarseLevel", four.coarse ? four.coarse->describe() : std::string()},
+                        {"evaluation", fourier::toString(four.plan.evaluation)}};
+        p["seconds"] = {{"fitted", fittedSeconds},
+                        {"fourier", four.seconds.total()},
+                        {"accumulate", four.seconds.accumulate},
+                        {"evaluate", four.seconds.evaluate},
+                        {"direct", four.seconds.direct}};
         p["differenceScales"] = scales;
         // Error against N: every ghost through Fourier with all N terms (no hybrid, no trimming; those
         // that would wrap into the frame on the coarse level), the automatic period: the truncation error.
@@ -370,18 +416,25 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
             const auto a = image::compareImages(rgb, fittedRgb), b = image::compareImages(rgb, tracedRgb);
             errFit.push_back(a.relativeL2);
             errTraced.push_back(b.relativeL2);
-            p["errorVsN"].push_back({{"n", n}, {"m", r.plan.m}, {"vsFitted", toJson(a)}, {"vsTraced", toJson(b)}, {"seconds", r.seconds.total()}});
+            p["errorVsN"].push_back({{"n", n},
+                                     {"m", r.plan.m},
+                                     {"vsFitted", toJson(a)},
+                                     {"vsTraced", toJson(b)},
+                                     {"seconds", r.seconds.total()}});
         }
         vsFitted.push_back({name + " vs fitted", errFit});
         vsTraced.push_back({name + " vs traced", errTraced});
-        say(name + ": fitted vs traced " + text::fixed(eFit.relativeL2, 4) + ", fourier vs fitted " + text::fixed(eTrunc.relativeL2, 6) + " (" +
-            four.describe() + ")");
+        say(name + ": fitted vs traced " + text::fixed(eFit.relativeL2, 4) + ", fourier vs fitted " +
+            text::fixed(eTrunc.relativeL2, 6) + " (" + four.describe() + ")");
     }
     md += "\nPSNR uses the reference's peak. Flux ratio = total flux of the image / total flux of the reference.\n\n";
     if (o.diffraction != "off") md += compareDiffraction(o, lens, lights, to, base, dir, meta, report);
-    md += "## Error against the number of terms\n\nEvery ghost through Fourier with N terms along x (M in proportion to the periods), no hybrid "
-          "split and no per-ghost trimming (ghosts whose copies would reach the frame on a period of twice its size go to a coarse level "
-          "with its own period and terms, the same in every row); relative L2 against the fitted (truncation alone) and the traced image.\n\n| N |";
+    md += "## Error against the number of terms\n\nEvery ghost through Fourier with N terms along x (M in proportion "
+          "to the periods), no hybrid "
+          "split and no per-ghost trimming (ghosts whose copies would reach the frame on a period of twice its size go "
+          "to a coarse level "
+          "with its own period and terms, the same in every row); relative L2 against the fitted (truncation alone) "
+          "and the traced image.\n\n| N |";
     for (const auto& s : vsFitted) md += " " + s.first + " |";
     for (const auto& s : vsTraced) md += " " + s.first + " |";
     md += "\n|---|";
@@ -393,7 +446,8 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
         for (const auto& s : vsTraced) md += " " + text::scientific(s.second[i], 3) + " |";
         md += "\n";
     }
-    md += "\n![error against N](error-vs-n.svg)\n\n## Wall time\n\nFourier backend: " + report["fourierBackend"].get<std::string>() + ".\n\n" + timing;
+    md += "\n![error against N](error-vs-n.svg)\n\n## Wall time\n\nFourier backend: " +
+          report["fourierBackend"].get<std::string>() + ".\n\n" + timing;
     md +=
         "\n## Files\n\n`traced`, `fitted-*`, `fourier-*` as EXR (linear) and PNG (same exposure); `diff-A-vs-B.png`: "
         "luminance of A minus B, "
@@ -412,21 +466,29 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
 
 void addCompareCommand(CLI::App& app, GlobalOptions& global) {
     auto o = std::make_shared<CompareOptions>();
-    CLI::App* cmd = app.add_subcommand("compare", "Compare the traced flare of a scene with the fitted and the Fourier-aggregated ones");
+    CLI::App* cmd = app.add_subcommand(
+        "compare", "Compare the traced flare of a scene with the fitted and the Fourier-aggregated ones");
     cmd->add_option("lens", o->lens, "Lens file (.lens, .zmx or .dat)")->required()->check(CLI::ExistingFile);
-    cmd->add_option("--light", o->lights, "A light at X,Y pixels, optionally with its RGB flux: X,Y[,R,G,B] (repeatable)");
+    cmd->add_option("--light", o->lights,
+                    "A light at X,Y pixels, optionally with its RGB flux: X,Y[,R,G,B] (repeatable)");
     cmd->add_option("--lights", o->lightsFile, "Lights from a JSON file")->check(CLI::ExistingFile);
     cmd->add_option("--plate", o->plate, "Lights found in a plate as simulate finds them (the strongest --max-lights)");
     cmd->add_option("--threshold", o->threshold, "With --plate: the light threshold (as for simulate)");
-    cmd->add_option("--max-lights", o->maxLights, "With --plate: compare the strongest N lights (tracing costs seconds per light)")->check(CLI::Range(1, 4096));
-    cmd->add_option("--size", o->size, "Frame size in pixels, WIDTHxHEIGHT (default: the plate's, else 1920x1080); the frame spans the sensor width");
+    cmd->add_option("--max-lights", o->maxLights,
+                    "With --plate: compare the strongest N lights (tracing costs seconds per light)")
+        ->check(CLI::Range(1, 4096));
+    cmd->add_option(
+        "--size", o->size,
+        "Frame size in pixels, WIDTHxHEIGHT (default: the plate's, else 1920x1080); the frame spans the sensor width");
     cmd->add_option("--n", o->ns, "Numbers of terms for the error-against-N table, comma-separated");
     cmd->add_option("-o,--output", o->output, "Report folder (created if missing)")->required();
     cmd->add_option("--grid", o->grid,
                     "Cells per side of each ghost's starting pupil grid for the traced reference (refined adaptively)")
         ->check(CLI::Range(4, 1024));
-    cmd->add_option("--table-grid", o->tableGrid, "Rays per side of each ghost's pupil grid for the ghost table")->check(CLI::Range(4, 512));
-    cmd->add_option("--sensor-size", o->sensorSize, "Sensor size in mm, WIDTHxHEIGHT (default: the lens file's, else 36x24)");
+    cmd->add_option("--table-grid", o->tableGrid, "Rays per side of each ghost's pupil grid for the ghost table")
+        ->check(CLI::Range(4, 512));
+    cmd->add_option("--sensor-size", o->sensorSize,
+                    "Sensor size in mm, WIDTHxHEIGHT (default: the lens file's, else 36x24)");
     cmd->add_option("--zoom", o->zoom, "Zoom position (label or 1-based index)");
     cmd->add_option(
            "--diffraction", o->diffraction,
@@ -434,7 +496,8 @@ void addCompareCommand(CLI::App& app, GlobalOptions& global) {
            "PSF with the lens's traced wavefront at each light's field, compared) or off")
         ->check(CLI::IsMember({"off", "physical", "traced"}));
     o->fourier.addTo(*cmd);
-    cmd->footer("Example: fourierflare compare lenses/double-gauss-50mm-f2.lens --light 1400,300 --light 600,700 --size 1920x1080 -o cmp/");
+    cmd->footer("Example: fourierflare compare lenses/double-gauss-50mm-f2.lens --light 1400,300 --light 600,700 "
+                "--size 1920x1080 -o cmp/");
     cmd->callback([o, &global] { runCompare(*o, global); });
 }
 

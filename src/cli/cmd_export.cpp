@@ -27,7 +27,8 @@ struct ExportOptions {
 };
 
 void runExport(const ExportOptions& o, const GlobalOptions& g) {
-    if (samePath(o.output, o.lens)) throw Error(ErrorKind::Usage, "the output '" + o.output + "' is the input lens file");
+    if (samePath(o.output, o.lens))
+        throw Error(ErrorKind::Usage, "the output '" + o.output + "' is the input lens file");
     ConsoleReporter reporter(g);
     const optics::Lens lens = loadTraceableLens(o.lens, o.table.zoom, reporter);
     bool cached = false;
@@ -38,17 +39,20 @@ void runExport(const ExportOptions& o, const GlobalOptions& g) {
                                           text::fixed(t.anglesDeg.back(), 2) + " deg");
     const std::size_t top = static_cast<std::size_t>(o.top);
     std::string content;
-    if (o.format == "json") content = ghosts::tableToJson(t);
-    else if (o.format == "csv") content = exporting::toCsv(t, angle, top);
+    if (o.format == "json")
+        content = ghosts::tableToJson(t);
+    else if (o.format == "csv")
+        content = exporting::toCsv(t, angle, top);
     else if (o.format == "unity") {
         std::string name = std::filesystem::path(o.output).stem().string();
         if (name.empty()) name = "FourierFlareGhosts";
         content = exporting::toUnityAsset(t, angle, top, name);
-    } else content = exporting::toUnrealPreset(t, angle);
+    } else
+        content = exporting::toUnrealPreset(t, angle);
     writeFileAtomic(o.output, content);
     if (!g.quiet)
-        std::fprintf(stderr, "fourierflare: wrote %s (%s, %zu ghosts, field angle %.2f deg; table %s)\n", o.output.c_str(), o.format.c_str(),
-                     t.ghosts.size(), angle, cached ? "from the cache" : "built");
+        std::fprintf(stderr, "fourierflare: wrote %s (%s, %zu ghosts, field angle %.2f deg; table %s)\n",
+                     o.output.c_str(), o.format.c_str(), t.ghosts.size(), angle, cached ? "from the cache" : "built");
 }
 
 } // namespace
@@ -57,11 +61,15 @@ void addExportCommand(CLI::App& app, GlobalOptions& global) {
     auto o = std::make_shared<ExportOptions>();
     CLI::App* cmd = app.add_subcommand("export", "Export a lens's ghosts for game engines (json, csv, unity, unreal)");
     cmd->add_option("lens", o->lens, "Lens file (.lens, .zmx or .dat)")->required()->check(CLI::ExistingFile);
-    cmd->add_option("--format", o->format, "json (the full table), csv (Unreal DataTable), unity (LensFlareDataSRP .asset), unreal (LensFlareTints preset)")
+    cmd->add_option("--format", o->format,
+                    "json (the full table), csv (Unreal DataTable), unity (LensFlareDataSRP .asset), unreal "
+                    "(LensFlareTints preset)")
         ->check(CLI::IsMember({"json", "csv", "unity", "unreal"}));
     cmd->add_option("-o,--output", o->output, "File to write")->required();
-    cmd->add_option("--field-angle", o->fieldAngle, "Reference field angle in degrees for csv/unity/unreal (default: half the table's range)");
-    cmd->add_option("--top", o->top, "Only the K strongest ghosts (csv, unity; 0 = all; unreal always takes 8)")->check(CLI::Range(0, 100000));
+    cmd->add_option("--field-angle", o->fieldAngle,
+                    "Reference field angle in degrees for csv/unity/unreal (default: half the table's range)");
+    cmd->add_option("--top", o->top, "Only the K strongest ghosts (csv, unity; 0 = all; unreal always takes 8)")
+        ->check(CLI::Range(0, 100000));
     o->table.addTo(*cmd);
     cmd->footer("The ghost table comes from the cache when it is there (see 'fourierflare table').\n"
                 "Example: fourierflare export lenses/double-gauss-50mm-f2.lens --format unity -o dg.asset");

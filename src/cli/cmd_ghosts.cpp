@@ -59,14 +59,19 @@ std::string padRight(const std::string& s, std::size_t width) {
 }
 
 // Avoids printing "-0.000" for values that round to zero.
-double tidy(double v) { return std::abs(v) < 5e-4 ? 0.0 : v; }
+double tidy(double v) {
+    return std::abs(v) < 5e-4 ? 0.0 : v;
+}
 
 void printPath(const trace::PathStats& p, std::size_t rank) {
     char ratio[32];
-    if (std::isfinite(p.axialRatio)) std::snprintf(ratio, sizeof ratio, "%8.3f", p.axialRatio);
-    else std::snprintf(ratio, sizeof ratio, "%8s", "n/a");
-    std::printf("  %4zu  %s %8zu %9zu %8.3f  %11.4e %11.4e  %9.3f %9.3f  %9.3f  %s  %8.3f\n", rank, padRight(p.label(), 10).c_str(),
-                p.launched, p.surviving, p.launched ? double(p.surviving) / double(p.launched) : 0.0, p.relativeEnergy, p.energyPerRay,
+    if (std::isfinite(p.axialRatio))
+        std::snprintf(ratio, sizeof ratio, "%8.3f", p.axialRatio);
+    else
+        std::snprintf(ratio, sizeof ratio, "%8s", "n/a");
+    std::printf("  %4zu  %s %8zu %9zu %8.3f  %11.4e %11.4e  %9.3f %9.3f  %9.3f  %s  %8.3f\n", rank,
+                padRight(p.label(), 10).c_str(), p.launched, p.surviving,
+                p.launched ? double(p.surviving) / double(p.launched) : 0.0, p.relativeEnergy, p.energyPerRay,
                 tidy(p.centroidX), tidy(p.centroidY), p.rmsRadius, ratio, p.onSensor);
 }
 
@@ -112,17 +117,21 @@ void runGhosts(const GhostsOptions& o, const GlobalOptions& g) {
         return;
     }
     std::printf("Ghosts of %s at %.2f deg (azimuth %.1f deg)\n", lens.name.c_str(), o.angleDeg, o.azimuthDeg);
-    std::printf("  sensor plane %.3f mm behind the first vertex (%s), sensor %gx%g mm; sampling %s, grid %dx%d; coating %s\n",
-                r.sensorZ, o.sensor.c_str(), r.sensorSizeMm.first, r.sensorSizeMm.second, o.sampling.c_str(), o.grid, o.grid, o.coating.c_str());
+    std::printf(
+        "  sensor plane %.3f mm behind the first vertex (%s), sensor %gx%g mm; sampling %s, grid %dx%d; coating %s\n",
+        r.sensorZ, o.sensor.c_str(), r.sensorSizeMm.first, r.sensorSizeMm.second, o.sampling.c_str(), o.grid, o.grid,
+        o.coating.c_str());
     std::printf("  %zu reflecting interfaces -> %zu two-bounce ghosts%s\n", r.reflectingInterfaces, nGhosts,
                 shown < nGhosts ? (", the " + std::to_string(shown) + " strongest shown").c_str() : "");
     for (const auto& w : r.wavelengths) {
         std::printf("\n%.1f nm\n", w.lambdaNm);
-        std::printf("  %4s  %-10s %8s %9s %8s  %11s %11s  %9s %9s  %9s  %8s  %8s\n", "rank", "path", "launched", "surviving", "fraction",
-                    "rel.energy", "energy/ray", "x (mm)", "y (mm)", "RMS r", "axial", "on sensor");
+        std::printf("  %4s  %-10s %8s %9s %8s  %11s %11s  %9s %9s  %9s  %8s  %8s\n", "rank", "path", "launched",
+                    "surviving", "fraction", "rel.energy", "energy/ray", "x (mm)", "y (mm)", "RMS r", "axial",
+                    "on sensor");
         printPath(w.direct, 0);
         for (std::size_t i = 0; i < shown; ++i) printPath(w.ghosts[i], i + 1);
-        std::printf("  total ghost energy / direct energy: %.4e (%.3f %%)\n", w.totalGhostRelative, 100.0 * w.totalGhostRelative);
+        std::printf("  total ghost energy / direct energy: %.4e (%.3f %%)\n", w.totalGhostRelative,
+                    100.0 * w.totalGhostRelative);
     }
 }
 
@@ -130,23 +139,31 @@ void runGhosts(const GhostsOptions& o, const GlobalOptions& g) {
 
 void addGhostsCommand(CLI::App& app, GlobalOptions& global) {
     auto o = std::make_shared<GhostsOptions>();
-    CLI::App* cmd = app.add_subcommand("ghosts", "Trace the direct image and every two-bounce ghost at one field angle and report them");
+    CLI::App* cmd = app.add_subcommand(
+        "ghosts", "Trace the direct image and every two-bounce ghost at one field angle and report them");
     cmd->add_option("lens", o->file, "Lens file (.lens, .zmx or .dat)")->required()->check(CLI::ExistingFile);
-    cmd->add_option("--angle", o->angleDeg, "Field angle of the source in degrees")->required()->check(CLI::Range(0.0, 89.0));
-    cmd->add_option("--azimuth", o->azimuthDeg, "Azimuth of the source in degrees (0: direct image at +y; counter-clockwise)");
-    cmd->add_option("--wavelength", o->wavelengths, "Wavelength(s) in nm (repeat the option for several)")->check(CLI::Range(300.0, 2000.0));
-    cmd->add_option("--coating", o->coating, "Coatings: file (as the lens says), none, or mgf2 (single quarter wave at 550 nm)")
+    cmd->add_option("--angle", o->angleDeg, "Field angle of the source in degrees")
+        ->required()
+        ->check(CLI::Range(0.0, 89.0));
+    cmd->add_option("--azimuth", o->azimuthDeg,
+                    "Azimuth of the source in degrees (0: direct image at +y; counter-clockwise)");
+    cmd->add_option("--wavelength", o->wavelengths, "Wavelength(s) in nm (repeat the option for several)")
+        ->check(CLI::Range(300.0, 2000.0));
+    cmd->add_option("--coating", o->coating,
+                    "Coatings: file (as the lens says), none, or mgf2 (single quarter wave at 550 nm)")
         ->check(CLI::IsMember({"file", "none", "mgf2"}));
     cmd->add_option("--sampling", o->sampling, "Pupil sampling: reaim (each path's real pupil) or paraxial-grid")
         ->check(CLI::IsMember({"reaim", "paraxial-grid"}));
     cmd->add_option("--grid", o->grid, "Rays per side of the pupil grid")->check(CLI::Range(2, 1024));
-    cmd->add_option("--sensor", o->sensor, "Sensor plane: file (the last thickness) or paraxial (paraxial focus at the d line)")
+    cmd->add_option("--sensor", o->sensor,
+                    "Sensor plane: file (the last thickness) or paraxial (paraxial focus at the d line)")
         ->check(CLI::IsMember({"file", "paraxial"}));
     cmd->add_option("--top", o->top, "Show only the K strongest ghosts (0: all)")->check(CLI::Range(0, 100000));
     cmd->add_option("--zoom", o->zoom, "Zoom position (label or 1-based index)");
     cmd->add_flag("--json", o->json, "Print JSON instead of text");
-    cmd->footer("Example: fourierflare ghosts lenses/double-gauss-50mm-f2.lens --angle 10 --wavelength 550 --coating none "
-                "--sampling paraxial-grid --grid 64 --sensor paraxial --json");
+    cmd->footer(
+        "Example: fourierflare ghosts lenses/double-gauss-50mm-f2.lens --angle 10 --wavelength 550 --coating none "
+        "--sampling paraxial-grid --grid 64 --sensor paraxial --json");
     cmd->callback([o, &global] { runGhosts(*o, global); });
 }
 

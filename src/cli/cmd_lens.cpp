@@ -36,8 +36,10 @@ void runInfo(const InfoOptions& o, const GlobalOptions& g) {
     ConsoleReporter reporter(g);
     const optics::Lens lens = optics::loadLens(o.file, &reporter);
     std::vector<std::size_t> which;
-    if (!o.zoom.empty()) which.push_back(optics::findZoomPosition(lens, o.zoom));
-    else for (std::size_t k = 0; k < lens.zoomCount(); ++k) which.push_back(k);
+    if (!o.zoom.empty())
+        which.push_back(optics::findZoomPosition(lens, o.zoom));
+    else
+        for (std::size_t k = 0; k < lens.zoomCount(); ++k) which.push_back(k);
 
     std::vector<PositionReport> positions;
     for (std::size_t k : which) {
@@ -59,17 +61,21 @@ void runInfo(const InfoOptions& o, const GlobalOptions& g) {
             }
         positions.push_back(p);
     }
-    if (o.json) std::cout << lensInfoJson(lens, o.lambdaNm, positions).dump(2) << "\n";
-    else std::cout << lensInfoText(lens, o.lambdaNm, positions);
+    if (o.json)
+        std::cout << lensInfoJson(lens, o.lambdaNm, positions).dump(2) << "\n";
+    else
+        std::cout << lensInfoText(lens, o.lambdaNm, positions);
 }
 
 void runConvert(const ConvertOptions& o, const GlobalOptions& g) {
     if (samePath(o.input, o.output))
-        throw Error(ErrorKind::Usage, "the output '" + o.output + "' is the input file; refusing to overwrite an input");
+        throw Error(ErrorKind::Usage,
+                    "the output '" + o.output + "' is the input file; refusing to overwrite an input");
     ConsoleReporter reporter(g);
     const optics::Lens lens = optics::loadLens(o.input, &reporter);
     writeFileAtomic(o.output, optics::writeLensText(lens));
-    if (!g.quiet) std::fprintf(stderr, "fourierflare: wrote %s (%zu surfaces)\n", o.output.c_str(), lens.surfaces.size());
+    if (!g.quiet)
+        std::fprintf(stderr, "fourierflare: wrote %s (%zu surfaces)\n", o.output.c_str(), lens.surfaces.size());
 }
 
 } // namespace
@@ -79,9 +85,11 @@ void addLensCommand(CLI::App& app, GlobalOptions& global) {
     lens->require_subcommand(1);
 
     auto info = std::make_shared<InfoOptions>();
-    CLI::App* infoCmd = lens->add_subcommand("info", "Print a lens's surfaces and first-order optics (EFL, BFD, pupils, f-number, ghosts)");
+    CLI::App* infoCmd = lens->add_subcommand(
+        "info", "Print a lens's surfaces and first-order optics (EFL, BFD, pupils, f-number, ghosts)");
     infoCmd->add_option("file", info->file, "Lens file (.lens, .zmx or .dat)")->required()->check(CLI::ExistingFile);
-    infoCmd->add_option("-w,--wavelength", info->lambdaNm, "Wavelength in nm for the first-order data (default: d line)")
+    infoCmd
+        ->add_option("-w,--wavelength", info->lambdaNm, "Wavelength in nm for the first-order data (default: d line)")
         ->capture_default_str()
         ->check(CLI::Range(300.0, 2000.0));
     infoCmd->add_flag("--json", info->json, "Print JSON instead of text");
@@ -90,7 +98,8 @@ void addLensCommand(CLI::App& app, GlobalOptions& global) {
     infoCmd->callback([info, &global] { runInfo(*info, global); });
 
     auto conv = std::make_shared<ConvertOptions>();
-    CLI::App* convCmd = lens->add_subcommand("convert", "Convert a lens file (.zmx, .dat, .lens) to the native .lens format");
+    CLI::App* convCmd =
+        lens->add_subcommand("convert", "Convert a lens file (.zmx, .dat, .lens) to the native .lens format");
     convCmd->add_option("input", conv->input, "Lens file to read")->required()->check(CLI::ExistingFile);
     convCmd->add_option("-o,--output", conv->output, "Native .lens file to write (never the input)")->required();
     convCmd->footer("Example: fourierflare lens convert dgauss.50mm.dat -o dgauss.lens");

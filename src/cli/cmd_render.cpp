@@ -9,6 +9,8 @@
 #include "core/file_io.h"
 #include "core/text.h"
 #include "core/units.h"
+#include "diffraction/convolution.h"
+#include "ff/version.h"
 #include "fourier/render.h"
 #include "image/image_output.h"
 #include "trace/ghost_analysis.h"
@@ -20,16 +22,13 @@
 #include <cstdio>
 #include <memory>
 
-#include "diffraction/convolution.h"
-#include "ff/version.h"
-
 namespace ff::cli {
 
 namespace {
 
 struct RenderOptions {
     std::string lens;
-    std::string angle;  ///< "DEG" or "DEG,AZ"
+    std::string angle;               ///< "DEG" or "DEG,AZ"
     std::vector<std::string> lights; ///< "X,Y[,R,G,B]" in pixels
     std::string lightsFile, ghostsFile;
     std::string size = "1280x720";
@@ -58,26 +57,35 @@ void printPlan(const fourier::FourierRender& r) {
         std::size_t trimmed = 0;
         for (std::size_t k = 0; k < p.route.size(); ++k)
             trimmed += p.route[k] == fourier::Route::Fourier && (p.termsX[k] < p.n || p.termsY[k] < p.m);
-        std::fprintf(stderr, "fourierflare: fourier: %s evaluation; %zu of %zu Fourier ghosts accumulated over fewer terms than N x M "
-                     "(their own need at a quarter of the budget); estimated work %.2f GFLOP\n",
-                     fourier::toString(p.evaluation), trimmed, p.fourier, p.estimatedGflop);
+        std::fprintf(
+            stderr,
+            "fourierflare: fourier: %s evaluation; %zu of %zu Fourier ghosts accumulated over fewer terms than N x M "
+            "(their own need at a quarter of the budget); estimated work %.2f GFLOP\n",
+            fourier::toString(p.evaluation), trimmed, p.fourier, p.estimatedGflop);
     }
-    std::fprintf(stderr, "fourierflare: fourier: seconds: plan %.4f, accumulate %.4f, evaluate %.4f, direct %.4f\n", r.seconds.plan,
-                 r.seconds.accumulate, r.seconds.evaluate, r.seconds.direct);
+    std::fprintf(stderr, "fourierflare: fourier: seconds: plan %.4f, accumulate %.4f, evaluate %.4f, direct %.4f\n",
+                 r.seconds.plan, r.seconds.accumulate, r.seconds.evaluate, r.seconds.direct);
 }
 
 void runRender(const RenderOptions& o, const GlobalOptions& g) {
     const auto start = std::chrono::steady_clock::now();
     for (const std::string& out : {o.output, o.preview})
         for (const std::string& in : {o.lens, o.lightsFile, o.ghostsFile})
-            if (!out.empty() && !in.empty() && samePath(out, in)) throw Error(ErrorKind::Usage, "the output '" + out + "' is an input file");
+            if (!out.empty() && !in.empty() && samePath(out, in))
+                throw Error(ErrorKind::Usage, "the output '" + out + "' is an input file");
     const bool explicitGhosts = !o.ghostsFile.empty();
     const int sources = !o.angle.empty() + (!o.lights.empty() || !o.lightsFile.empty()) + explicitGhosts;
-    if (sources != 1) throw Error(ErrorKind::Usage, "give exactly one of --angle DEG[,AZ], --light X,Y (or --lights FILE) and --ghosts FILE");
-    if (!o.lights.empty() && !o.lightsFile.empty()) throw Error(ErrorKind::Usage, "give lights with --light or with --lights, not both");
-    if (!o.angle.empty() && o.mode != "traced") throw Error(ErrorKind::Usage, "--angle works with --mode traced; give the light's position with --light X,Y");
-    if (explicitGhosts && o.mode == "traced") throw Error(ErrorKind::Usage, "--ghosts needs --mode fitted or fourier (a ghost list has nothing to trace)");
-    if (!explicitGhosts && o.lens.empty()) throw Error(ErrorKind::Usage, "a lens file is required (unless --ghosts gives the ghosts)");
+    if (sources != 1)
+        throw Error(ErrorKind::Usage,
+                    "give exactly one of --angle DEG[,AZ], --light X,Y (or --lights FILE) and --ghosts FILE");
+    if (!o.lights.empty() && !o.lightsFile.empty())
+        throw Error(ErrorKind::Usage, "give lights with --light or with --lights, not both");
+    if (!o.angle.empty() && o.mode != "traced")
+        throw Error(ErrorKind::Usage, "--angle works with --mode traced; give the light's position with --light X,Y");
+    if (explicitGhosts && o.mode == "traced")
+        throw Error(ErrorKind::Usage, "--ghosts needs --mode fitted or fourier (a ghost list has nothing to trace)");
+    if (!explicitGhosts && o.lens.empty())
+        throw Error(ErrorKind::Usage, "a lens file is required (unless --ghosts gives the ghosts)");
     const auto [W, H] = parseFrameSize(o.size, "--size", 1, 16384);
     std::vector<std::pair<double, double>> probes;
     for (const std::string& p : o.probes) {
@@ -89,7 +97,8 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
     const fourier::FourierSettings fs = o.fourier.settings(g);
 
     ConsoleReporter reporter(g);
-    image::Metadata meta = {{"Software", std::string("fourierflare ") + kVersion}, {"fourierflare:commandLine", g.commandLine},
+    image::Metadata meta = {{"Software", std::string("fourierflare ") + kVersion},
+                            {"fourierflare:commandLine", g.commandLine},
                             {"fourierflare:mode", o.mode}};
     fourier::FlareImage image;
     std::string summary;
@@ -114,8 +123,10 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
         if (!o.sensorSize.empty()) sensorMm = parseSensorSize(o.sensorSize, "--sensor-size");
         meta.push_back({"fourierflare:lens", lens.file});
         meta.push_back({"fourierflare:lensHash", lens.contentHash});
-        meta.push_back({"fourierflare:units", "flux per pixel relative to the direct image of a unit light (= 1 per channel)"});
-        std::vector<ghosts::Light> lights = o.lightsFile.empty() ? std::vector<ghosts::Light>{} : readLightsJson(o.lightsFile);
+        meta.push_back(
+            {"fourierflare:units", "flux per pixel relative to the direct image of a unit light (= 1 per channel)"});
+        std::vector<ghosts::Light> lights =
+            o.lightsFile.empty() ? std::vector<ghosts::Light>{} : readLightsJson(o.lightsFile);
         for (const std::string& l : o.lights) lights.push_back(parseLight(l));
         trace::TracedFlareOptions t;
         t.frame = {W, H, sensorMm.first / W};
@@ -131,7 +142,9 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
                 const auto parts = text::split(o.angle, ',');
                 auto deg = parts.size() <= 2 ? text::parseNumber(parts[0]) : std::nullopt;
                 auto az = parts.size() == 2 ? text::parseNumber(parts[1]) : std::optional<double>(0.0);
-                if (!deg || !az || *deg < 0.0 || *deg >= 89.0) throw Error(ErrorKind::Usage, "expected --angle DEG[,AZ] with 0 <= DEG < 89, got " + text::quoted(o.angle));
+                if (!deg || !az || *deg < 0.0 || *deg >= 89.0)
+                    throw Error(ErrorKind::Usage,
+                                "expected --angle DEG[,AZ] with 0 <= DEG < 89, got " + text::quoted(o.angle));
                 t.field = {degToRad(*deg), degToRad(*az)};
                 traced = renderTracedField(lens, t);
                 meta.push_back({"fourierflare:fieldAngleDeg", text::fixed(*deg, 6)});
@@ -189,14 +202,16 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
             meta.push_back({"fourierflare:ghostModel", o.ghostModel});
             if (o.mode == "fitted") {
                 image = fourier::renderDirect(ghosts, W, H);
-                summary = "drew " + std::to_string(ghosts.size()) + " fitted ghosts of " + std::to_string(lights.size()) + " light(s) directly";
+                summary = "drew " + std::to_string(ghosts.size()) + " fitted ghosts of " +
+                          std::to_string(lights.size()) + " light(s) directly";
             } else {
                 fourier::FourierRender r = fourier::renderFourier(ghosts, W, H, fs);
                 image = std::move(r.image);
                 meta.push_back({"fourierflare:fourier", r.describe()});
                 meta.push_back({"fourierflare:backend", fs.backend ? fs.backend->describe() : std::string("cpu")});
                 if (g.verbose) printPlan(r);
-                summary = "aggregated " + std::to_string(ghosts.size()) + " ghosts of " + std::to_string(lights.size()) + " light(s): " + r.describe();
+                summary = "aggregated " + std::to_string(ghosts.size()) + " ghosts of " +
+                          std::to_string(lights.size()) + " light(s): " + r.describe();
             }
         }
     }
@@ -209,14 +224,17 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
     }
     for (const auto& [px, py] : probes) {
         const std::size_t p = static_cast<std::size_t>(py) * W + static_cast<std::size_t>(px);
-        std::printf("probe %g,%g: %.9g %.9g %.9g\n", px, py, image.channel[0][p], image.channel[1][p], image.channel[2][p]);
+        std::printf("probe %g,%g: %.9g %.9g %.9g\n", px, py, image.channel[0][p], image.channel[1][p],
+                    image.channel[2][p]);
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!g.quiet) {
         std::fprintf(stderr, "fourierflare: %s\n", summary.c_str());
-        std::fprintf(stderr, "fourierflare: flux in the frame (R, G, B): %.4e %.4e %.4e\n", image.sum(0), image.sum(1), image.sum(2));
-        std::fprintf(stderr, "fourierflare: wrote %s%s%s in %.2f s\n", o.output.c_str(), o.preview.empty() ? "" : " and ",
-                     o.preview.empty() ? "" : (o.preview + " (exposure " + text::fixed(ev, 2) + " EV)").c_str(), seconds);
+        std::fprintf(stderr, "fourierflare: flux in the frame (R, G, B): %.4e %.4e %.4e\n", image.sum(0), image.sum(1),
+                     image.sum(2));
+        std::fprintf(
+            stderr, "fourierflare: wrote %s%s%s in %.2f s\n", o.output.c_str(), o.preview.empty() ? "" : " and ",
+            o.preview.empty() ? "" : (o.preview + " (exposure " + text::fixed(ev, 2) + " EV)").c_str(), seconds);
     }
 }
 
@@ -225,11 +243,18 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
 void addRenderCommand(CLI::App& app, GlobalOptions& global) {
     auto o = std::make_shared<RenderOptions>();
     CLI::App* cmd = app.add_subcommand("render", "Render the flare of light sources through a lens into an EXR image");
-    cmd->add_option("lens", o->lens, "Lens file (.lens, .zmx or .dat); not needed with --ghosts")->check(CLI::ExistingFile);
-    cmd->add_option("--angle", o->angle, "Field angle of one source in degrees, optionally with its azimuth: DEG[,AZ] (traced mode)");
-    cmd->add_option("--light", o->lights, "A light at X,Y pixels, optionally with its RGB flux: X,Y[,R,G,B] (repeatable)");
-    cmd->add_option("--lights", o->lightsFile, "Lights from a JSON file: {\"lights\": [{\"x\", \"y\", \"flux\": [R, G, B]}]}")->check(CLI::ExistingFile);
-    cmd->add_option("--ghosts", o->ghostsFile, "Render an explicit ghost list (JSON, docs/fourier.md) instead of a lens's ghosts")->check(CLI::ExistingFile);
+    cmd->add_option("lens", o->lens, "Lens file (.lens, .zmx or .dat); not needed with --ghosts")
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--angle", o->angle,
+                    "Field angle of one source in degrees, optionally with its azimuth: DEG[,AZ] (traced mode)");
+    cmd->add_option("--light", o->lights,
+                    "A light at X,Y pixels, optionally with its RGB flux: X,Y[,R,G,B] (repeatable)");
+    cmd->add_option("--lights", o->lightsFile,
+                    "Lights from a JSON file: {\"lights\": [{\"x\", \"y\", \"flux\": [R, G, B]}]}")
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--ghosts", o->ghostsFile,
+                    "Render an explicit ghost list (JSON, docs/fourier.md) instead of a lens's ghosts")
+        ->check(CLI::ExistingFile);
     cmd->add_option("--size", o->size, "Image size in pixels, WIDTHxHEIGHT; the image spans the sensor width");
     cmd->add_option("--mode", o->mode,
                     "traced (every ghost ray-traced), shaped (the ghosts' traced meshes), fitted (the table's profiles "
@@ -247,10 +272,14 @@ void addRenderCommand(CLI::App& app, GlobalOptions& global) {
     cmd->add_option("-o,--output", o->output, "EXR file to write (R, G, B = the flare alone, linear)")->required();
     cmd->add_option("--preview", o->preview, "Also write a tonemapped PNG preview");
     cmd->add_option("--probe", o->probes, "Print the image's R G B at pixel X,Y (repeatable)");
-    cmd->add_option("--exposure", o->exposure, "Preview exposure in EV (default: automatic, the 99th percentile of the flare at 1.0)");
-    cmd->add_option("--spectral", o->spectral, "Trace N wavelengths over 400-700 nm through the CIE 1931 matching functions (8-16); 0 = 450/550/650 nm")
+    cmd->add_option("--exposure", o->exposure,
+                    "Preview exposure in EV (default: automatic, the 99th percentile of the flare at 1.0)");
+    cmd->add_option(
+           "--spectral", o->spectral,
+           "Trace N wavelengths over 400-700 nm through the CIE 1931 matching functions (8-16); 0 = 450/550/650 nm")
         ->check(CLI::IsMember({0, 8, 9, 10, 11, 12, 13, 14, 15, 16}));
-    cmd->add_option("--sampling", o->sampling, "Pupil sampling: reaim or paraxial-grid")->check(CLI::IsMember({"reaim", "paraxial-grid"}));
+    cmd->add_option("--sampling", o->sampling, "Pupil sampling: reaim or paraxial-grid")
+        ->check(CLI::IsMember({"reaim", "paraxial-grid"}));
     cmd->add_option("--grid", o->grid,
                     "Cells per side of each ghost's starting pupil grid, refined adaptively (traced mode)")
         ->check(CLI::Range(2, 1024));
@@ -258,16 +287,24 @@ void addRenderCommand(CLI::App& app, GlobalOptions& global) {
            "--refine", o->refine,
            "Refinement factor R of the traced mode: starting grid x R, every refinement tolerance / R (1, 2, 4...)")
         ->check(CLI::Range(1.0, 16.0));
-    cmd->add_option("--table-grid", o->tableGrid, "Rays per side of each ghost's pupil grid for the ghost table (fitted, fourier)")->check(CLI::Range(4, 512));
-    cmd->add_option("--sensor", o->sensor, "Sensor plane: file (the last thickness) or paraxial")->check(CLI::IsMember({"file", "paraxial"}));
-    cmd->add_option("--coating", o->coating, "Coatings: file, none or mgf2")->check(CLI::IsMember({"file", "none", "mgf2"}));
-    cmd->add_option("--sensor-size", o->sensorSize, "Sensor size in mm, WIDTHxHEIGHT (default: the lens file's, else 36x24)");
+    cmd->add_option("--table-grid", o->tableGrid,
+                    "Rays per side of each ghost's pupil grid for the ghost table (fitted, fourier)")
+        ->check(CLI::Range(4, 512));
+    cmd->add_option("--sensor", o->sensor, "Sensor plane: file (the last thickness) or paraxial")
+        ->check(CLI::IsMember({"file", "paraxial"}));
+    cmd->add_option("--coating", o->coating, "Coatings: file, none or mgf2")
+        ->check(CLI::IsMember({"file", "none", "mgf2"}));
+    cmd->add_option("--sensor-size", o->sensorSize,
+                    "Sensor size in mm, WIDTHxHEIGHT (default: the lens file's, else 36x24)");
     cmd->add_option("--zoom", o->zoom, "Zoom position (label or 1-based index)");
     o->fourier.addTo(*cmd);
     cmd->footer("Examples:\n"
-                "  fourierflare render lenses/double-gauss-50mm-f2.lens --angle 10 --size 1280x720 -o flare.exr --preview flare.png\n"
-                "  fourierflare render lenses/double-gauss-50mm-f2.lens --light 1400,300 --light 600,700,2,2,1 --size 1920x1080 --mode fourier -o f.exr\n"
-                "  fourierflare render --ghosts my-ghosts.json --size 1920x1080 --mode fourier --fourier-n 64 --probe 960,540 -o g.exr");
+                "  fourierflare render lenses/double-gauss-50mm-f2.lens --angle 10 --size 1280x720 -o flare.exr "
+                "--preview flare.png\n"
+                "  fourierflare render lenses/double-gauss-50mm-f2.lens --light 1400,300 --light 600,700,2,2,1 --size "
+                "1920x1080 --mode fourier -o f.exr\n"
+                "  fourierflare render --ghosts my-ghosts.json --size 1920x1080 --mode fourier --fourier-n 64 --probe "
+                "960,540 -o g.exr");
     cmd->callback([o, &global] { runRender(*o, global); });
 }
 

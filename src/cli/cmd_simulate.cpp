@@ -11,6 +11,10 @@
 #include "core/file_io.h"
 #include "core/text.h"
 #include "core/units.h"
+#include "diffraction/convolution.h"
+#include "diffraction/psf.h"
+#include "diffraction/wavefront.h"
+#include "ff/version.h"
 #include "fourier/render.h"
 #include "ghosts/instancing.h"
 #include "gpu/gl_backend.h"
@@ -31,11 +35,6 @@
 #include <numbers>
 #include <optional>
 #include <unistd.h>
-
-#include "diffraction/convolution.h"
-#include "diffraction/psf.h"
-#include "diffraction/wavefront.h"
-#include "ff/version.h"
 
 namespace ff::cli {
 
@@ -72,12 +71,15 @@ double since(Clock::time_point& t) {
 std::string frameName(const std::string& pattern, int frame, const char* what) {
     const auto p = pattern.find('%');
     if (p == std::string::npos || pattern.find('%', p + 1) != std::string::npos)
-        throw Error(ErrorKind::Usage, std::string(what) + " needs one %d or %0Nd frame number pattern with --frames, got " + text::quoted(pattern));
+        throw Error(ErrorKind::Usage, std::string(what) +
+                                          " needs one %d or %0Nd frame number pattern with --frames, got " +
+                                          text::quoted(pattern));
     std::size_t q = p + 1;
     int width = 0;
     if (q < pattern.size() && pattern[q] == '0') {
         ++q;
-        while (q < pattern.size() && std::isdigit(static_cast<unsigned char>(pattern[q]))) width = width * 10 + (pattern[q++] - '0');
+        while (q < pattern.size() && std::isdigit(static_cast<unsigned char>(pattern[q])))
+            width = width * 10 + (pattern[q++] - '0');
     }
     if (q >= pattern.size() || pattern[q] != 'd' || width > 12)
         throw Error(ErrorKind::Usage, std::string(what) + ": expected %d or %0Nd in " + text::quoted(pattern));
@@ -92,12 +94,14 @@ struct FrameJob {
 };
 
 class Simulation {
-public:
+  public:
     Simulation(const SimulateOptions& o, const GlobalOptions& g) : o_(o), g_(g), reporter_(g) {
-        if (o.gain < 0.0 || !std::isfinite(o.gain)) throw Error(ErrorKind::Usage, "--flare-gain must be a finite number >= 0");
+        if (o.gain < 0.0 || !std::isfinite(o.gain))
+            throw Error(ErrorKind::Usage, "--flare-gain must be a finite number >= 0");
         if (o.diffractionGain < 0.0 || !std::isfinite(o.diffractionGain))
             throw Error(ErrorKind::Usage, "--diffraction-gain must be a finite number >= 0");
-        if (!o.sensor.empty() && o.fov > 0.0) throw Error(ErrorKind::Usage, "give either --sensor WxH or --fov DEG, not both");
+        if (!o.sensor.empty() && o.fov > 0.0)
+            throw Error(ErrorKind::Usage, "give either --sensor WxH or --fov DEG, not both");
         detection_ = image::parseThreshold(o.threshold);
         detection_.blockSize = o.block;
         lens_ = loadTraceableLens(o.lens, o.zoom, reporter_);
@@ -111,7 +115,8 @@ public:
         if (!o.sensor.empty()) {
             sensorWidthMm_ = parseSensorSize(o.sensor, "--sensor").first;
         } else if (o.fov > 0.0) {
-            sensorWidthMm_ = 2.0 * std::abs(optics::paraxialEfl(lens_, lines::d)) * std::tan(0.5 * o.fov * std::numbers::pi / 180.0);
+            sensorWidthMm_ =
+                2.0 * std::abs(optics::paraxialEfl(lens_, lines::d)) * std::tan(0.5 * o.fov * std::numbers::pi / 180.0);
         }
         if (o.diffraction == "physical" || o.diffraction == "traced") {
             try {
@@ -138,7 +143,8 @@ public:
         const auto start = t;
         for (const std::string& out : {job.output, job.preview, job.previewFlare, job.lightsOut})
             for (const std::string& in : {job.plate, o_.lens, o_.lightsFile})
-                if (!out.empty() && !in.empty() && samePath(out, in)) throw Error(ErrorKind::Usage, "the output '" + out + "' is an input file");
+                if (!out.empty() && !in.empty() && samePath(out, in))
+                    throw Error(ErrorKind::Usage, "the output '" + out + "' is an input file");
         image::PlateLimits limits;
         limits.maxPixels = static_cast<std::uint64_t>(o_.maxPixels);
         limits.checker = checker_;
@@ -152,9 +158,12 @@ public:
         if (lights.empty()) {
             found = image::detectLights(plate, detection_);
             for (const auto& l : found.lights) lights.push_back({l.x, l.y, l.flux});
-            if (found.nonFinite) note(job.plate + ": " + std::to_string(found.nonFinite) + " pixels are NaN or infinite: ignored by light detection (left as they are in the output)");
+            if (found.nonFinite)
+                note(job.plate + ": " + std::to_string(found.nonFinite) +
+                     " pixels are NaN or infinite: ignored by light detection (left as they are in the output)");
             if (found.emissiveZeroAlpha)
-                note(job.plate + ": " + std::to_string(found.emissiveZeroAlpha) + " bright pixels have alpha 0 (premultiplied emission): counted as light");
+                note(job.plate + ": " + std::to_string(found.emissiveZeroAlpha) +
+                     " bright pixels have alpha 0 (premultiplied emission): counted as light");
         }
         const double tDetect = since(t);
 
@@ -327,7 +336,8 @@ public:
             image::writePng(job.preview, plate.width, plate.height, image::tonemapPreview(shown, o_.exposure), meta);
         }
         if (!job.previewFlare.empty())
-            image::writePng(job.previewFlare, plate.width, plate.height, image::tonemapPreview(flareRgb, image::autoExposure(flareRgb)), meta);
+            image::writePng(job.previewFlare, plate.width, plate.height,
+                            image::tonemapPreview(flareRgb, image::autoExposure(flareRgb)), meta);
         if (!job.lightsOut.empty()) {
             nlohmann::json j;
             j["lights"] = nlohmann::json::array();
@@ -340,10 +350,10 @@ public:
         }
         const double tWrite = since(t);
         if (g_.quiet) return;
-        std::string lightsText = manualLights_.empty()
-                                     ? std::to_string(lights.size()) + " lights above luminance " + text::fixed(found.threshold, 3) + " (plate max " +
-                                           text::fixed(found.maxLuminance, 1) + ")"
-                                     : std::to_string(lights.size()) + " lights given";
+        std::string lightsText = manualLights_.empty() ? std::to_string(lights.size()) + " lights above luminance " +
+                                                             text::fixed(found.threshold, 3) + " (plate max " +
+                                                             text::fixed(found.maxLuminance, 1) + ")"
+                                                       : std::to_string(lights.size()) + " lights given";
         if (lights.empty()) lightsText += ": no flare, the output is the plate plus a zero flare layer";
         std::fprintf(stderr,
                      "fourierflare: %s: %s, %s; read %.2f s, detect %.2f s, table %.2f s, flare %.2f s, diffraction "
@@ -353,7 +363,7 @@ public:
                      job.output.c_str());
     }
 
-private:
+  private:
     void note(const std::string& s) const {
         if (!g_.quiet) std::fprintf(stderr, "fourierflare: note: %s\n", s.c_str());
     }
@@ -379,31 +389,37 @@ private:
     double sensorWidthMm_ = 36.0;
     std::unique_ptr<ghosts::GhostTable> table_;
     std::unique_ptr<ghosts::ShapedTable> shaped_;
-    std::pair<int, int> shapedFor_; ///< the display window shaped_ was made for
-    gpu::GlBackend* gl_ = nullptr;  ///< fourier_.backend when it is the GL one (fitted models)
-    ghosts::PolygonRaster* raster_ = nullptr; ///< the GL backend's, drawing the shaped model
+    std::pair<int, int> shapedFor_;                 ///< the display window shaped_ was made for
+    gpu::GlBackend* gl_ = nullptr;                  ///< fourier_.backend when it is the GL one (fitted models)
+    ghosts::PolygonRaster* raster_ = nullptr;       ///< the GL backend's, drawing the shaped model
     diffraction::Convolver* convolver_ = nullptr;   ///< the GL backend's FFT, convolving the lights
     std::optional<diffraction::Aperture> aperture_; ///< with --diffraction physical
     std::unique_ptr<diffraction::Psf> psf_;         ///< aberration-free (the traced PSFs' fallback)
     std::vector<std::string> zones_;                ///< --diffraction traced: each tile's PSF, for the header
     static constexpr int kZones = 3;                ///< --diffraction traced: tiles per side of the frame
-    double psfPitch_ = 0.0; ///< the pixel pitch psf_ was made for
+    double psfPitch_ = 0.0;                         ///< the pixel pitch psf_ was made for
     std::string checker_ = std::filesystem::read_symlink("/proc/self/exe").string(); // this program, for `plate-check`
 };
 
 void runSimulate(const SimulateOptions& o, const GlobalOptions& g) {
     const std::string ext = std::filesystem::path(o.output).extension().string();
-    if (ext != ".exr" && ext != ".EXR") throw Error(ErrorKind::Usage, "the output must be an .exr file (it holds the plate's channels and the flare layers), got " + text::quoted(o.output));
+    if (ext != ".exr" && ext != ".EXR")
+        throw Error(ErrorKind::Usage,
+                    "the output must be an .exr file (it holds the plate's channels and the flare layers), got " +
+                        text::quoted(o.output));
     std::vector<FrameJob> jobs;
     if (o.frames.empty()) {
         jobs.push_back({o.plate, o.output, o.preview, o.previewFlare, o.lightsOut, 0});
     } else {
         const auto parts = text::split(o.frames, '-');
-        const auto a = parts.size() == 2 ? text::parseNumber(parts[0]) : std::nullopt, b = parts.size() == 2 ? text::parseNumber(parts[1]) : std::nullopt;
+        const auto a = parts.size() == 2 ? text::parseNumber(parts[0]) : std::nullopt,
+                   b = parts.size() == 2 ? text::parseNumber(parts[1]) : std::nullopt;
         if (!a || !b || *a != std::floor(*a) || *b != std::floor(*b) || *a < 0 || *b < *a || *b - *a > 1e6)
-            throw Error(ErrorKind::Usage, "expected --frames FIRST-LAST (whole numbers, FIRST <= LAST), got " + text::quoted(o.frames));
+            throw Error(ErrorKind::Usage,
+                        "expected --frames FIRST-LAST (whole numbers, FIRST <= LAST), got " + text::quoted(o.frames));
         for (int f = static_cast<int>(*a); f <= static_cast<int>(*b); ++f)
-            jobs.push_back({frameName(o.plate, f, "--plate"), frameName(o.output, f, "-o"), o.preview.empty() ? "" : frameName(o.preview, f, "--preview"),
+            jobs.push_back({frameName(o.plate, f, "--plate"), frameName(o.output, f, "-o"),
+                            o.preview.empty() ? "" : frameName(o.preview, f, "--preview"),
                             o.previewFlare.empty() ? "" : frameName(o.previewFlare, f, "--preview-flare"),
                             o.lightsOut.empty() ? "" : frameName(o.lightsOut, f, "--lights-out"), f});
     }
@@ -412,7 +428,8 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& g) {
     for (std::size_t i = 0; i < jobs.size(); ++i) {
         const FrameJob& job = jobs[i];
         if (bar) std::fprintf(stderr, "fourierflare: frame %d (%zu of %zu)\n", job.frame, i + 1, jobs.size());
-        if (!std::filesystem::exists(job.plate)) throw Error(ErrorKind::Input, SourceLocation{job.plate}, "no such plate");
+        if (!std::filesystem::exists(job.plate))
+            throw Error(ErrorKind::Input, SourceLocation{job.plate}, "no such plate");
         sim.run(job);
     }
 }
@@ -428,7 +445,8 @@ void addPlateCheckCommand(CLI::App& app) {
     auto o = std::make_shared<Options>();
     // Internal: simulate runs it as a separate process to read a plate that might crash or hang the
     // image library (image/plate.h). Not listed in the help.
-    CLI::App* cmd = app.add_subcommand("plate-check", "Read a plate in full and report whether it is usable (internal)")->group("");
+    CLI::App* cmd =
+        app.add_subcommand("plate-check", "Read a plate in full and report whether it is usable (internal)")->group("");
     cmd->add_option("--max-pixels", o->maxPixels)->required();
     cmd->add_option("--max-channels", o->maxChannels)->required();
     cmd->add_option("file", o->file)->required();
@@ -443,24 +461,37 @@ void addPlateCheckCommand(CLI::App& app) {
 
 void addSimulateCommand(CLI::App& app, GlobalOptions& global) {
     auto o = std::make_shared<SimulateOptions>();
-    CLI::App* cmd = app.add_subcommand("simulate", "Add a lens's physically based flare to an HDR plate (EXR with flare layers + PNG preview)");
+    CLI::App* cmd = app.add_subcommand(
+        "simulate", "Add a lens's physically based flare to an HDR plate (EXR with flare layers + PNG preview)");
     cmd->add_option("--lens", o->lens, "Lens file (.lens, .zmx or .dat)")->required()->check(CLI::ExistingFile);
-    cmd->add_option("--plate", o->plate, "Plate: any image OpenImageIO reads (EXR, HDR, TIFF, PNG, ...); with --frames a %04d pattern")->required();
+    cmd->add_option("--plate", o->plate,
+                    "Plate: any image OpenImageIO reads (EXR, HDR, TIFF, PNG, ...); with --frames a %04d pattern")
+        ->required();
     cmd->add_option("-o,--output", o->output,
                     "EXR to write: the plate's channels unchanged + ghosts.R/G/B + diffraction.R/G/B + flare.R/G/B + "
                     "composite.R/G/B")
         ->required();
     cmd->add_option("--preview", o->preview, "Also write the composite as a tonemapped PNG");
     cmd->add_option("--preview-flare", o->previewFlare, "Also write the flare alone as a PNG (automatic exposure)");
-    cmd->add_option("--sensor", o->sensor, "Sensor size in mm, WIDTHxHEIGHT; the plate spans its width (default: the lens file's, else 36x24)");
-    cmd->add_option("--fov", o->fov, "Horizontal field of view in degrees instead of --sensor (sensor width = 2 EFL tan(fov/2))")->check(CLI::Range(0.1, 170.0));
-    cmd->add_option("--threshold", o->threshold, "Light threshold on luminance: VALUE (absolute), max:FRACTION (of the plate's maximum) or p:PERCENTILE");
-    cmd->add_option("--block", o->block, "Extended sources are split into blocks of this many pixels per side")->check(CLI::Range(2, 4096));
-    cmd->add_option("--light", o->lights, "A light by hand at X,Y pixels with its RGB flux X,Y,R,G,B (repeatable; disables detection)");
-    cmd->add_option("--lights", o->lightsFile, "Lights by hand from a JSON file (as written by --lights-out)")->check(CLI::ExistingFile);
+    cmd->add_option(
+        "--sensor", o->sensor,
+        "Sensor size in mm, WIDTHxHEIGHT; the plate spans its width (default: the lens file's, else 36x24)");
+    cmd->add_option("--fov", o->fov,
+                    "Horizontal field of view in degrees instead of --sensor (sensor width = 2 EFL tan(fov/2))")
+        ->check(CLI::Range(0.1, 170.0));
+    cmd->add_option(
+        "--threshold", o->threshold,
+        "Light threshold on luminance: VALUE (absolute), max:FRACTION (of the plate's maximum) or p:PERCENTILE");
+    cmd->add_option("--block", o->block, "Extended sources are split into blocks of this many pixels per side")
+        ->check(CLI::Range(2, 4096));
+    cmd->add_option("--light", o->lights,
+                    "A light by hand at X,Y pixels with its RGB flux X,Y,R,G,B (repeatable; disables detection)");
+    cmd->add_option("--lights", o->lightsFile, "Lights by hand from a JSON file (as written by --lights-out)")
+        ->check(CLI::ExistingFile);
     cmd->add_option("--lights-out", o->lightsOut, "Write the lights used (found or given) as JSON");
     cmd->add_option("--exposure", o->exposure, "Preview exposure in EV (the composite x 2^EV before the tonemap)");
-    cmd->add_option("--flare-gain", o->gain, "Multiply the flare (1 = physical: each ghost carries its traced share of its light's flux)");
+    cmd->add_option("--flare-gain", o->gain,
+                    "Multiply the flare (1 = physical: each ghost carries its traced share of its light's flux)");
     cmd->add_option("--diffraction", o->diffraction,
                     "The iris's starburst: physical (each light's flux spread by the iris's aberration-free PSF, "
                     "taken from the pixels that hold it), traced (the PSF with the lens's traced wavefront and "
@@ -472,13 +503,18 @@ void addSimulateCommand(CLI::App& app, GlobalOptions& global) {
                     "Ghost model: shaped (each ghost's traced mesh), gaussian or cos2 (the ghost table's fits, "
                     "aggregated through Fourier)")
         ->check(CLI::IsMember({"shaped", "gaussian", "cos2"}));
-    cmd->add_option("--table-grid", o->tableGrid, "Rays per side of each ghost's pupil grid for the ghost table")->check(CLI::Range(4, 512));
+    cmd->add_option("--table-grid", o->tableGrid, "Rays per side of each ghost's pupil grid for the ghost table")
+        ->check(CLI::Range(4, 512));
     cmd->add_option("--zoom", o->zoom, "Zoom position (label or 1-based index)");
-    cmd->add_option("--max-pixels", o->maxPixels, "Refuse plates with more pixels than this (checked before reading them)")->check(CLI::Range(1.0, 1e10));
-    cmd->add_option("--frames", o->frames, "Render frames FIRST-LAST of a sequence: --plate, -o and the previews hold a %04d pattern");
+    cmd->add_option("--max-pixels", o->maxPixels,
+                    "Refuse plates with more pixels than this (checked before reading them)")
+        ->check(CLI::Range(1.0, 1e10));
+    cmd->add_option("--frames", o->frames,
+                    "Render frames FIRST-LAST of a sequence: --plate, -o and the previews hold a %04d pattern");
     o->fourier.addTo(*cmd);
     cmd->footer("Examples:\n"
-                "  fourierflare simulate --lens lenses/double-gauss-50mm-f2.lens --plate data/night-street.exr -o out/night-street.exr --preview out/night-street.png\n"
+                "  fourierflare simulate --lens lenses/double-gauss-50mm-f2.lens --plate data/night-street.exr -o "
+                "out/night-street.exr --preview out/night-street.png\n"
                 "  fourierflare simulate --lens L.lens --plate shot.%04d.exr --frames 1001-1100 -o out/shot.%04d.exr");
     cmd->callback([o, &global] { runSimulate(*o, global); });
 }

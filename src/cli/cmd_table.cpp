@@ -25,7 +25,8 @@ struct TableCommandOptions {
 };
 
 void runTable(const TableCommandOptions& o, const GlobalOptions& g) {
-    if (samePath(o.output, o.lens)) throw Error(ErrorKind::Usage, "the output '" + o.output + "' is the input lens file");
+    if (samePath(o.output, o.lens))
+        throw Error(ErrorKind::Usage, "the output '" + o.output + "' is the input lens file");
     ConsoleReporter reporter(g);
     const optics::Lens lens = loadTraceableLens(o.lens, o.table.zoom, reporter);
     bool cached = false;
@@ -62,15 +63,22 @@ void runTable(const TableCommandOptions& o, const GlobalOptions& g) {
     };
     // (How long the build took was said by loadTable.)
     std::size_t fewest = t.anglesDeg.size(), most = 0;
-    for (const auto& gh : t.ghosts) fewest = std::min(fewest, gh.anglesDeg.size()), most = std::max(most, gh.anglesDeg.size());
-    std::fprintf(stderr, "fourierflare: %s ghost table: %zu ghosts x %zu wavelengths, 0..%.2f deg; %zu entries per wavelength, %zu to %zu field angles per ghost (%zu in all)\n",
-                 cached ? "cached" : "built", t.ghosts.size(), t.wavelengthsNm.size(), t.anglesDeg.back(), t.entryCount(), fewest, most, t.anglesDeg.size());
+    for (const auto& gh : t.ghosts)
+        fewest = std::min(fewest, gh.anglesDeg.size()), most = std::max(most, gh.anglesDeg.size());
     std::fprintf(stderr,
-                 "fourierflare: interpolation error at mid-angles: median %.2f %%, 95th percentile %.2f %%, worst %.2f %%; "
-                 "%.2f %% of the field within %.2g %%\n",
-                 100.0 * t.interpolationErrorMedian, 100.0 * t.interpolationErrorP95, 100.0 * t.interpolationError, 100.0 * t.withinTolerance,
-                 100.0 * o.table.tolerance);
-    std::fprintf(stderr, "fourierflare: fit error (relative L2) over the field: Gaussian median %.3f, worst %.3f; cos2 median %.3f, worst %.3f\n",
+                 "fourierflare: %s ghost table: %zu ghosts x %zu wavelengths, 0..%.2f deg; %zu entries per wavelength, "
+                 "%zu to %zu field angles per ghost (%zu in all)\n",
+                 cached ? "cached" : "built", t.ghosts.size(), t.wavelengthsNm.size(), t.anglesDeg.back(),
+                 t.entryCount(), fewest, most, t.anglesDeg.size());
+    std::fprintf(
+        stderr,
+        "fourierflare: interpolation error at mid-angles: median %.2f %%, 95th percentile %.2f %%, worst %.2f %%; "
+        "%.2f %% of the field within %.2g %%\n",
+        100.0 * t.interpolationErrorMedian, 100.0 * t.interpolationErrorP95, 100.0 * t.interpolationError,
+        100.0 * t.withinTolerance, 100.0 * o.table.tolerance);
+    std::fprintf(stderr,
+                 "fourierflare: fit error (relative L2) over the field: Gaussian median %.3f, worst %.3f; cos2 median "
+                 "%.3f, worst %.3f\n",
                  median(ge), worst(ge), median(ce), worst(ce));
     std::fprintf(stderr, "fourierflare: wrote %s\n", o.output.c_str());
 }
@@ -79,9 +87,11 @@ void runTable(const TableCommandOptions& o, const GlobalOptions& g) {
 
 void addTableCommand(CLI::App& app, GlobalOptions& global) {
     auto o = std::make_shared<TableCommandOptions>();
-    CLI::App* cmd = app.add_subcommand("table", "Build a lens's ghost table (fitted ghosts over field angle) and write it as JSON");
+    CLI::App* cmd =
+        app.add_subcommand("table", "Build a lens's ghost table (fitted ghosts over field angle) and write it as JSON");
     cmd->add_option("lens", o->lens, "Lens file (.lens, .zmx or .dat)")->required()->check(CLI::ExistingFile);
-    cmd->add_option("-o,--output", o->output, "JSON file to write (the canonical table, docs/ghost-table.md)")->required();
+    cmd->add_option("-o,--output", o->output, "JSON file to write (the canonical table, docs/ghost-table.md)")
+        ->required();
     o->table.addTo(*cmd);
     cmd->add_flag("--no-cache", o->noCache, "Build the table even if a cached one exists, and do not store it");
     cmd->footer("The table is cached under $FF_CACHE_DIR, $XDG_CACHE_HOME/fourierflare or ~/.cache/fourierflare.\n"

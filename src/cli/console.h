@@ -11,16 +11,16 @@ namespace ff::cli {
 /// Options shared by every command.
 struct GlobalOptions {
     bool quiet = false;
-    bool verbose = false;     ///< print every choice (Fourier plan, stage times)
+    bool verbose = false;    ///< print every choice (Fourier plan, stage times)
     std::string commandLine; ///< as typed, recorded in outputs
 };
 
 class ConsoleReporter final : public Reporter {
-public:
+  public:
     explicit ConsoleReporter(const GlobalOptions& options) : options_(options) {}
     void report(const Diagnostic& d) override;
 
-private:
+  private:
     const GlobalOptions& options_;
 };
 

@@ -4,13 +4,12 @@
 #include "core/file_io.h"
 #include "core/text.h"
 #include "core/units.h"
+#include "diffraction/wavefront.h"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
-
-#include "diffraction/wavefront.h"
 
 namespace ff::cli {
 
@@ -19,12 +18,16 @@ ghosts::Light parseLight(const std::string& spec) {
     std::vector<double> v;
     for (auto p : parts) {
         const auto x = text::parseNumber(p);
-        if (!x || !std::isfinite(*x)) v.clear(), v.push_back(NAN);
-        else v.push_back(*x);
+        if (!x || !std::isfinite(*x))
+            v.clear(), v.push_back(NAN);
+        else
+            v.push_back(*x);
     }
-    const bool ok = (v.size() == 2 || v.size() == 5) && std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
+    const bool ok =
+        (v.size() == 2 || v.size() == 5) && std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
     if (!ok || (v.size() == 5 && (v[2] < 0 || v[3] < 0 || v[4] < 0)))
-        throw Error(ErrorKind::Usage, "expected --light X,Y or X,Y,R,G,B (pixels; non-negative RGB flux), got " + text::quoted(spec));
+        throw Error(ErrorKind::Usage,
+                    "expected --light X,Y or X,Y,R,G,B (pixels; non-negative RGB flux), got " + text::quoted(spec));
     ghosts::Light l;
     l.xPx = v[0];
     l.yPx = v[1];
@@ -44,12 +47,15 @@ json parseJsonFile(const std::string& file) {
         // Byte offset to line:column.
         std::size_t line = 1, col = 1;
         for (std::size_t i = 0; i + 1 < e.byte && i < bytes.size(); ++i) {
-            if (bytes[i] == '\n') ++line, col = 1;
-            else ++col;
+            if (bytes[i] == '\n')
+                ++line, col = 1;
+            else
+                ++col;
         }
         std::string what = e.what();
         if (const auto p = what.find("syntax error"); p != std::string::npos) what = what.substr(p);
-        throw Error(ErrorKind::Input, SourceLocation{file, static_cast<int>(line), static_cast<int>(col)}, "not valid JSON: " + what);
+        throw Error(ErrorKind::Input, SourceLocation{file, static_cast<int>(line), static_cast<int>(col)},
+                    "not valid JSON: " + what);
     }
 }
 
@@ -60,13 +66,16 @@ json parseJsonFile(const std::string& file) {
 // A number, or [R, G, B] of numbers: three values, each finite and >= 0 (> 0 when positive).
 std::array<double, 3> triple(const std::string& file, const std::string& where, const json& v, bool positive) {
     std::array<double, 3> out{};
-    if (v.is_number()) out.fill(v.get<double>());
+    if (v.is_number())
+        out.fill(v.get<double>());
     else if (v.is_array() && v.size() == 3 && v[0].is_number() && v[1].is_number() && v[2].is_number())
         out = {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
-    else bad(file, where, "expected a number or [R, G, B]");
+    else
+        bad(file, where, "expected a number or [R, G, B]");
     for (double x : out)
         if (!std::isfinite(x) || x < 0.0 || (positive && x == 0.0))
-            bad(file, where, positive ? "values must be finite and positive" : "values must be finite and non-negative");
+            bad(file, where,
+                positive ? "values must be finite and positive" : "values must be finite and non-negative");
     return out;
 }
 
@@ -113,17 +122,21 @@ std::vector<fourier::Ghost> readGhostsJson(const std::string& file) {
         k.x = number(file, where, g, "x");
         k.y = number(file, where, g, "y");
         const std::string profile = g.value("profile", std::string("gaussian"));
-        if (profile != "gaussian" && profile != "cos2") bad(file, where + ".profile", "expected \"gaussian\" or \"cos2\", got \"" + profile + "\"");
+        if (profile != "gaussian" && profile != "cos2")
+            bad(file, where + ".profile", "expected \"gaussian\" or \"cos2\", got \"" + profile + "\"");
         k.shape = profile == "gaussian" ? fourier::Shape::Gaussian : fourier::Shape::Cos2;
-        if (!g.contains("widthX") || !g.contains("widthY")) bad(file, where, "expected \"widthX\" and \"widthY\" (pixels)");
+        if (!g.contains("widthX") || !g.contains("widthY"))
+            bad(file, where, "expected \"widthX\" and \"widthY\" (pixels)");
         k.widthX = triple(file, where + ".widthX", g["widthX"], true);
         k.widthY = triple(file, where + ".widthY", g["widthY"], true);
         if (g.contains("flux") == g.contains("peak")) bad(file, where, "give exactly one of \"flux\" and \"peak\"");
-        if (g.contains("flux")) k.flux = triple(file, where + ".flux", g["flux"], false);
+        if (g.contains("flux"))
+            k.flux = triple(file, where + ".flux", g["flux"], false);
         else {
             const auto peak = triple(file, where + ".peak", g["peak"], false);
             for (int c = 0; c < 3; ++c)
-                k.flux[c] = peak[c] * fourier::profileIntegral(k.shape, k.widthX[c]) * fourier::profileIntegral(k.shape, k.widthY[c]);
+                k.flux[c] = peak[c] * fourier::profileIntegral(k.shape, k.widthX[c]) *
+                            fourier::profileIntegral(k.shape, k.widthY[c]);
         }
         out.push_back(k);
     }
@@ -145,7 +158,8 @@ std::vector<fourier::Ghost> fourierGhosts(const std::vector<ghosts::GhostInstanc
             g.widthX[ch] = std::sqrt(r * r * c * c + t * t * s * s);
             g.widthY[ch] = std::sqrt(r * r * s * s + t * t * c * c);
             g.flux[ch] = gi.flux[ch];
-            usable = usable && g.widthX[ch] > 0.0 && g.widthY[ch] > 0.0 && std::isfinite(g.widthX[ch]) && std::isfinite(g.widthY[ch]);
+            usable = usable && g.widthX[ch] > 0.0 && g.widthY[ch] > 0.0 && std::isfinite(g.widthX[ch]) &&
+                     std::isfinite(g.widthY[ch]);
         }
         if (usable) out.push_back(g);
     }
@@ -184,7 +198,8 @@ TracedScene renderTracedField(const optics::Lens& lens, const trace::TracedFlare
     return scene;
 }
 
-TracedScene renderTracedScene(const optics::Lens& lens, const std::vector<ghosts::Light>& lights, trace::TracedFlareOptions o) {
+TracedScene renderTracedScene(const optics::Lens& lens, const std::vector<ghosts::Light>& lights,
+                              trace::TracedFlareOptions o) {
     TracedScene scene;
     scene.image = fourier::FlareImage(o.frame.width, o.frame.height);
     const double sensorZ = trace::sensorPlaneZ(lens, o.sensor);

@@ -2,6 +2,8 @@
 // What `render` and `compare` share: the lights of a scene, its ghosts for the aggregator, and the
 // traced reference image of several lights.
 
+#include "diffraction/convolution.h"
+#include "diffraction/psf.h"
 #include "fourier/ghost.h"
 #include "ghosts/instancing.h"
 #include "ghosts/shaped_ghosts.h"
@@ -10,9 +12,6 @@
 
 #include <string>
 #include <vector>
-
-#include "diffraction/convolution.h"
-#include "diffraction/psf.h"
 
 namespace ff::cli {
 
@@ -46,7 +45,8 @@ struct TracedScene {
 
 /// The traced flare of all lights (each its own field, options.field ignored), summed with the
 /// lights' RGB flux.
-TracedScene renderTracedScene(const optics::Lens& lens, const std::vector<ghosts::Light>& lights, trace::TracedFlareOptions options);
+TracedScene renderTracedScene(const optics::Lens& lens, const std::vector<ghosts::Light>& lights,
+                              trace::TracedFlareOptions options);
 
 /// The traced flare of one source at options.field with unit flux.
 TracedScene renderTracedField(const optics::Lens& lens, const trace::TracedFlareOptions& options);

@@ -3,14 +3,13 @@
 
 #include "cli/console.h"
 #include "cli/trace_choices.h"
+#include "diffraction/convolution.h"
 #include "fourier/plan.h"
 #include "ghosts/instancing.h"
 #include "ghosts/shaped_ghosts.h"
 
 #include <string>
 #include <vector>
-
-#include "diffraction/convolution.h"
 
 namespace CLI {
 class App;
@@ -21,14 +20,14 @@ namespace ff::cli {
 struct FourierOptions {
     double error = 1e-3;
     int n = 0;
-    std::string period;                 ///< "TX,TY" pixels
+    std::string period; ///< "TX,TY" pixels
     std::string gaussianForm = "periodised";
     std::string evaluation = "auto";
-    std::string accumulation = "auto";  ///< auto, gemm or grid
+    std::string accumulation = "auto"; ///< auto, gemm or grid
     bool dropDc = false;
     bool noHybrid = false;
     std::string basis = "separable";
-    std::string backend = "auto";       ///< cpu, gl or auto
+    std::string backend = "auto"; ///< cpu, gl or auto
 
     void addTo(CLI::App& cmd);
     /// The settings, with the GL backend made when --backend asks for it: gl without an OpenGL 4.5

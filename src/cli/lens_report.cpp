@@ -62,16 +62,19 @@ std::string lensInfoText(const Lens& lens, double lambdaNm, const std::vector<Po
                                                    : text::roundTrip(*lens.nominalFocalLength) + " mm")
           << "\n";
     if (lens.fNumber) o << "  working f-number (header): f/" << text::roundTrip(*lens.fNumber) << "\n";
-    if (lens.sensorMm) o << "  sensor: " << text::roundTrip(lens.sensorMm->first) << " x " << text::roundTrip(lens.sensorMm->second) << " mm\n";
-    o << "  iris: " << (lens.apertureBlades ? std::to_string(lens.apertureBlades) + " blades" : std::string("circular"));
+    if (lens.sensorMm)
+        o << "  sensor: " << text::roundTrip(lens.sensorMm->first) << " x " << text::roundTrip(lens.sensorMm->second)
+          << " mm\n";
+    o << "  iris: "
+      << (lens.apertureBlades ? std::to_string(lens.apertureBlades) + " blades" : std::string("circular"));
     if (lens.bladeRotationDeg != 0.0) o << ", rotated " << text::roundTrip(lens.bladeRotationDeg) << " deg";
     o << "\n";
     if (lens.isZoom()) o << "  zoom positions: " << text::join(lens.zoomLabels) << "\n";
     o << "\n";
 
     char buf[256];
-    std::snprintf(buf, sizeof buf, "  %3s %12s %21s  %-22s %9s %9s  %-12s %s\n", "#", "radius", "thickness", "medium after",
-                  ("n@" + fixed(lambdaNm, 1)).c_str(), "semi-ap", "coating", "notes");
+    std::snprintf(buf, sizeof buf, "  %3s %12s %21s  %-22s %9s %9s  %-12s %s\n", "#", "radius", "thickness",
+                  "medium after", ("n@" + fixed(lambdaNm, 1)).c_str(), "semi-ap", "coating", "notes");
     o << buf;
     for (std::size_t i = 0; i < lens.surfaces.size(); ++i) {
         const Surface& s = lens.surfaces[i];
@@ -82,8 +85,8 @@ std::string lensInfoText(const Lens& lens, double lambdaNm, const std::vector<Po
         if (s.isAspheric()) extra += " asphere(" + std::to_string(s.asphere.size()) + " terms)";
         if (!s.rotationallySymmetric()) extra += std::string(" ") + optics::toString(s.shape);
         std::snprintf(buf, sizeof buf, "  %3zu %12s %21s  %-22s %9.5f %9.4f  %-12s%s\n", i + 1, radius.c_str(),
-                      thicknessText(lens, i).c_str(), mediumText(s.medium).c_str(), s.medium.index(lambdaNm), s.semiAperture,
-                      lens.coatingOf(i).str().c_str(), extra.c_str());
+                      thicknessText(lens, i).c_str(), mediumText(s.medium).c_str(), s.medium.index(lambdaNm),
+                      s.semiAperture, lens.coatingOf(i).str().c_str(), extra.c_str());
         o << buf;
     }
 
@@ -100,9 +103,12 @@ std::string lensInfoText(const Lens& lens, double lambdaNm, const std::vector<Po
             o << row("back focal distance", fixed(f.bfd, 3) + " mm (last vertex to paraxial focus)");
             o << row("front focal distance", fixed(f.ffd, 3) + " mm (front focal point to first vertex)");
         }
-        o << row("entrance pupil", pupilZText(f.entrancePupilZ, "the first vertex") + ", diameter " + fixed(f.entrancePupilDiameter, 3) + " mm");
-        o << row("exit pupil", pupilZText(f.exitPupilZ, "the last vertex") +
-                                   (std::isfinite(f.exitPupilDiameter) ? ", diameter " + fixed(f.exitPupilDiameter, 3) + " mm" : std::string()));
+        o << row("entrance pupil", pupilZText(f.entrancePupilZ, "the first vertex") + ", diameter " +
+                                       fixed(f.entrancePupilDiameter, 3) + " mm");
+        o << row("exit pupil",
+                 pupilZText(f.exitPupilZ, "the last vertex") +
+                     (std::isfinite(f.exitPupilDiameter) ? ", diameter " + fixed(f.exitPupilDiameter, 3) + " mm"
+                                                         : std::string()));
         if (!f.afocal) o << row("f-number", "f/" + fixed(f.fNumber, 2));
         o << row("aperture stop",
                  "surface " + std::to_string(lens.stopIndex() + 1) +
@@ -152,8 +158,10 @@ nlohmann::json lensInfoJson(const Lens& lens, double lambdaNm, const std::vector
         js["radius_mm"] = s.radius == 0.0 ? json(nullptr) : json(s.radius);
         js["conic"] = s.conic;
         js["asphere"] = s.asphere;
-        if (i < lens.zoomGaps.size() && !lens.zoomGaps[i].empty()) js["thickness_mm"] = lens.zoomGaps[i];
-        else js["thickness_mm"] = s.thickness;
+        if (i < lens.zoomGaps.size() && !lens.zoomGaps[i].empty())
+            js["thickness_mm"] = lens.zoomGaps[i];
+        else
+            js["thickness_mm"] = s.thickness;
         js["medium"] = {{"glass", s.medium.glass.empty() ? json(nullptr) : json(s.medium.glass)},
                         {"nd", s.medium.nd},
                         {"vd", s.medium.vd},

@@ -4,6 +4,7 @@
 #include "cli/commands.h"
 #include "cli/console.h"
 #include "core/error.h"
+#include "ff/version.h"
 #include "image/image_output.h"
 
 #include <CLI/CLI.hpp>
@@ -14,8 +15,6 @@
 #include <memory>
 #include <thread>
 
-#include "ff/version.h"
-
 int main(int argc, char** argv) {
     using namespace ff::cli;
     CLI::App app{"FourierFlare: physically based lens flares from real lens prescriptions.", "fourierflare"};
@@ -23,13 +22,16 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     app.option_defaults()->always_capture_default();
     app.footer("Exit codes: 0 ok, 1 runtime failure, 2 usage or input error.\n"
-               "Example: fourierflare simulate --lens lenses/double-gauss-50mm-f2.lens --plate data/night-street.exr -o out/night-street.exr --preview out/night-street.png");
+               "Example: fourierflare simulate --lens lenses/double-gauss-50mm-f2.lens --plate data/night-street.exr "
+               "-o out/night-street.exr --preview out/night-street.png");
     GlobalOptions global;
     for (int i = 0; i < argc; ++i) global.commandLine += (i ? " " : "") + std::string(argv[i]);
     app.add_flag("-q,--quiet", global.quiet, "Do not print notes (warnings and errors are always printed)");
     int threads = 0;
-    app.add_option("--threads", threads, "Worker threads (default: all cores); results do not depend on it")->check(CLI::Range(1, 1024));
-    app.add_flag("-v,--verbose", global.verbose, "Print every choice made on the way (Fourier period, terms, routes; stage times)");
+    app.add_option("--threads", threads, "Worker threads (default: all cores); results do not depend on it")
+        ->check(CLI::Range(1, 1024));
+    app.add_flag("-v,--verbose", global.verbose,
+                 "Print every choice made on the way (Fourier period, terms, routes; stage times)");
     addLensCommand(app, global);
     addGhostsCommand(app, global);
     addRenderCommand(app, global);
@@ -45,7 +47,8 @@ int main(int argc, char** argv) {
         ff::image::setExrThreads(threads > 0 ? threads
                                              : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
         if (threads > 0)
-            threadLimit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+            threadLimit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                                static_cast<std::size_t>(threads));
     });
     try {
         app.parse(argc, argv);

@@ -19,8 +19,8 @@ namespace ff::cli {
 /// Loads the lens at the given zoom position ("" = the first) and refuses anamorphic lenses.
 optics::Lens loadTraceableLens(const std::string& file, const std::string& zoom, Reporter& reporter);
 
-trace::Sampling samplingFrom(const std::string& s);   ///< reaim | paraxial-grid
-trace::SensorPlane sensorFrom(const std::string& s);  ///< file | paraxial
+trace::Sampling samplingFrom(const std::string& s);     ///< reaim | paraxial-grid
+trace::SensorPlane sensorFrom(const std::string& s);    ///< file | paraxial
 trace::CoatingChoice coatingFrom(const std::string& s); ///< file | none | mgf2
 
 /// The options that decide a ghost table, shared by `table` and `export` so that the same values
@@ -39,8 +39,8 @@ struct TableOptions {
 
 /// The ghost table of the lens: from the cache when a valid entry exists (and useCache), else built
 /// with a progress bar on a terminal, saying how long it took; `fromCache` tells which happened.
-ghosts::GhostTable loadTable(const optics::Lens& lens, const TableOptions& table, const GlobalOptions& g, Reporter& reporter,
-                             bool useCache = true, bool* fromCache = nullptr);
+ghosts::GhostTable loadTable(const optics::Lens& lens, const TableOptions& table, const GlobalOptions& g,
+                             Reporter& reporter, bool useCache = true, bool* fromCache = nullptr);
 
 /// The lens's shaped ghosts from the cache, else built and stored, saying so with the time, size and
 /// ghosts kept (unless -q).

@@ -17,20 +17,23 @@ static std::string withLocation(const SourceLocation& where, const std::string& 
 }
 
 Error::Error(ErrorKind kind, SourceLocation where, const std::string& message)
-    : std::runtime_error(withLocation(where, message)), kind_(kind), where_(std::move(where)),
-      message_(message) {}
+    : std::runtime_error(withLocation(where, message)), kind_(kind), where_(std::move(where)), message_(message) {}
 
 void throwInputError(const SourceLocation& where, const std::string& message) {
     throw Error(ErrorKind::Input, where, message);
 }
 
-void throwRuntimeError(const std::string& message) { throw Error(ErrorKind::Runtime, message); }
+void throwRuntimeError(const std::string& message) {
+    throw Error(ErrorKind::Runtime, message);
+}
 
 int exitCodeFor(ErrorKind kind) {
     switch (kind) {
     case ErrorKind::Input:
-    case ErrorKind::Usage: return 2;
-    case ErrorKind::Runtime: return 1;
+    case ErrorKind::Usage:
+        return 2;
+    case ErrorKind::Runtime:
+        return 1;
     }
     return 1;
 }

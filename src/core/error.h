@@ -26,7 +26,7 @@ enum class ErrorKind {
 };
 
 class Error : public std::runtime_error {
-public:
+  public:
     Error(ErrorKind kind, SourceLocation where, const std::string& message);
     Error(ErrorKind kind, const std::string& message) : Error(kind, {}, message) {}
 
@@ -35,7 +35,7 @@ public:
     /// The message without the location prefix.
     const std::string& message() const { return message_; }
 
-private:
+  private:
     ErrorKind kind_;
     SourceLocation where_;
     std::string message_;

@@ -36,8 +36,8 @@ void writeFileAtomic(const fs::path& path, std::string_view content) {
     const fs::path tmp = dir / ("." + path.filename().string() + ".tmp" + std::to_string(rd() % 1000000));
     {
         std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) throwRuntimeError("cannot write '" + path.string() + "': cannot create a file in '" +
-                                    dir.string() + "'");
+        if (!out)
+            throwRuntimeError("cannot write '" + path.string() + "': cannot create a file in '" + dir.string() + "'");
         out.write(content.data(), static_cast<std::streamsize>(content.size()));
         out.close();
         if (!out) {

@@ -22,13 +22,11 @@ struct Diagnostic {
 };
 
 class Reporter {
-public:
+  public:
     virtual ~Reporter() = default;
     virtual void report(const Diagnostic& d) = 0;
 
-    void note(const SourceLocation& where, const std::string& message) {
-        report({Severity::Note, where, message});
-    }
+    void note(const SourceLocation& where, const std::string& message) { report({Severity::Note, where, message}); }
     void warning(const SourceLocation& where, const std::string& message) {
         report({Severity::Warning, where, message});
     }
@@ -36,13 +34,13 @@ public:
 
 /// Discards everything; the default where a caller passes no reporter.
 class NullReporter final : public Reporter {
-public:
+  public:
     void report(const Diagnostic&) override {}
 };
 
 /// Keeps every diagnostic, in order (tests, and callers that show them later).
 class CollectingReporter final : public Reporter {
-public:
+  public:
     void report(const Diagnostic& d) override { diagnostics.push_back(d); }
     std::vector<Diagnostic> diagnostics;
 };

@@ -31,8 +31,7 @@ std::optional<double> parseNumber(std::string_view s) {
     // from_chars also accepts "inf", "nan" and hex floats only with the hex format flag; reject the
     // named specials explicitly so only plain decimal numbers pass.
     for (char c : s)
-        if (!(std::isdigit(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == 'e' ||
-              c == 'E' || c == '+'))
+        if (!(std::isdigit(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == 'e' || c == 'E' || c == '+'))
             return std::nullopt;
     double v = 0.0;
     const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v, std::chars_format::general);
@@ -171,7 +170,8 @@ namespace {
 std::string normalizedName(std::string_view s) {
     std::string r;
     for (char c : s)
-        if (std::isalnum(static_cast<unsigned char>(c))) r += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        if (std::isalnum(static_cast<unsigned char>(c)))
+            r += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     return r;
 }
 
@@ -186,7 +186,8 @@ std::vector<std::string> closestNames(std::string_view name, const std::vector<s
     std::vector<std::pair<std::size_t, std::string>> scored;
     for (const auto& c : candidates) {
         const std::string cand = normalizedName(c);
-        const bool contains = !query.empty() && (cand.find(query) != std::string::npos || query.find(cand) != std::string::npos);
+        const bool contains =
+            !query.empty() && (cand.find(query) != std::string::npos || query.find(cand) != std::string::npos);
         const std::size_t score = contains ? 0 : editDistance(query, cand);
         if (score <= limit) scored.emplace_back(score, c);
     }

@@ -18,8 +18,14 @@ inline constexpr double Cprime = 643.8469;
 inline constexpr double C = 656.2725;
 } // namespace lines
 
-inline constexpr double nmToUm(double lambdaNm) { return lambdaNm * 1e-3; }
-inline constexpr double degToRad(double deg) { return deg * std::numbers::pi / 180.0; }
-inline constexpr double radToDeg(double rad) { return rad * 180.0 / std::numbers::pi; }
+inline constexpr double nmToUm(double lambdaNm) {
+    return lambdaNm * 1e-3;
+}
+inline constexpr double degToRad(double deg) {
+    return deg * std::numbers::pi / 180.0;
+}
+inline constexpr double radToDeg(double rad) {
+    return rad * 180.0 / std::numbers::pi;
+}
 
 } // namespace ff

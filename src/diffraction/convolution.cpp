@@ -1,19 +1,16 @@
 #include "diffraction/convolution.h"
 
 #include "core/error.h"
+#include "diffraction/fftw.h"
 
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
 
-#include "diffraction/fftw.h"
-
 namespace ff::diffraction {
 
-namespace {
-
-} // namespace
+namespace {} // namespace
 
 std::vector<float> convolve(const std::vector<float>& image, int width, int height, const Psf& psf, double* offFrame) {
     const std::size_t pixels = static_cast<std::size_t>(std::max(width, 0)) * std::max(height, 0);

@@ -2,10 +2,10 @@
 // All lights' diffraction at once: the image of the light sources convolved with the PSF by FFT (one
 // transform per channel, any number of lights), and the diffraction layer simulate adds.
 
+#include "diffraction/psf.h"
+
 #include <functional>
 #include <vector>
-
-#include "diffraction/psf.h"
 
 namespace ff::diffraction {
 

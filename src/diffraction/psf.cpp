@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/text.h"
 #include "core/units.h"
+#include "diffraction/fftw.h"
 #include "optics/paraxial.h"
 #include "trace/aperture.h"
 #include "trace/sequential_tracer.h"
@@ -16,8 +17,6 @@
 #include <memory>
 #include <mutex>
 #include <numbers>
-
-#include "diffraction/fftw.h"
 
 namespace ff::diffraction {
 

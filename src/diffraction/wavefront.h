@@ -15,6 +15,7 @@
 // sphere's centre (a wave converging to a point shifted by dx has W = dx u D / (2 R)), which is
 // also where the Fraunhofer integral of psf.h puts the PSF's centroid: the geometric spot's.
 
+#include "diffraction/psf.h"
 #include "optics/lens.h"
 
 #include <glm/vec2.hpp>
@@ -22,8 +23,6 @@
 #include <functional>
 #include <limits>
 #include <vector>
-
-#include "diffraction/psf.h"
 
 namespace ff::diffraction {
 

@@ -12,7 +12,8 @@
 namespace ff::exporting {
 
 std::string toCsv(const ghosts::GhostTable& table, double fieldAngleDeg, std::size_t top);
-std::string toUnityAsset(const ghosts::GhostTable& table, double fieldAngleDeg, std::size_t top, const std::string& assetName);
+std::string toUnityAsset(const ghosts::GhostTable& table, double fieldAngleDeg, std::size_t top,
+                         const std::string& assetName);
 std::string toUnrealPreset(const ghosts::GhostTable& table, double fieldAngleDeg);
 
 } // namespace ff::exporting

@@ -6,7 +6,9 @@
 
 namespace ff::exporting {
 
-double defaultFieldAngle(const ghosts::GhostTable& t) { return t.anglesDeg.empty() ? 0.0 : 0.5 * t.anglesDeg.back(); }
+double defaultFieldAngle(const ghosts::GhostTable& t) {
+    return t.anglesDeg.empty() ? 0.0 : 0.5 * t.anglesDeg.back();
+}
 
 std::vector<GhostSummary> summarize(const ghosts::GhostTable& t, double angle, std::size_t top) {
     const std::array<std::size_t, 3> channel = t.rgbChannels();
@@ -36,7 +38,8 @@ std::vector<GhostSummary> summarize(const ghosts::GhostTable& t, double angle, s
         s.surfaceBrightness = s.radiusMm > 0.0 ? s.meanFlux / (std::numbers::pi * s.radiusMm * s.radiusMm) : 0.0;
         out.push_back(s);
     }
-    std::stable_sort(out.begin(), out.end(), [](const GhostSummary& a, const GhostSummary& b) { return a.meanFlux > b.meanFlux; });
+    std::stable_sort(out.begin(), out.end(),
+                     [](const GhostSummary& a, const GhostSummary& b) { return a.meanFlux > b.meanFlux; });
     if (top > 0 && out.size() > top) out.resize(top);
     double brightest = 0.0;
     for (const auto& s : out) brightest = std::max(brightest, s.surfaceBrightness);

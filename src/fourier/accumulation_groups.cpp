@@ -4,22 +4,25 @@
 #include "fourier/gridded.h"
 #include "fourier/plan.h"
 
+#include <climits>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <initializer_list>
-#include <climits>
 #include <utility>
 
 namespace ff::fourier {
 
 const char* toString(Accumulation a) {
     switch (a) {
-    case Accumulation::Auto: return "auto";
-    case Accumulation::Gemm: return "gemm";
-    case Accumulation::Grid: return "grid";
+    case Accumulation::Auto:
+        return "auto";
+    case Accumulation::Gemm:
+        return "gemm";
+    case Accumulation::Grid:
+        return "grid";
     }
     return "?";
 }
@@ -27,7 +30,9 @@ const char* toString(Accumulation a) {
 namespace {
 
 // Rounds a ghost's term count up to a multiple of 8 (a band), at most the plan's count.
-int band(int terms, int limit) { return std::min(limit, 8 * ((std::max(terms, 1) + 7) / 8)); }
+int band(int terms, int limit) {
+    return std::min(limit, 8 * ((std::max(terms, 1) + 7) / 8));
+}
 
 // Relative costs (per channel) in GEMM-equivalent flops: a GEMM multiply-add is 2 flops at sgemm's
 // rate; a spread sample is a multiply-add at about half that rate (4); each stencil sample also costs
@@ -36,7 +41,9 @@ int band(int terms, int limit) { return std::min(limit, 8 * ((std::max(terms, 1)
 // method, or faster, from 100 to 100 000 ghosts.
 constexpr double kSpreadFlops = 4.0, kProfileFlops = 20.0, kFftWeight = 5.0;
 
-double gemmFlops(std::size_t count, int n, int m) { return static_cast<double>(count) * (8.0 * n * m + 60.0 * (n + m)); }
+double gemmFlops(std::size_t count, int n, int m) {
+    return static_cast<double>(count) * (8.0 * n * m + 60.0 * (n + m));
+}
 
 // Width class of a ghost on a grid: quarter octaves of its narrowest width per axis. A grid's
 // spacing follows its narrowest member, so each member's stencil is at most 2^(1/4) times the least.
@@ -102,7 +109,15 @@ void groupForAccumulation(const std::vector<Ghost>& ghosts, const FourierSetting
         int& s = slot[static_cast<std::size_t>(key[k])];
         if (s < 0) {
             s = static_cast<int>(byBands.size());
-            byBands.push_back({ghosts[k].shape, band(plan.termsX[k], plan.n), band(plan.termsY[k], plan.m), Accumulation::Gemm, 0, 0, 0.0, 0.0, {}});
+            byBands.push_back({ghosts[k].shape,
+                               band(plan.termsX[k], plan.n),
+                               band(plan.termsY[k], plan.m),
+                               Accumulation::Gemm,
+                               0,
+                               0,
+                               0.0,
+                               0.0,
+                               {}});
         }
         byBands[static_cast<std::size_t>(s)].members.push_back(k);
     }
@@ -144,7 +159,8 @@ void groupForAccumulation(const std::vector<Ghost>& ghosts, const FourierSetting
                 gridWork += sizeGrid(sub, w, plan, aliasError);
                 huge = huge || double(sub.gridX) * sub.gridY > double(1 << 24);
             }
-            if (!huge && (settings.accumulation == Accumulation::Grid || gridWork < 3.0 * gemmFlops(g.members.size(), g.n, g.m))) {
+            if (!huge && (settings.accumulation == Accumulation::Grid ||
+                          gridWork < 3.0 * gemmFlops(g.members.size(), g.n, g.m))) {
                 for (int s : classSlot)
                     if (s >= 0) plan.groups.push_back(std::move(subs[static_cast<std::size_t>(s)]));
                 continue;

@@ -3,10 +3,10 @@
 #include "fourier/blas_threads.h"
 #include "fourier/gridded.h"
 
-#include <cblas.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cblas.h>
 #include <cmath>
 #include <numbers>
 
@@ -111,8 +111,8 @@ Coefficients accumulate(const std::vector<Ghost>& ghosts, const Plan& plan, cons
             }
         }
         std::vector<float> product(static_cast<std::size_t>(4) * nb * mb, 0.0f);
-        cblas_sgemm(CblasRowMajor, CblasTrans, CblasNoTrans, 2 * nb, 2 * mb, static_cast<int>(task.count), 1.0f, U.data(), 2 * nb, V.data(),
-                    2 * mb, 0.0f, product.data(), 2 * mb);
+        cblas_sgemm(CblasRowMajor, CblasTrans, CblasNoTrans, 2 * nb, 2 * mb, static_cast<int>(task.count), 1.0f,
+                    U.data(), 2 * nb, V.data(), 2 * mb, 0.0f, product.data(), 2 * mb);
         task.result[c].assign(product.begin(), product.end());
     });
     // Each chunk's blocks into the full matrices, in float64, in task order.

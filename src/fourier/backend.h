@@ -17,14 +17,15 @@ struct StageSeconds {
 };
 
 class Backend {
-public:
+  public:
     virtual ~Backend() = default;
     /// The device in words (for --verbose and the output metadata).
     virtual std::string describe() const = 0;
     /// Starts a frame: width x height, all zero.
     virtual void begin(int width, int height) = 0;
     /// Adds one level (ghosts and their routes in plan) to the frame; stage times go to seconds.
-    virtual void addLevel(const std::vector<Ghost>& ghosts, const Plan& plan, const FourierSettings& settings, StageSeconds& seconds) = 0;
+    virtual void addLevel(const std::vector<Ghost>& ghosts, const Plan& plan, const FourierSettings& settings,
+                          StageSeconds& seconds) = 0;
     /// Reads the frame back (image is resized to it).
     virtual void finish(FlareImage& image) = 0;
 };

@@ -5,12 +5,12 @@
 #include "fourier/direct.h"
 #include "fourier/fftw_planner.h"
 
-#include <fftw3.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <fftw3.h>
 #include <mutex>
 #include <numbers>
 
@@ -46,7 +46,7 @@ std::vector<double> besselZeros(int count) {
     std::vector<double> z(static_cast<std::size_t>(count));
     for (int j = 1; j <= count; ++j) {
         const double b = (j - 0.25) * std::numbers::pi;
-        double x = b + 1.0 / (8.0 * b); // McMahon
+        double x = b + 1.0 / (8.0 * b);                                                         // McMahon
         for (int i = 0; i < 4; ++i) x += std::cyl_bessel_j(0.0, x) / std::cyl_bessel_j(1.0, x); // Newton: J0' = -J1
         z[static_cast<std::size_t>(j - 1)] = x;
     }
@@ -90,30 +90,38 @@ FourierRender renderBessel(const std::vector<Ghost>& ghosts, int W, int H, const
     for (std::size_t k = 0; k < K; ++k) {
         const Ghost& g = ghosts[k];
         if (g.shape != Shape::Gaussian)
-            throw Error(ErrorKind::Usage, "the Fourier-Bessel basis takes Gaussian ghosts only (use the Gaussian profile or the separable basis)");
+            throw Error(ErrorKind::Usage, "the Fourier-Bessel basis takes Gaussian ghosts only (use the Gaussian "
+                                          "profile or the separable basis)");
         for (int c = 0; c < 3; ++c) iso[k].widthX[c] = iso[k].widthY[c] = std::sqrt(g.widthX[c] * g.widthY[c]);
         const double ext = iso[k].extentX();
         const bool empty = g.flux[0] == 0.0 && g.flux[1] == 0.0 && g.flux[2] == 0.0;
-        if (empty || g.x + ext < 0.0 || g.x - ext > W || g.y + ext < 0.0 || g.y - ext > H) p.route[k] = Route::Culled;
-        else if (std::hypot(g.x - ox, g.y - oy) > 1.5 * rMax) p.route[k] = Route::Direct;
+        if (empty || g.x + ext < 0.0 || g.x - ext > W || g.y + ext < 0.0 || g.y - ext > H)
+            p.route[k] = Route::Culled;
+        else if (std::hypot(g.x - ox, g.y - oy) > 1.5 * rMax)
+            p.route[k] = Route::Direct;
     }
     // J: fixed, or the least that keeps the narrowest routed ghost in budget, capped at 256; a ghost
     // needing more goes direct.
-    auto termsFor = [&](double sigma, double R0) { return static_cast<int>(std::ceil(kSigma / sigma * R0 / std::numbers::pi)) + 2; };
+    auto termsFor = [&](double sigma, double R0) {
+        return static_cast<int>(std::ceil(kSigma / sigma * R0 / std::numbers::pi)) + 2;
+    };
     for (std::size_t k = 0; k < K; ++k)
         if (p.route[k] == Route::Fourier) dMax = std::max(dMax, std::hypot(ghosts[k].x - ox, ghosts[k].y - oy));
     // The disc covers every ghost-to-pixel distance, and every ghost decays within it (the closed-form
     // c_j integrate the profile to infinity): f(R0) below a tenth of the budget.
     double widest = 0.0;
     for (std::size_t k = 0; k < K; ++k)
-        if (p.route[k] == Route::Fourier) widest = std::max({widest, iso[k].widthX[0], iso[k].widthX[1], iso[k].widthX[2]});
+        if (p.route[k] == Route::Fourier)
+            widest = std::max({widest, iso[k].widthX[0], iso[k].widthX[1], iso[k].widthX[2]});
     const double R0 = std::max(dMax + rMax, widest * std::sqrt(2.0 * std::log(10.0 / s.error))) + 1.0;
     const int cap = s.fixedN > 0 ? s.fixedN : 256;
     for (std::size_t k = 0; k < K; ++k) {
         if (p.route[k] != Route::Fourier) continue;
         const double sg = std::min({iso[k].widthX[0], iso[k].widthX[1], iso[k].widthX[2]});
-        if (s.hybrid && termsFor(sg, R0) > cap) p.route[k] = Route::Direct;
-        else sigmaMin = std::min(sigmaMin, sg);
+        if (s.hybrid && termsFor(sg, R0) > cap)
+            p.route[k] = Route::Direct;
+        else
+            sigmaMin = std::min(sigmaMin, sg);
     }
     const int J = std::isfinite(sigmaMin) ? (s.fixedN > 0 ? s.fixedN : std::min(cap, termsFor(sigmaMin, R0))) : 0;
     const std::vector<double> lambda = besselZeros(J);
@@ -134,8 +142,9 @@ FourierRender renderBessel(const std::vector<Ghost>& ghosts, int W, int H, const
     const int angles = 2 * fftFriendly(std::max(M + 1, static_cast<int>(std::ceil(std::numbers::pi * rMax / 0.75))));
     p.polarRings = rings;
     p.polarAngles = angles;
-    p.reason = "Fourier-Bessel on a disc of radius " + text::fixed(R0, 0) + " px, J " + std::to_string(J) + " x M " + std::to_string(M) +
-               ", polar grid " + std::to_string(rings) + " x " + std::to_string(angles) + ", budget " + text::roundTrip(s.error);
+    p.reason = "Fourier-Bessel on a disc of radius " + text::fixed(R0, 0) + " px, J " + std::to_string(J) + " x M " +
+               std::to_string(M) + ", polar grid " + std::to_string(rings) + " x " + std::to_string(angles) +
+               ", budget " + text::roundTrip(s.error);
     r.seconds.plan = lap();
 
     r.image = FlareImage(W, H);
@@ -161,8 +170,10 @@ FourierRender renderBessel(const std::vector<Ghost>& ghosts, int W, int H, const
                 for (int c = 0; c < 3; ++c) {
                     const double sg = g.widthX[c];
                     const double alpha = g.flux[c] / (2.0 * std::numbers::pi * sg * sg);
-                    // c_j of exp(-rho^2 / 2 sigma^2): its Hankel transform sigma^2 exp(-k^2 sigma^2 / 2), times 2 / (R0^2 J1^2).
-                    const double cj = 2.0 * sg * sg * std::exp(-0.5 * kj * kj * sg * sg) / normJ1[static_cast<std::size_t>(j)];
+                    // c_j of exp(-rho^2 / 2 sigma^2): its Hankel transform sigma^2 exp(-k^2 sigma^2 / 2), times 2 /
+                    // (R0^2 J1^2).
+                    const double cj =
+                        2.0 * sg * sg * std::exp(-0.5 * kj * kj * sg * sg) / normJ1[static_cast<std::size_t>(j)];
                     double* ar = &a[c][static_cast<std::size_t>(j) * M];
                     double* br = &b[c][static_cast<std::size_t>(j) * M];
                     for (int m = 0; m < M; ++m) {
@@ -240,7 +251,8 @@ FourierRender renderBessel(const std::vector<Ghost>& ghosts, int W, int H, const
                         ring = std::min(ring, rings - 1);
                         const float* row = &rings3[c][static_cast<std::size_t>(ring) * angles];
                         double rv = 0.0;
-                        for (int q = 0; q < 4; ++q) rv += wt[q] * row[((it - 1 + q + shift) % angles + angles) % angles];
+                        for (int q = 0; q < 4; ++q)
+                            rv += wt[q] * row[((it - 1 + q + shift) % angles + angles) % angles];
                         v += wr[u] * rv;
                     }
                     r.image.channel[c][static_cast<std::size_t>(y) * W + xpx] = static_cast<float>(v);

@@ -8,13 +8,13 @@
 namespace ff::fourier {
 
 class SingleThreadedBlas {
-public:
+  public:
     SingleThreadedBlas() : previous_(openblas_get_num_threads()) { openblas_set_num_threads(1); }
     ~SingleThreadedBlas() { openblas_set_num_threads(previous_); }
     SingleThreadedBlas(const SingleThreadedBlas&) = delete;
     SingleThreadedBlas& operator=(const SingleThreadedBlas&) = delete;
 
-private:
+  private:
     int previous_;
 };
 

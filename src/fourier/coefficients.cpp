@@ -8,13 +8,18 @@
 
 namespace ff::fourier {
 
-const char* toString(Shape s) { return s == Shape::Gaussian ? "gaussian" : "cos2"; }
+const char* toString(Shape s) {
+    return s == Shape::Gaussian ? "gaussian" : "cos2";
+}
 
 const char* toString(GaussianForm f) {
     switch (f) {
-    case GaussianForm::Periodised: return "periodised";
-    case GaussianForm::Exact: return "exact";
-    case GaussianForm::ErfAS7126: return "as7126";
+    case GaussianForm::Periodised:
+        return "periodised";
+    case GaussianForm::Exact:
+        return "exact";
+    case GaussianForm::ErfAS7126:
+        return "as7126";
     }
     return "?";
 }
@@ -23,7 +28,8 @@ double erfAS7126(double x) {
     const double s = x < 0.0 ? -1.0 : 1.0;
     x = std::abs(x);
     const double t = 1.0 / (1.0 + 0.3275911 * x);
-    const double poly = t * (0.254829592 + t * (-0.284496736 + t * (1.421413741 + t * (-1.453152027 + t * 1.061405429))));
+    const double poly =
+        t * (0.254829592 + t * (-0.284496736 + t * (1.421413741 + t * (-1.453152027 + t * 1.061405429))));
     return s * (1.0 - poly * std::exp(-x * x));
 }
 
@@ -52,19 +58,26 @@ double gaussianCoefficient(int n, double sigma, double T, GaussianForm form) {
     const double b = n * (2.0 * std::numbers::pi / T) * sigma / std::numbers::sqrt2;
     const double a = T / (2.0 * std::numbers::sqrt2 * sigma);
     switch (form) {
-    case GaussianForm::Periodised: return scale * std::exp(-b * b);
-    case GaussianForm::Exact: return scale * scaledRealErf(a, b);
-    case GaussianForm::ErfAS7126: return scale * std::exp(-b * b) * erfAS7126(a);
+    case GaussianForm::Periodised:
+        return scale * std::exp(-b * b);
+    case GaussianForm::Exact:
+        return scale * scaledRealErf(a, b);
+    case GaussianForm::ErfAS7126:
+        return scale * std::exp(-b * b) * erfAS7126(a);
     }
     return 0.0;
 }
 
-double sinc(double u) { return u == 0.0 ? 1.0 : std::sin(u) / u; }
+double sinc(double u) {
+    return u == 0.0 ? 1.0 : std::sin(u) / u;
+}
 
 namespace {
 
 // The cos^2 coefficient's shape: T h_n / w as a function of theta = n w_T w.
-double hann(double t) { return sinc(t) + 0.5 * sinc(t - std::numbers::pi) + 0.5 * sinc(t + std::numbers::pi); }
+double hann(double t) {
+    return sinc(t) + 0.5 * sinc(t - std::numbers::pi) + 0.5 * sinc(t + std::numbers::pi);
+}
 
 // (4 / (3 pi)) Int_x^inf hann(t)^2 dt: the fraction of a cos^2 profile's squared norm beyond
 // theta = x, from a table of the running integral (trapezoids of 1e-3) and the asymptotic tail

@@ -38,7 +38,8 @@ AxisProfile axisProfile(Shape s, double centre, const std::array<double, 3>& wid
     p.size = hi - lo + 1;
     for (int c = 0; c < 3; ++c) {
         p.value[c].resize(static_cast<std::size_t>(p.size));
-        for (int i = 0; i < p.size; ++i) p.value[c][i] = profileIntegral(s, widths[c], lo + i - centre, lo + i + 1 - centre);
+        for (int i = 0; i < p.size; ++i)
+            p.value[c][i] = profileIntegral(s, widths[c], lo + i - centre, lo + i + 1 - centre);
     }
     return p;
 }
@@ -71,7 +72,8 @@ void drawDirect(const std::vector<Ghost>& ghosts, const std::vector<std::size_t>
                 const double f = peak[i][c] * py[i].value[c][static_cast<std::size_t>(row - py[i].first)];
                 if (f == 0.0) continue;
                 any = true;
-                for (int k = 0; k < px[i].size; ++k) acc[static_cast<std::size_t>(px[i].first + k)] += f * px[i].value[c][k];
+                for (int k = 0; k < px[i].size; ++k)
+                    acc[static_cast<std::size_t>(px[i].first + k)] += f * px[i].value[c][k];
             }
             if (!any) continue;
             float* out = &image.channel[c][static_cast<std::size_t>(row) * image.width];

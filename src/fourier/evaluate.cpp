@@ -4,14 +4,14 @@
 #include "fourier/blas_threads.h"
 #include "fourier/fftw_planner.h"
 
-#include <cblas.h>
-#include <fftw3.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
+#include <cblas.h>
 #include <cmath>
 #include <complex>
+#include <fftw3.h>
 #include <memory>
 #include <mutex>
 #include <numbers>
@@ -35,10 +35,11 @@ void evaluateMatrix(const Coefficients& z, FlareImage& image, Write write) {
     tbb::parallel_for(0, 3 * blocks, [&](int task) {
         const int c = task / blocks, first = task % blocks * kRowBlock, rows = std::min(kRowBlock, H - first);
         std::vector<float> T(static_cast<std::size_t>(2) * n * rows);
-        cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, 2 * n, rows, 2 * m, 1.0f, Z[c].data(), 2 * m, Y.data() + first, H, 0.0f,
-                    T.data(), rows);
-        cblas_sgemm(CblasRowMajor, CblasTrans, CblasNoTrans, rows, W, 2 * n, 1.0f, T.data(), rows, X.data(), W, write == Write::Add ? 1.0f : 0.0f,
-                    image.channel[c].data() + static_cast<std::size_t>(first) * W, W);
+        cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, 2 * n, rows, 2 * m, 1.0f, Z[c].data(), 2 * m,
+                    Y.data() + first, H, 0.0f, T.data(), rows);
+        cblas_sgemm(CblasRowMajor, CblasTrans, CblasNoTrans, rows, W, 2 * n, 1.0f, T.data(), rows, X.data(), W,
+                    write == Write::Add ? 1.0f : 0.0f, image.channel[c].data() + static_cast<std::size_t>(first) * W,
+                    W);
     });
 }
 
@@ -80,14 +81,19 @@ void evaluateFft(const Coefficients& z, FlareImage& image, Write write) {
         };
         auto term = [&](long long kx, long long ky, C g) {
             const int x = static_cast<int>(((kx % px) + px) % px), y = static_cast<int>(((ky % py) + py) % py);
-            if (x == 0) column0[static_cast<std::size_t>(y)] += g;
-            else if (2 * x == px) columnNyquist[static_cast<std::size_t>(y)] += g;
-            else if (2 * x < px) add(y, x, 0.5 * g);
-            else add((py - y) % py, px - x, 0.5 * std::conj(g));
+            if (x == 0)
+                column0[static_cast<std::size_t>(y)] += g;
+            else if (2 * x == px)
+                columnNyquist[static_cast<std::size_t>(y)] += g;
+            else if (2 * x < px)
+                add(y, x, 0.5 * g);
+            else
+                add((py - y) % py, px - x, 0.5 * std::conj(g));
         };
         for (int n = 0; n < z.n; ++n)
             for (int m = 0; m < z.m; ++m) {
-                const double A = z.at(c, n, m), B = z.at(c, n, z.m + m), Cc = z.at(c, z.n + n, m), D = z.at(c, z.n + n, z.m + m);
+                const double A = z.at(c, n, m), B = z.at(c, n, z.m + m), Cc = z.at(c, z.n + n, m),
+                             D = z.at(c, z.n + n, z.m + m);
                 const double k = (n == 0 ? 1.0 : 2.0) * (m == 0 ? 1.0 : 2.0) * sinc(0.5 * n * wx) * sinc(0.5 * m * wy);
                 // I = Re sum [F+ e^{i(a + b)} + F- e^{i(a - b)}], a = n wx x, b = m wy y, at pixel centres.
                 term(n, m, 0.5 * k * C(A - D, -(B + Cc)) * std::polar(1.0, 0.5 * (n * wx + m * wy)));
@@ -137,8 +143,10 @@ void evaluate(const Coefficients& z, Evaluation method, FlareImage& image, Write
             for (auto& ch : image.channel) std::fill(ch.begin(), ch.end(), 0.0f);
         return;
     }
-    if (method == Evaluation::Fft) evaluateFft(z, image, write);
-    else evaluateMatrix(z, image, write);
+    if (method == Evaluation::Fft)
+        evaluateFft(z, image, write);
+    else
+        evaluateMatrix(z, image, write);
 }
 
 } // namespace ff::fourier

@@ -4,9 +4,8 @@
 // destroyed under one lock. Arrays come from fftwf_malloc (the alignment plans expect) and are owned
 // by FftwArray. Internal.
 
-#include <fftw3.h>
-
 #include <cstddef>
+#include <fftw3.h>
 #include <memory>
 #include <mutex>
 

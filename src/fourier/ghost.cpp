@@ -16,8 +16,12 @@ double extent(Shape s, const std::array<double, 3>& w) {
 
 } // namespace
 
-double Ghost::extentX() const { return extent(shape, widthX); }
-double Ghost::extentY() const { return extent(shape, widthY); }
+double Ghost::extentX() const {
+    return extent(shape, widthX);
+}
+double Ghost::extentY() const {
+    return extent(shape, widthY);
+}
 
 FlareImage::FlareImage(int w, int h) : width(w), height(h) {
     for (auto& c : channel) c.assign(pixels(), 0.0f);

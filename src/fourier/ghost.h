@@ -14,21 +14,27 @@
 namespace ff::fourier {
 
 struct Ghost {
-    double x = 0.0, y = 0.0;                   ///< centre, pixels
-    std::array<double, 3> widthX{}, widthY{};  ///< per channel: Gaussian sigma or cos^2 half-width w, pixels
-    std::array<double, 3> flux{};              ///< per channel: the profile's integral over the plane
+    double x = 0.0, y = 0.0;                  ///< centre, pixels
+    std::array<double, 3> widthX{}, widthY{}; ///< per channel: Gaussian sigma or cos^2 half-width w, pixels
+    std::array<double, 3> flux{};             ///< per channel: the profile's integral over the plane
     Shape shape = Shape::Gaussian;
 
     /// Peak value per unit area of channel c: flux / (integral of the unit-peak profile).
-    double peak(int c) const { return flux[c] / (profileIntegral(shape, widthX[c]) * profileIntegral(shape, widthY[c])); }
+    double peak(int c) const {
+        return flux[c] / (profileIntegral(shape, widthX[c]) * profileIntegral(shape, widthY[c]));
+    }
     /// Half-width beyond which the profile is below 1e-8 of its peak (cos^2: its support), pixels.
     double extentX() const;
     double extentY() const;
 };
 
 /// The widest and the narrowest of a ghost's per-channel widths on one axis.
-inline double widest(const std::array<double, 3>& w) { return std::max({w[0], w[1], w[2]}); }
-inline double narrowest(const std::array<double, 3>& w) { return std::min({w[0], w[1], w[2]}); }
+inline double widest(const std::array<double, 3>& w) {
+    return std::max({w[0], w[1], w[2]});
+}
+inline double narrowest(const std::array<double, 3>& w) {
+    return std::min({w[0], w[1], w[2]});
+}
 
 struct FlareImage {
     int width = 0, height = 0;

@@ -24,7 +24,9 @@ constexpr double kGaussianReach = 4.5;
 // fixes N below a ghost's need.
 constexpr double kAliasMargin = 1.0;
 
-double reach(Shape s, double width) { return s == Shape::Gaussian ? kGaussianReach * width : width; }
+double reach(Shape s, double width) {
+    return s == Shape::Gaussian ? kGaussianReach * width : width;
+}
 
 // The six axes of one ghost (x and y of each channel) are sampled together: their recurrences are
 // independent, so the processor overlaps them instead of waiting on one chain at a time.
@@ -33,7 +35,9 @@ constexpr int kAxes = 6;
 // that this adds are the profile's own (tiny) values, or zeros outside a cos^2's support.
 constexpr int kLanes = 4;
 
-int roundUpToLanes(int n) { return (n + kLanes - 1) / kLanes * kLanes; }
+int roundUpToLanes(int n) {
+    return (n + kLanes - 1) / kLanes * kLanes;
+}
 
 // One ghost's stencils: per axis (x of channels 0-2, then y of channels 0-2) the index in [0, G)
 // of its first sample and the samples within reach; `values` holds kAxes rows of `rowLength`
@@ -52,7 +56,8 @@ long long ceilToInt(double x) {
     return i + (x > static_cast<double>(i));
 }
 
-GhostStencil sampleGhost(Shape shape, const Ghost& g, double hx, double hy, int gx, int gy, int rowLength, float* values) {
+GhostStencil sampleGhost(Shape shape, const Ghost& g, double hx, double hy, int gx, int gy, int rowLength,
+                         float* values) {
     GhostStencil st;
     std::array<double, kAxes> d0{}, width{}, h{};
     const double invHx = 1.0 / hx, invHy = 1.0 / hy;
@@ -117,7 +122,7 @@ GhostStencil sampleGhost(Shape shape, const Ghost& g, double hx, double hy, int 
 // allows concurrently. Arrays from fftwf_malloc share the planning arrays' alignment. Destroyed at
 // exit; the planner's mutex is made first, so it outlives the cache.
 class GridTransforms {
-public:
+  public:
     GridTransforms() : mutex_(fftwPlannerMutex()) {}
     ~GridTransforms() {
         for (auto& [size, plan] : plans_) fftwf_destroy_plan(plan);
@@ -129,7 +134,8 @@ public:
         std::lock_guard<std::mutex> lock(mutex_);
         fftwf_plan& plan = plans_[{gx, gy}];
         if (!plan) {
-            const std::size_t cells = static_cast<std::size_t>(gx) * gy, half = static_cast<std::size_t>(gx / 2 + 1) * gy;
+            const std::size_t cells = static_cast<std::size_t>(gx) * gy,
+                              half = static_cast<std::size_t>(gx / 2 + 1) * gy;
             const auto in = fftwArray<float>(cells);
             const auto out = fftwArray<fftwf_complex>(half);
             plan = fftwf_plan_dft_r2c_2d(gy, gx, in.get(), out.get(), FFTW_ESTIMATE);
@@ -137,7 +143,7 @@ public:
         return plan;
     }
 
-private:
+  private:
     std::mutex& mutex_;
     std::map<std::pair<int, int>, fftwf_plan> plans_;
 };
@@ -155,7 +161,9 @@ int gridSamples(Shape shape, int terms, double narrowest, double period, double 
     return fftFriendly(static_cast<int>(std::min(needed, double(1 << 20))));
 }
 
-int stencilSamples(Shape shape, double width, double spacing) { return static_cast<int>(std::floor(2.0 * reach(shape, width) / spacing)) + 1; }
+int stencilSamples(Shape shape, double width, double spacing) {
+    return static_cast<int>(std::floor(2.0 * reach(shape, width) / spacing)) + 1;
+}
 
 namespace {
 
@@ -181,15 +189,18 @@ std::vector<double> coefficientsOfTransform(const fftwf_complex* f, int gx, int 
 
 } // namespace
 
-std::array<std::vector<double>, 3> accumulateGridded(const std::vector<Ghost>& ghosts, const AccumulationGroup& group, std::size_t first,
-                                                     std::size_t count, double periodX, double periodY) {
+std::array<std::vector<double>, 3> accumulateGridded(const std::vector<Ghost>& ghosts, const AccumulationGroup& group,
+                                                     std::size_t first, std::size_t count, double periodX,
+                                                     double periodY) {
     const int gx = group.gridX, gy = group.gridY;
     const double hx = periodX / gx, hy = periodY / gy;
     // Padded grids: stencils run on past G (by up to a stencil and a lane group) and are folded
     // back afterwards.
-    const int longX = stencilSamples(group.shape, group.widestX, hx), longY = stencilSamples(group.shape, group.widestY, hy);
+    const int longX = stencilSamples(group.shape, group.widestX, hx),
+              longY = stencilSamples(group.shape, group.widestY, hy);
     const int rowLength = roundUpToLanes(std::max(longX, longY));
-    const std::size_t stride = static_cast<std::size_t>(gx + longX + kLanes), plane = stride * static_cast<std::size_t>(gy + longY);
+    const std::size_t stride = static_cast<std::size_t>(gx + longX + kLanes),
+                      plane = stride * static_cast<std::size_t>(gy + longY);
     std::vector<float> grid(3 * plane, 0.0f);
     std::vector<float> values(static_cast<std::size_t>(kAxes) * rowLength);
     constexpr std::size_t kAhead = 8; // ghosts are scattered over memory: fetch a few ahead

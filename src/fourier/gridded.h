@@ -36,7 +36,8 @@ int stencilSamples(Shape shape, double width, double spacing);
 
 /// Per channel, the 2n x 2m block [[A, B], [C, D]] (row-major) of ghosts
 /// group.members[first, first + count), on the group's grid (one pass over the ghosts, three grids).
-std::array<std::vector<double>, 3> accumulateGridded(const std::vector<Ghost>& ghosts, const AccumulationGroup& group, std::size_t first,
-                                                     std::size_t count, double periodX, double periodY);
+std::array<std::vector<double>, 3> accumulateGridded(const std::vector<Ghost>& ghosts, const AccumulationGroup& group,
+                                                     std::size_t first, std::size_t count, double periodX,
+                                                     double periodY);
 
 } // namespace ff::fourier

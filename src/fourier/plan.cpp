@@ -12,9 +12,12 @@ namespace ff::fourier {
 
 const char* toString(Evaluation e) {
     switch (e) {
-    case Evaluation::Auto: return "auto";
-    case Evaluation::Matrix: return "matrix";
-    case Evaluation::Fft: return "fft";
+    case Evaluation::Auto:
+        return "auto";
+    case Evaluation::Matrix:
+        return "matrix";
+    case Evaluation::Fft:
+        return "fft";
     }
     return "?";
 }
@@ -30,19 +33,20 @@ int fftFriendly(int n) {
 
 std::string Plan::describe() const {
     if (basis == Basis::Bessel)
-        return reason + "; ghosts: " + std::to_string(fourier) + " Fourier-Bessel, " + std::to_string(direct) + " direct, " +
-               std::to_string(culled) + " culled";
-    std::string s = "period " + text::fixed(periodX, 0) + "x" + text::fixed(periodY, 0) + " px, N " + std::to_string(n) + " x M " +
-                    std::to_string(m) + ", " + toString(evaluation) + " evaluation; ghosts: " + std::to_string(fourier) +
-                    " Fourier, " + std::to_string(direct) + " direct, " + std::to_string(culled) + " culled" +
+        return reason + "; ghosts: " + std::to_string(fourier) + " Fourier-Bessel, " + std::to_string(direct) +
+               " direct, " + std::to_string(culled) + " culled";
+    std::string s = "period " + text::fixed(periodX, 0) + "x" + text::fixed(periodY, 0) + " px, N " +
+                    std::to_string(n) + " x M " + std::to_string(m) + ", " + toString(evaluation) +
+                    " evaluation; ghosts: " + std::to_string(fourier) + " Fourier, " + std::to_string(direct) +
+                    " direct, " + std::to_string(culled) + " culled" +
                     (wide ? ", " + std::to_string(wide) + " on a coarse level" : std::string());
     if (!reason.empty()) s += " (" + reason + ")";
     std::size_t gridGroups = 0, gridGhosts = 0;
     for (const AccumulationGroup& g : groups)
         if (g.method == Accumulation::Grid) ++gridGroups, gridGhosts += g.members.size();
     if (gridGroups > 0)
-        s += "; accumulated on grids: " + std::to_string(gridGhosts) + " ghosts in " + std::to_string(gridGroups) + " of " +
-             std::to_string(groups.size()) + " groups";
+        s += "; accumulated on grids: " + std::to_string(gridGhosts) + " ghosts in " + std::to_string(gridGroups) +
+             " of " + std::to_string(groups.size()) + " groups";
     return s;
 }
 
@@ -89,8 +93,10 @@ Plan choosePlan(const std::vector<Ghost>& ghosts, int W, int H, const FourierSet
         const double px = padExtent(g, widest(g.widthX), s.error), py = padExtent(g, widest(g.widthY), s.error);
         needX[k] = std::max(std::max(g.x, W - g.x) + px, 2.0 * px);
         needY[k] = std::max(std::max(g.y, H - g.y) + py, 2.0 * py);
-        boxArea[k] = (std::min(double(W), g.x + ex) - std::max(0.0, g.x - ex) + 1.0) * (std::min(double(H), g.y + ey) - std::max(0.0, g.y - ey) + 1.0);
-        const double limitX = s.fixedPeriodX > 0.0 ? s.fixedPeriodX : cap, limitY = s.fixedPeriodY > 0.0 ? s.fixedPeriodY : cap;
+        boxArea[k] = (std::min(double(W), g.x + ex) - std::max(0.0, g.x - ex) + 1.0) *
+                     (std::min(double(H), g.y + ey) - std::max(0.0, g.y - ey) + 1.0);
+        const double limitX = s.fixedPeriodX > 0.0 ? s.fixedPeriodX : cap,
+                     limitY = s.fixedPeriodY > 0.0 ? s.fixedPeriodY : cap;
         // A ghost whose copies would reach the frame goes to a coarser level, hybrid or not.
         if (needX[k] > limitX || needY[k] > limitY) p.route[k] = Route::Wide;
     });
@@ -119,12 +125,18 @@ Plan choosePlan(const std::vector<Ghost>& ghosts, int W, int H, const FourierSet
         const int sh = g.shape == Shape::Gaussian ? 0 : 1;
         needN[k] = termsForCutoff(cut[sh], narrowest(g.widthX), p.periodX);
         needM[k] = termsForCutoff(cut[sh], narrowest(g.widthY), p.periodY);
-        trimN[k] = s.trimFraction > 0.0 ? termsForCutoff(trimCut[sh], narrowest(g.widthX), p.periodX) : std::numeric_limits<int>::max();
-        trimM[k] = s.trimFraction > 0.0 ? termsForCutoff(trimCut[sh], narrowest(g.widthY), p.periodY) : std::numeric_limits<int>::max();
+        trimN[k] = s.trimFraction > 0.0 ? termsForCutoff(trimCut[sh], narrowest(g.widthX), p.periodX)
+                                        : std::numeric_limits<int>::max();
+        trimM[k] = s.trimFraction > 0.0 ? termsForCutoff(trimCut[sh], narrowest(g.widthY), p.periodY)
+                                        : std::numeric_limits<int>::max();
     });
     int maxN = 0, maxM = 0;
     for (std::size_t k = 0; k < K; ++k) maxN = std::max(maxN, needN[k]), maxM = std::max(maxM, needM[k]);
-    auto mFor = [&](int n) { return s.fixedM > 0 ? s.fixedM : n == 0 ? 0 : std::max(1, static_cast<int>(std::ceil(n * p.periodY / p.periodX))); };
+    auto mFor = [&](int n) {
+        return s.fixedM > 0 ? s.fixedM
+               : n == 0     ? 0
+                            : std::max(1, static_cast<int>(std::ceil(n * p.periodY / p.periodX)));
+    };
     auto cost = [&](int n) {
         const int m = mFor(n);
         double c = evaluationFlops(n, m, W, H, p.periodX, p.periodY, s.evaluation);
@@ -161,7 +173,8 @@ Plan choosePlan(const std::vector<Ghost>& ghosts, int W, int H, const FourierSet
                            ? Evaluation::Fft
                            : Evaluation::Matrix;
     for (std::size_t k = 0; k < K; ++k) {
-        if (p.route[k] == Route::Fourier && s.hybrid && (p.n == 0 || needN[k] > p.n || needM[k] > p.m)) p.route[k] = Route::Direct;
+        if (p.route[k] == Route::Fourier && s.hybrid && (p.n == 0 || needN[k] > p.n || needM[k] > p.m))
+            p.route[k] = Route::Direct;
         if (p.route[k] == Route::Fourier) {
             p.termsX[k] = std::min(p.n, trimN[k]);
             p.termsY[k] = std::min(p.m, trimM[k]);

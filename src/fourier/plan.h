@@ -35,18 +35,18 @@ const char* toString(Accumulation a);
 enum class Basis { Separable, Bessel };
 
 struct FourierSettings {
-    double error = 1e-3;        ///< relative L2 budget per ghost
-    int fixedN = 0;             ///< > 0: use this N (x terms) instead of the budget's choice
-    int fixedM = 0;             ///< > 0: use this M (y terms); else N scaled by Ty / Tx
+    double error = 1e-3;                           ///< relative L2 budget per ghost
+    int fixedN = 0;                                ///< > 0: use this N (x terms) instead of the budget's choice
+    int fixedM = 0;                                ///< > 0: use this M (y terms); else N scaled by Ty / Tx
     double fixedPeriodX = 0.0, fixedPeriodY = 0.0; ///< > 0: use these periods (pixels)
-    bool hybrid = true;         ///< draw ghosts that need more terms directly; false: all go through Fourier
-                                ///< (ghosts that would wrap into the frame still go to the coarse level)
+    bool hybrid = true; ///< draw ghosts that need more terms directly; false: all go through Fourier
+                        ///< (ghosts that would wrap into the frame still go to the coarse level)
     /// Accumulate each ghost only over the terms it needs for this fraction of the budget (0: all N x M).
     double trimFraction = 0.25;
     /// Largest period, as a multiple of the frame's larger side; ghosts needing more are Wide.
     double periodCap = 2.0;
     GaussianForm gaussianForm = GaussianForm::Periodised;
-    bool dropDc = false;        ///< zero the A_00 term (removes the mean: off by default, see docs)
+    bool dropDc = false; ///< zero the A_00 term (removes the mean: off by default, see docs)
     Evaluation evaluation = Evaluation::Auto;
     Accumulation accumulation = Accumulation::Auto; ///< Auto: per group, the one with less estimated work
     Basis basis = Basis::Separable;
@@ -62,11 +62,11 @@ enum class Route : unsigned char { Fourier, Direct, Culled, Wide };
 /// on a grid, those of one band and one width class (quarter octaves), keeping their own terms.
 struct AccumulationGroup {
     Shape shape = Shape::Gaussian;
-    int n = 0, m = 0;                 ///< terms kept, <= Plan::n, m (GEMM: the band)
+    int n = 0, m = 0; ///< terms kept, <= Plan::n, m (GEMM: the band)
     Accumulation method = Accumulation::Gemm;
-    int gridX = 0, gridY = 0;         ///< Grid: samples per period on each axis
+    int gridX = 0, gridY = 0;            ///< Grid: samples per period on each axis
     double widestX = 0.0, widestY = 0.0; ///< the members' widest profile (any channel), pixels
-    std::vector<std::size_t> members; ///< ghost indices, ascending
+    std::vector<std::size_t> members;    ///< ghost indices, ascending
 };
 
 struct Plan {
@@ -75,12 +75,12 @@ struct Plan {
     int n = 0, m = 0;                    ///< terms per axis (Bessel: J radial, M angular); 0: nothing through Fourier
     int polarRings = 0, polarAngles = 0; ///< Bessel: the polar grid evaluated
     Evaluation evaluation = Evaluation::Matrix;
-    std::vector<Route> route;            ///< per ghost
-    std::vector<int> termsX, termsY;     ///< per ghost: terms accumulated (trimmed, <= n, m)
+    std::vector<Route> route;              ///< per ghost
+    std::vector<int> termsX, termsY;       ///< per ghost: terms accumulated (trimmed, <= n, m)
     std::vector<AccumulationGroup> groups; ///< the Fourier-routed ghosts by the terms they keep
     std::size_t fourier = 0, direct = 0, culled = 0, wide = 0;
     double estimatedGflop = 0.0;
-    std::string reason;                  ///< how n and the period were chosen, in words
+    std::string reason; ///< how n and the period were chosen, in words
 
     /// One line for --verbose and the output metadata.
     std::string describe() const;

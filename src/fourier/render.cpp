@@ -25,8 +25,8 @@ std::string FourierRender::describe() const {
 namespace {
 
 // Accumulates and evaluates one level into `image` (adding), then draws its direct ghosts.
-void renderLevel(const std::vector<Ghost>& ghosts, const Plan& plan, const FourierSettings& settings, FlareImage& image, StageSeconds& seconds,
-                 std::chrono::steady_clock::time_point& t) {
+void renderLevel(const std::vector<Ghost>& ghosts, const Plan& plan, const FourierSettings& settings, FlareImage& image,
+                 StageSeconds& seconds, std::chrono::steady_clock::time_point& t) {
     if (settings.backend) {
         settings.backend->addLevel(ghosts, plan, settings, seconds);
         t = std::chrono::steady_clock::now();

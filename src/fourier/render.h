@@ -11,7 +11,7 @@ namespace ff::fourier {
 
 struct FourierRender {
     FlareImage image;
-    Plan plan;                 ///< the frame's level
+    Plan plan;                  ///< the frame's level
     std::optional<Plan> coarse; ///< the wide ghosts' level (indices into the wide ghosts, in order)
     StageSeconds seconds;
 

@@ -28,13 +28,15 @@ void checkSampled(const std::vector<SampledGhost>& ghosts, int n, int m, double 
         const SampledGhost& g = ghosts[k];
         const std::string which = "sampled ghost " + std::to_string(k) + ": ";
         if (g.width <= 0 || g.height <= 0 || g.values.size() != static_cast<std::size_t>(g.width) * g.height * 3)
-            throw Error(ErrorKind::Usage, which + "expected " + std::to_string(g.width) + " x " + std::to_string(g.height) + " RGB cells");
+            throw Error(ErrorKind::Usage, which + "expected " + std::to_string(g.width) + " x " +
+                                              std::to_string(g.height) + " RGB cells");
         if (!(g.step > 0.0) || !std::isfinite(g.step) || !std::isfinite(g.x0) || !std::isfinite(g.y0))
             throw Error(ErrorKind::Usage, which + "the cell size and position must be finite, the size positive");
         // The box's sinc must stay away from its first zero at n w s / 2 = pi.
         if (n * g.step >= periodX || m * g.step >= periodY)
-            throw Error(ErrorKind::Usage, which + "cells of " + std::to_string(g.step) + " px cannot carry " + std::to_string(n) + " x " +
-                                              std::to_string(m) + " terms (Nyquist): sample finer or use fewer terms");
+            throw Error(ErrorKind::Usage, which + "cells of " + std::to_string(g.step) + " px cannot carry " +
+                                              std::to_string(n) + " x " + std::to_string(m) +
+                                              " terms (Nyquist): sample finer or use fewer terms");
     }
 }
 
@@ -52,7 +54,8 @@ void accumulateSampled(const std::vector<SampledGhost>& ghosts, Coefficients& z)
                 for (int c = 0; c < 3; ++c) {
                     double a = 0.0, b = 0.0;
                     for (std::size_t i = 0; i < W; ++i) {
-                        const double p = g.values[(static_cast<std::size_t>(j) * W + i) * 3 + static_cast<std::size_t>(c)];
+                        const double p =
+                            g.values[(static_cast<std::size_t>(j) * W + i) * 3 + static_cast<std::size_t>(c)];
                         a += p * cx[i];
                         b += p * sx[i];
                     }

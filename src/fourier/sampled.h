@@ -18,10 +18,10 @@
 namespace ff::fourier {
 
 struct SampledGhost {
-    double x0 = 0.0, y0 = 0.0;  ///< frame position of the first cell's top-left corner, pixels
-    double step = 1.0;          ///< cell size, pixels
-    int width = 0, height = 0;  ///< cells
-    std::vector<float> values;  ///< R, G, B interleaved, rows of `width` cells; flux per cell
+    double x0 = 0.0, y0 = 0.0; ///< frame position of the first cell's top-left corner, pixels
+    double step = 1.0;         ///< cell size, pixels
+    int width = 0, height = 0; ///< cells
+    std::vector<float> values; ///< R, G, B interleaved, rows of `width` cells; flux per cell
 };
 
 /// Throws ff::Error (Usage) when a ghost's values do not match its size, its step is not positive,

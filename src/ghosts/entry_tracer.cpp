@@ -46,7 +46,8 @@ void EntryTracer::traceDirect(const std::vector<double>& anglesDeg) {
     tbb::parallel_for(std::size_t(0), todo.size(), [&](std::size_t a) {
         const trace::Field field{degToRad(todo[a]), 0.0};
         for (std::size_t w = 0; w < nW; ++w) {
-            const trace::PupilRegion region = trace::pupilRegion(frame_, field, s_.sampling, atLambda_[w], directSteps_);
+            const trace::PupilRegion region =
+                trace::pupilRegion(frame_, field, s_.sampling, atLambda_[w], directSteps_);
             const trace::Bundle b = trace::regionBundle(frame_, field, region, gridFor(region));
             const trace::Bundle corners = trace::cornerBundle(frame_, field, b);
             std::vector<trace::RayResult> hits(b.rays.size()), k(corners.rays.size());
@@ -60,10 +61,11 @@ void EntryTracer::traceDirect(const std::vector<double>& anglesDeg) {
     for (std::size_t a = 0; a < todo.size(); ++a) direct_.emplace(todo[a], std::move(out[a]));
 }
 
-bool EntryTracer::hintsFindLight(std::size_t ghost, double angleDeg, const trace::PupilSearch& known, const trace::PupilHints& hints,
-                                 bool lookCloser) const {
+bool EntryTracer::hintsFindLight(std::size_t ghost, double angleDeg, const trace::PupilSearch& known,
+                                 const trace::PupilHints& hints, bool lookCloser) const {
     const trace::Field field{degToRad(angleDeg), 0.0};
-    return trace::hintsFindLight(frame_, field, s_.sampling, atLambda_, steps_[ghost], fitOptions_.maxRadiusMm, known, hints, lookCloser);
+    return trace::hintsFindLight(frame_, field, s_.sampling, atLambda_, steps_[ghost], fitOptions_.maxRadiusMm, known,
+                                 hints, lookCloser);
 }
 
 Traced EntryTracer::trace(const std::vector<Task>& tasks) {
@@ -85,8 +87,8 @@ Traced EntryTracer::trace(const std::vector<Task>& tasks) {
         // where they found light, and look where the ghost's neighbouring angles found it
         // (trace::searchPupil).
         trace::PupilSearch& found = traced.found[task];
-        found = trace::searchPupil(frame_, field, s_.sampling, atLambda_, steps_[g], fitOptions_.maxRadiusMm, tasks[task].hints,
-                                    tasks[task].lookCloser);
+        found = trace::searchPupil(frame_, field, s_.sampling, atLambda_, steps_[g], fitOptions_.maxRadiusMm,
+                                   tasks[task].hints, tasks[task].lookCloser);
         for (std::size_t w = 0; w < nW; ++w) {
             if (d.energy[w] <= 0.0) continue;
             const std::vector<trace::PupilRegion>& regions = found.parts[w];
@@ -102,7 +104,8 @@ Traced EntryTracer::trace(const std::vector<Task>& tasks) {
                 t.k.resize(t.corners.rays.size());
                 tracer_.trace(atLambda_[w], steps_[g], t.centres.rays, t.c);
                 tracer_.trace(atLambda_[w], steps_[g], t.corners.rays, t.k);
-                moments.push_back(measure(w, steps_[g], field, t.centres, t.c, t.k, scale, fitOptions_.maxRadiusMm, regions[p].litPoints));
+                moments.push_back(measure(w, steps_[g], field, t.centres, t.c, t.k, scale, fitOptions_.maxRadiusMm,
+                                          regions[p].litPoints));
                 views.push_back({&t.centres, &t.c, &t.k});
             }
             const trace::BundleMoments m = trace::combineMoments(moments);
@@ -144,13 +147,14 @@ int EntryTracer::gridFor(const trace::PupilRegion& r, int scale) const {
     return n;
 }
 
-trace::BundleMoments EntryTracer::measure(std::size_t w, const std::vector<trace::PathStep>& steps, const trace::Field& field,
-                                          const trace::Bundle& b, const std::vector<trace::RayResult>& c,
+trace::BundleMoments EntryTracer::measure(std::size_t w, const std::vector<trace::PathStep>& steps,
+                                          const trace::Field& field, const trace::Bundle& b,
+                                          const std::vector<trace::RayResult>& c,
                                           const std::vector<trace::RayResult>& k, double scale, double maxRadius,
                                           std::span<const glm::dvec2> litPoints) const {
     if (s_.edgeSubdivisions <= 1) return trace::measureBundle(b, c, scale, maxRadius);
-    return trace::measureBundleResolved(tracer_, atLambda_[w], steps, frame_, field, b, c, k, s_.edgeSubdivisions, scale, maxRadius,
-                                        litPoints);
+    return trace::measureBundleResolved(tracer_, atLambda_[w], steps, frame_, field, b, c, k, s_.edgeSubdivisions,
+                                        scale, maxRadius, litPoints);
 }
 
 void EntryTracer::report() {

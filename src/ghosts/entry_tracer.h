@@ -37,7 +37,7 @@ struct Traced {
 };
 
 class EntryTracer {
-public:
+  public:
     EntryTracer(const optics::Lens& lens, const TableSettings& s, const Progress& progress);
 
     const std::vector<trace::GhostPair>& pairs() const { return pairs_; }
@@ -57,20 +57,21 @@ public:
 
     /// Whether looking where the hints say finds light at this ghost and angle that `known`, its
     /// search there, did not (trace::hintsFindLight).
-    bool hintsFindLight(std::size_t ghost, double angleDeg, const trace::PupilSearch& known, const trace::PupilHints& hints,
-                        bool lookCloser = false) const;
+    bool hintsFindLight(std::size_t ghost, double angleDeg, const trace::PupilSearch& known,
+                        const trace::PupilHints& hints, bool lookCloser = false) const;
 
     /// Every task's entry and search (direct images traced first where missing).
     Traced trace(const std::vector<Task>& tasks);
 
-private:
+  private:
     /// The grid for a part of a ghost's pupil (see the definition), times scale.
     int gridFor(const trace::PupilRegion& r, int scale = 1) const;
     /// The bundle's moments, its vignetting edges (and the light between its rays that the region
     /// search's litPoints show) resolved on sub-grids (TableSettings::edgeSubdivisions).
-    trace::BundleMoments measure(std::size_t w, const std::vector<trace::PathStep>& steps, const trace::Field& field, const trace::Bundle& b,
-                                 const std::vector<trace::RayResult>& c, const std::vector<trace::RayResult>& k, double scale,
-                                 double maxRadius, std::span<const glm::dvec2> litPoints) const;
+    trace::BundleMoments measure(std::size_t w, const std::vector<trace::PathStep>& steps, const trace::Field& field,
+                                 const trace::Bundle& b, const std::vector<trace::RayResult>& c,
+                                 const std::vector<trace::RayResult>& k, double scale, double maxRadius,
+                                 std::span<const glm::dvec2> litPoints) const;
     void report();
 
     const optics::Lens& lens_;

@@ -9,7 +9,9 @@
 
 namespace ff::ghosts {
 
-const char* toString(Profile p) { return p == Profile::Gaussian ? "gaussian" : "cos2"; }
+const char* toString(Profile p) {
+    return p == Profile::Gaussian ? "gaussian" : "cos2";
+}
 
 namespace {
 
@@ -23,7 +25,9 @@ double profileFactor(Profile p, double w, double t) {
 
 } // namespace
 
-double profileValue(Profile p, double wr, double wt, double u, double v) { return profileFactor(p, wr, u) * profileFactor(p, wt, v); }
+double profileValue(Profile p, double wr, double wt, double u, double v) {
+    return profileFactor(p, wr, u) * profileFactor(p, wt, v);
+}
 
 double profileArea(Profile p, double wr, double wt) {
     return p == Profile::Gaussian ? 2.0 * std::numbers::pi * wr * wt : wr * wt;
@@ -43,9 +47,12 @@ struct LocalImage {
 // and once per column.
 double misfit(const LocalImage& img, Profile p, double flux, double wr, double wt) {
     const double a = img.frame.pitchMm * img.frame.pitchMm * flux / profileArea(p, wr, wt);
-    std::vector<double> rows(static_cast<std::size_t>(img.frame.height)), columns(static_cast<std::size_t>(img.frame.width));
-    for (int y = 0; y < img.frame.height; ++y) rows[y] = a * profileFactor(p, wr, img.frame.pixelToSensor(0.0, y + 0.5).y - img.frame.centreYMm);
-    for (int x = 0; x < img.frame.width; ++x) columns[x] = profileFactor(p, wt, img.frame.pixelToSensor(x + 0.5, 0.0).x - img.frame.centreXMm);
+    std::vector<double> rows(static_cast<std::size_t>(img.frame.height)),
+        columns(static_cast<std::size_t>(img.frame.width));
+    for (int y = 0; y < img.frame.height; ++y)
+        rows[y] = a * profileFactor(p, wr, img.frame.pixelToSensor(0.0, y + 0.5).y - img.frame.centreYMm);
+    for (int x = 0; x < img.frame.width; ++x)
+        columns[x] = profileFactor(p, wt, img.frame.pixelToSensor(x + 0.5, 0.0).x - img.frame.centreXMm);
     double sum = 0.0;
     for (int y = 0; y < img.frame.height; ++y) {
         const double* line = img.flux.data() + static_cast<std::size_t>(y) * img.frame.width;
@@ -96,20 +103,23 @@ ProfileFit fitProfile(const LocalImage& img, Profile p, double flux, double star
 
 } // namespace
 
-GhostFit fitGhost(const trace::Bundle& b, const std::vector<trace::RayResult>& c, const std::vector<trace::RayResult>& k,
-                  double scale, const FitOptions& o, const trace::BundleMoments* moments) {
+GhostFit fitGhost(const trace::Bundle& b, const std::vector<trace::RayResult>& c,
+                  const std::vector<trace::RayResult>& k, double scale, const FitOptions& o,
+                  const trace::BundleMoments* moments) {
     const BundlePart part{&b, &c, &k};
     return fitGhost(std::span<const BundlePart>(&part, 1), scale, o, moments);
 }
 
-GhostFit fitGhost(std::span<const BundlePart> parts, double scale, const FitOptions& o, const trace::BundleMoments* moments) {
+GhostFit fitGhost(std::span<const BundlePart> parts, double scale, const FitOptions& o,
+                  const trace::BundleMoments* moments) {
     GhostFit fit;
     trace::BundleMoments m;
     if (moments) {
         m = *moments;
     } else {
         std::vector<trace::BundleMoments> each;
-        for (const BundlePart& p : parts) each.push_back(trace::measureBundle(*p.centres, *p.centreHits, scale, o.maxRadiusMm));
+        for (const BundlePart& p : parts)
+            each.push_back(trace::measureBundle(*p.centres, *p.centreHits, scale, o.maxRadiusMm));
         m = trace::combineMoments(each);
     }
     fit.survivingFraction = m.launched ? double(m.surviving) / double(m.launched) : 0.0;
@@ -125,7 +135,8 @@ GhostFit fitGhost(std::span<const BundlePart> parts, double scale, const FitOpti
     // The traced image around the centroid; spreads below 1 micron are treated as 1 micron.
     const double sR = std::max(fit.sigmaR, 1e-3), sT = std::max(fit.sigmaT, 1e-3);
     LocalImage img;
-    img.frame = {o.imageSize, o.imageSize, 2.0 * o.extentSigmas * std::max(sR, sT) / o.imageSize, fit.centroidX, fit.centroidY};
+    img.frame = {o.imageSize, o.imageSize, 2.0 * o.extentSigmas * std::max(sR, sT) / o.imageSize, fit.centroidX,
+                 fit.centroidY};
     img.flux.assign(static_cast<std::size_t>(o.imageSize) * o.imageSize, 0.0);
     trace::RasterStats stats;
     for (const BundlePart& p : parts) {
@@ -134,7 +145,8 @@ GhostFit fitGhost(std::span<const BundlePart> parts, double scale, const FitOpti
         if (o.maxRadiusMm > 0.0)
             for (auto& r : cc)
                 if (r.status == optics::RayStatus::Ok &&
-                    r.sensorPoint.x * r.sensorPoint.x + r.sensorPoint.y * r.sensorPoint.y > o.maxRadiusMm * o.maxRadiusMm)
+                    r.sensorPoint.x * r.sensorPoint.x + r.sensorPoint.y * r.sensorPoint.y >
+                        o.maxRadiusMm * o.maxRadiusMm)
                     r.status = optics::RayStatus::Missed;
         trace::rasterizeCells(*p.centres, cc, *p.cornerHits, scale, img.frame, img.flux, stats);
     }

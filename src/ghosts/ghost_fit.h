@@ -42,8 +42,8 @@ struct GhostFit {
 };
 
 struct FitOptions {
-    int imageSize = 64;         ///< pixels per side of the local image the profiles are fitted to
-    double extentSigmas = 4.0;  ///< half-side of that image in units of the larger moment spread
+    int imageSize = 64;        ///< pixels per side of the local image the profiles are fitted to
+    double extentSigmas = 4.0; ///< half-side of that image in units of the larger moment spread
     /// Only light landing within this distance of the axis counts (0 = all): rays that leave at
     /// grazing angles land metres away, can never reach the frame, and would dominate the moments.
     double maxRadiusMm = 0.0;

@@ -20,9 +20,9 @@ std::string TableSettings::key() const {
     for (double l : wavelengthsNm) k += " " + text::roundTrip(l);
     k += " sampling " + std::to_string(static_cast<int>(sampling)) + " grid " + std::to_string(grid) + " sensor " +
          std::to_string(static_cast<int>(sensor)) + " coating " + std::to_string(static_cast<int>(coating)) + " max " +
-         text::roundTrip(maxAngleDeg) + " tol " + text::roundTrip(interpolationTolerance) + " angles " + std::to_string(maxAngles) +
-         " sensorsize " + text::roundTrip(sensorSizeMm.first) + "x" + text::roundTrip(sensorSizeMm.second) + " edges " +
-         std::to_string(edgeSubdivisions);
+         text::roundTrip(maxAngleDeg) + " tol " + text::roundTrip(interpolationTolerance) + " angles " +
+         std::to_string(maxAngles) + " sensorsize " + text::roundTrip(sensorSizeMm.first) + "x" +
+         text::roundTrip(sensorSizeMm.second) + " edges " + std::to_string(edgeSubdivisions);
     return k;
 }
 
@@ -30,7 +30,8 @@ namespace {
 
 void requireSymmetric(const optics::Lens& lens) {
     if (!lens.rotationallySymmetric())
-        throw Error(ErrorKind::Input, SourceLocation{lens.file}, "the lens has anamorphic surfaces; a ghost table needs a rotationally symmetric lens");
+        throw Error(ErrorKind::Input, SourceLocation{lens.file},
+                    "the lens has anamorphic surfaces; a ghost table needs a rotationally symmetric lens");
 }
 
 // Intervals are not split below maxAngle / kFinestDivision (0.0002 deg on a 25 deg field). A ghost
@@ -123,7 +124,8 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
     const std::size_t nW = s.wavelengthsNm.size(), nG = tracer.pairs().size();
     // The budget counts traced entries (traced again too): maxAngles per ghost on average.
     const std::size_t budget = static_cast<std::size_t>(std::max(s.maxAngles, 9)) * nG;
-    const RefinementLimits limits{s.interpolationTolerance, maxAngle / kFinestDivision, 0.01 * 0.5 * t.sensorSizeMm.second, budget};
+    const RefinementLimits limits{s.interpolationTolerance, maxAngle / kFinestDivision,
+                                  0.01 * 0.5 * t.sensorSizeMm.second, budget};
 
     // Every ghost starts on the same 9 uniform angles; each then refines its own intervals.
     tracer.setTotalWork(budget);
@@ -164,7 +166,8 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
         }
         const std::size_t room = budget > spent ? budget - spent : 0;
         if (todo.size() > room) {
-            std::stable_sort(todo.begin(), todo.end(), [](const Todo& a, const Todo& b) { return a.priority > b.priority; });
+            std::stable_sort(todo.begin(), todo.end(),
+                             [](const Todo& a, const Todo& b) { return a.priority > b.priority; });
             todo.resize(room);
             std::sort(todo.begin(), todo.end(), [](const Todo& a, const Todo& b) {
                 return a.ghost != b.ghost ? a.ghost < b.ghost : a.interval < b.interval;
@@ -172,9 +175,10 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
         }
         if (todo.empty()) {
             // What still fails is at the finest step (table_refinement.h).
-            if (spent < budget && (timed(report.carried, spent, [&] { return carryPieces(tracer, nodes, limits, spent); }) ||
-                                   timed(report.knots, spent, [&] { return splitAtKinks(tracer, nodes, limits, spent); }) ||
-                                   timed(report.finer, spent, [&] { return traceFiner(tracer, nodes, limits, spent); })))
+            if (spent < budget &&
+                (timed(report.carried, spent, [&] { return carryPieces(tracer, nodes, limits, spent); }) ||
+                 timed(report.knots, spent, [&] { return splitAtKinks(tracer, nodes, limits, spent); }) ||
+                 timed(report.finer, spent, [&] { return traceFiner(tracer, nodes, limits, spent); })))
                 continue;
             break;
         }
@@ -186,20 +190,22 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
             const trace::PupilHints& other = n.found[d.interval + 1].pieces;
             for (std::size_t w = 0; w < hints.size() && w < other.size(); ++w)
                 hints[w].insert(hints[w].end(), other[w].begin(), other[w].end());
-            tasks.push_back({d.ghost, 0.5 * (n.angles[d.interval] + n.angles[d.interval + 1]), std::move(hints), false, n.gridScale});
+            tasks.push_back({d.ghost, 0.5 * (n.angles[d.interval] + n.angles[d.interval + 1]), std::move(hints), false,
+                             n.gridScale});
         }
         Traced mids = timed(report.midAngles, spent, [&] {
             spent += tasks.size();
             return tracer.trace(tasks);
         });
-        const std::vector<Node> retraced =
-            timed(report.neighbours, spent, [&] { return retraceNeighbours(tracer, nodes, todo, mids, budget, spent); });
+        const std::vector<Node> retraced = timed(
+            report.neighbours, spent, [&] { return retraceNeighbours(tracer, nodes, todo, mids, budget, spent); });
 
         // The strongest ghost's flux at each mid-angle and wavelength: traced where this round
         // traced it, interpolated from the ghost's entries elsewhere.
         std::map<double, std::vector<double>> strongest;
         for (const Task& task : tasks)
-            if (!strongest.count(task.angleDeg)) strongest.emplace(task.angleDeg, strongestFlux(nodes, task.angleDeg, nW));
+            if (!strongest.count(task.angleDeg))
+                strongest.emplace(task.angleDeg, strongestFlux(nodes, task.angleDeg, nW));
         for (std::size_t k = 0; k < tasks.size(); ++k)
             for (std::size_t w = 0; w < nW; ++w) {
                 double& flux = strongest[tasks[k].angleDeg][w];
@@ -214,7 +220,8 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
         for (std::size_t k = 0; k < todo.size(); ++k) {
             const GhostNodes& n = nodes[todo[k].ghost];
             const std::size_t i = todo[k].interval;
-            errors[k] = midError(n.rows[i], n.rows[i + 1], mids.rows[k], 0.5, strongest[tasks[k].angleDeg], limits.floorMm);
+            errors[k] =
+                midError(n.rows[i], n.rows[i + 1], mids.rows[k], 0.5, strongest[tasks[k].angleDeg], limits.floorMm);
             for (const std::size_t e : {i, i + 1})
                 if (const auto it = estimates.find({todo[k].ghost, e}); it != estimates.end())
                     it->second = std::max(it->second, errors[k].first);
@@ -279,7 +286,9 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
     std::sort(errors.begin(), errors.end());
     t.interpolationError = errors.empty() ? 0.0 : errors.back();
     t.interpolationErrorMedian = errors.empty() ? 0.0 : errors[errors.size() / 2];
-    t.interpolationErrorP95 = errors.empty() ? 0.0 : errors[std::min(errors.size() - 1, static_cast<std::size_t>(0.95 * double(errors.size())))];
+    t.interpolationErrorP95 =
+        errors.empty() ? 0.0
+                       : errors[std::min(errors.size() - 1, static_cast<std::size_t>(0.95 * double(errors.size())))];
 
     // The direct image at every angle any ghost uses.
     t.directY.assign(nW, {});
@@ -312,8 +321,10 @@ std::vector<std::vector<std::vector<TableEntry>>> traceEntries(const optics::Len
         if (onlyGhosts.empty()) ghosts.push_back(g);
     for (const std::string& label : onlyGhosts) {
         const auto& pairs = tracer.pairs();
-        const auto it = std::find_if(pairs.begin(), pairs.end(), [&](const trace::GhostPair& p) { return p.label() == label; });
-        if (it == pairs.end()) throw Error(ErrorKind::Input, SourceLocation{lens.file}, "the lens has no ghost " + label);
+        const auto it =
+            std::find_if(pairs.begin(), pairs.end(), [&](const trace::GhostPair& p) { return p.label() == label; });
+        if (it == pairs.end())
+            throw Error(ErrorKind::Input, SourceLocation{lens.file}, "the lens has no ghost " + label);
         ghosts.push_back(static_cast<std::size_t>(it - pairs.begin()));
     }
     std::vector<Task> tasks;

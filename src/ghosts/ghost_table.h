@@ -13,9 +13,9 @@
 // largest error x width go first, whichever ghost they belong to. A mid-angle's pupil search looks
 // where its neighbours' searches found light; where it finds light that a neighbour's search lacks
 // and looking there finds it, the neighbour is traced again (its other interval then measured again),
-// so that a piece of light one search stepped over is not lost between angles where another met it. The measured errors (median, 95th
-// percentile, worst over the final intervals of ghosts that counted there) are stored with the table;
-// an interval whose halves could not be measured counts with its own error.
+// so that a piece of light one search stepped over is not lost between angles where another met it. The measured errors
+// (median, 95th percentile, worst over the final intervals of ghosts that counted there) are stored with the table; an
+// interval whose halves could not be measured counts with its own error.
 //
 // Each entry counts the light landing within twice the sensor's half-diagonal of the axis (grazing
 // rays that land metres away can never reach the frame and would dominate the moments).
@@ -40,7 +40,7 @@ struct TableSettings {
     int grid = 32;
     trace::SensorPlane sensor = trace::SensorPlane::File;
     trace::CoatingChoice coating = trace::CoatingChoice::File;
-    double maxAngleDeg = 0.0;            ///< 0: the field of the sensor's half-diagonal plus 5 %
+    double maxAngleDeg = 0.0; ///< 0: the field of the sensor's half-diagonal plus 5 %
     double interpolationTolerance = 0.005;
     int maxAngles = 64; ///< the refinement's budget: traced entries per ghost, on average
     /// Cells on a vignetting edge are re-traced on this many sub-cells per side for the moments, each
@@ -55,10 +55,10 @@ struct TableSettings {
 };
 
 struct TableEntry {
-    double centroidY = 0.0;              ///< mm (the centroid's x is 0 by symmetry)
-    double sigmaR = 0.0, sigmaT = 0.0;   ///< moment spreads, mm
-    double flux = 0.0;                   ///< relative to the direct image
-    double surviving = 0.0;              ///< surviving fraction of launched rays
+    double centroidY = 0.0;            ///< mm (the centroid's x is 0 by symmetry)
+    double sigmaR = 0.0, sigmaT = 0.0; ///< moment spreads, mm
+    double flux = 0.0;                 ///< relative to the direct image
+    double surviving = 0.0;            ///< surviving fraction of launched rays
     ProfileFit gaussian, cos2;
 };
 
@@ -92,7 +92,9 @@ struct BuildReport {
     std::size_t rounds = 0; ///< rounds of the refinement after the start
     bool budgetSpent = false;
 
-    std::size_t traces() const { return start.traces + midAngles.traces + neighbours.traces + carried.traces + knots.traces + finer.traces; }
+    std::size_t traces() const {
+        return start.traces + midAngles.traces + neighbours.traces + carried.traces + knots.traces + finer.traces;
+    }
 };
 
 struct GhostTable {
@@ -103,8 +105,8 @@ struct GhostTable {
     int apertureBlades = 0;
     double bladeRotationDeg = 0.0;
     std::vector<double> wavelengthsNm;
-    std::vector<double> anglesDeg;                 ///< every ghost's angles together, increasing, from 0
-    std::vector<std::vector<double>> directY;      ///< [wavelength][angle] direct image centroid, mm
+    std::vector<double> anglesDeg;            ///< every ghost's angles together, increasing, from 0
+    std::vector<std::vector<double>> directY; ///< [wavelength][angle] direct image centroid, mm
     std::vector<TableGhost> ghosts;
     /// Measured at the last refinement's mid-angles (before they joined the table, so an upper
     /// estimate for the final table): median, 95th percentile and largest relative error.

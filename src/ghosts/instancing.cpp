@@ -17,7 +17,8 @@ double fieldAngleForRadius(const GhostTable& t, double r) {
     return 0.5 * (lo + hi);
 }
 
-std::vector<GhostInstance> instantiate(const GhostTable& t, const std::vector<Light>& lights, const Camera& cam, Profile profile) {
+std::vector<GhostInstance> instantiate(const GhostTable& t, const std::vector<Light>& lights, const Camera& cam,
+                                       Profile profile) {
     const std::array<std::size_t, 3> ch = t.rgbChannels();
     const double pitch = cam.pitchMm();
     std::vector<GhostInstance> out;

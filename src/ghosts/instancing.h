@@ -15,22 +15,22 @@
 namespace ff::ghosts {
 
 struct Light {
-    double xPx = 0.0, yPx = 0.0;          ///< image position, pixels (origin top-left, +y down)
-    std::array<double, 3> flux{1, 1, 1};  ///< RGB flux of the light's direct image
+    double xPx = 0.0, yPx = 0.0;         ///< image position, pixels (origin top-left, +y down)
+    std::array<double, 3> flux{1, 1, 1}; ///< RGB flux of the light's direct image
 };
 
 struct Camera {
-    int width = 0, height = 0;  ///< image size, pixels
+    int width = 0, height = 0;   ///< image size, pixels
     double sensorWidthMm = 36.0; ///< the image spans the sensor width (square pixels)
     double pitchMm() const { return sensorWidthMm / width; }
 };
 
 struct GhostInstance {
-    std::size_t ghost = 0, light = 0;    ///< indices into the table's ghosts and the lights
-    double xPx = 0.0, yPx = 0.0;         ///< centre, pixels
-    double radialAngle = 0.0;            ///< direction of the radial axis in the image, radians from +x (image y down)
+    std::size_t ghost = 0, light = 0; ///< indices into the table's ghosts and the lights
+    double xPx = 0.0, yPx = 0.0;      ///< centre, pixels
+    double radialAngle = 0.0;         ///< direction of the radial axis in the image, radians from +x (image y down)
     std::array<double, 3> widthR{}, widthT{}; ///< profile widths per channel, pixels (sigma or cos^2 w)
-    std::array<double, 3> flux{};        ///< RGB flux
+    std::array<double, 3> flux{};             ///< RGB flux
     Profile profile = Profile::Gaussian;
 };
 

@@ -21,8 +21,8 @@ std::string cacheKey(const optics::Lens& lens, const TableSettings& s) {
     return hashHex(lens.contentHash + "|zoom " + std::to_string(lens.activeZoom) + "|" + s.key());
 }
 
-GhostTable tableFor(const optics::Lens& lens, const TableSettings& s, bool useCache, const Progress& progress, Reporter& reporter,
-                    bool* fromCache) {
+GhostTable tableFor(const optics::Lens& lens, const TableSettings& s, bool useCache, const Progress& progress,
+                    Reporter& reporter, bool* fromCache) {
     if (fromCache) *fromCache = false;
     const std::string key = cacheKey(lens, s);
     const fs::path file = cacheDirectory() / (key + ".ghosts.json");
@@ -35,7 +35,8 @@ GhostTable tableFor(const optics::Lens& lens, const TableSettings& s, bool useCa
             }
             reporter.note({file.string()}, "cached ghost table does not match the lens or settings; rebuilding it");
         } catch (const Error& e) {
-            reporter.note({file.string()}, std::string("cached ghost table is unreadable (") + e.message() + "); rebuilding it");
+            reporter.note({file.string()},
+                          std::string("cached ghost table is unreadable (") + e.message() + "); rebuilding it");
         }
     }
     GhostTable t = buildGhostTable(lens, s, progress);
@@ -45,7 +46,8 @@ GhostTable tableFor(const optics::Lens& lens, const TableSettings& s, bool useCa
         try {
             writeFileAtomic(file, tableToJson(t));
         } catch (const Error& e) {
-            reporter.warning({file.string()}, std::string("could not store the ghost table in the cache: ") + e.message());
+            reporter.warning({file.string()},
+                             std::string("could not store the ghost table in the cache: ") + e.message());
         }
     }
     return t;

@@ -18,10 +18,13 @@ std::pair<std::size_t, double> locate(const std::vector<double>& angles, double 
 
 namespace {
 
-double lerp(double a, double b, double t) { return a + (b - a) * t; }
+double lerp(double a, double b, double t) {
+    return a + (b - a) * t;
+}
 
 ProfileFit lerp(const ProfileFit& a, const ProfileFit& b, double t) {
-    return {lerp(a.widthR, b.widthR, t), lerp(a.widthT, b.widthT, t), lerp(a.peak, b.peak, t), lerp(a.error, b.error, t)};
+    return {lerp(a.widthR, b.widthR, t), lerp(a.widthT, b.widthT, t), lerp(a.peak, b.peak, t),
+            lerp(a.error, b.error, t)};
 }
 
 void append(trace::PupilHints& to, const trace::PupilHints& more) {
@@ -36,7 +39,8 @@ bool empty(const trace::PupilHints& h) {
 // The error of the interval an entry at the finest step was the mid-angle of, measured again from
 // the entries as they are now: the entry interpolated from its two neighbours, where they lie at
 // equal distances on either side of it, as its parent interval's ends did.
-std::optional<std::pair<double, bool>> parentError(const std::vector<GhostNodes>& nodes, std::size_t g, std::size_t j, double floorMm) {
+std::optional<std::pair<double, bool>> parentError(const std::vector<GhostNodes>& nodes, std::size_t g, std::size_t j,
+                                                   double floorMm) {
     const GhostNodes& n = nodes[g];
     if (j == 0 || j + 1 >= n.angles.size()) return std::nullopt;
     const double left = n.angles[j] - n.angles[j - 1], right = n.angles[j + 1] - n.angles[j];
@@ -58,14 +62,14 @@ bool failsAtFinestStep(const GhostNodes& n, std::size_t i, const RefinementLimit
 // yet compared: each entry is traced again where the other's pieces, far from its own, are found
 // there. The intervals beside an entry traced again wait to be measured again; at the finest step
 // their error is estimated again at once from the entries as they are now (parentError).
-bool carryPieces(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const RefinementLimits& limits, std::size_t& spent) {
+bool carryPieces(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const RefinementLimits& limits,
+                 std::size_t& spent) {
     std::map<Node, trace::PupilHints> hints;
     for (std::size_t g = 0; g < nodes.size(); ++g) {
         GhostNodes& n = nodes[g];
         for (std::size_t i = 0; i < n.intervals.size(); ++i) {
             Interval& v = n.intervals[i];
-            if (v.compared || v.carried >= kMaxCarried || !failsAtFinestStep(n, i, limits))
-                continue;
+            if (v.compared || v.carried >= kMaxCarried || !failsAtFinestStep(n, i, limits)) continue;
             v.compared = true;
             for (const auto& [e, other] : {std::pair{i, i + 1}, std::pair{i + 1, i}}) {
                 const trace::PupilHints away = trace::piecesAwayFrom(n.found[other], n.found[e]);
@@ -85,7 +89,9 @@ bool carryPieces(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const Refi
             ++v.carried;
             std::optional<std::pair<double, bool>> estimate;
             for (const std::size_t e : {i, i + 1})
-                if (const auto p = parentError(nodes, g, e, limits.floorMm); p && (!estimate || p->first > estimate->first)) estimate = p;
+                if (const auto p = parentError(nodes, g, e, limits.floorMm);
+                    p && (!estimate || p->first > estimate->first))
+                    estimate = p;
             if (estimate) std::tie(v.error, v.relevant) = *estimate;
         }
     }
@@ -97,7 +103,8 @@ bool carryPieces(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const Refi
 // a kink linear interpolation errs by a share that only halves with each bisection (a piece of light
 // whose flux falls linearly to zero far from the rest: its share of the second moment kinks); a
 // knot on it leaves two smooth parts.
-bool splitAtKinks(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const RefinementLimits& limits, std::size_t& spent) {
+bool splitAtKinks(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const RefinementLimits& limits,
+                  std::size_t& spent) {
     struct Knot {
         std::size_t ghost, interval;
         double error, angle;
@@ -116,7 +123,9 @@ bool splitAtKinks(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const Ref
         knots.resize(room);
     }
     if (knots.empty()) return false;
-    std::sort(knots.begin(), knots.end(), [](const Knot& a, const Knot& b) { return a.ghost != b.ghost ? a.ghost < b.ghost : a.interval < b.interval; });
+    std::sort(knots.begin(), knots.end(), [](const Knot& a, const Knot& b) {
+        return a.ghost != b.ghost ? a.ghost < b.ghost : a.interval < b.interval;
+    });
 
     const std::size_t nW = nodes[knots.front().ghost].rows.front().size();
     std::vector<Task> tasks;
@@ -126,7 +135,8 @@ bool splitAtKinks(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const Ref
         k.angle = kinkAngle(n, k.interval, strongestFlux(nodes, 0.5 * (lo + hi), nW), limits.floorMm);
         trace::PupilHints hints = n.found[k.interval].pieces;
         append(hints, n.found[k.interval + 1].pieces);
-        for (const double a : {0.5 * (lo + k.angle), k.angle, 0.5 * (k.angle + hi)}) tasks.push_back({k.ghost, a, hints, true, n.gridScale});
+        for (const double a : {0.5 * (lo + k.angle), k.angle, 0.5 * (k.angle + hi)})
+            tasks.push_back({k.ghost, a, hints, true, n.gridScale});
     }
     Traced traced = tracer.trace(tasks);
     spent += tasks.size();
@@ -142,7 +152,8 @@ bool splitAtKinks(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const Ref
             const std::size_t m = 3 * k + 2 * side;
             std::vector<double> strongest = strongestFlux(nodes, tasks[m].angleDeg, nW);
             for (std::size_t w = 0; w < nW; ++w) strongest[w] = std::max(strongest[w], traced.rows[m][w].flux);
-            errors[2 * k + side] = midError(side == 0 ? lo : knot, side == 0 ? knot : hi, traced.rows[m], 0.5, strongest, limits.floorMm);
+            errors[2 * k + side] =
+                midError(side == 0 ? lo : knot, side == 0 ? knot : hi, traced.rows[m], 0.5, strongest, limits.floorMm);
         }
     }
     for (std::size_t k = knots.size(); k-- > 0;) {
@@ -174,7 +185,8 @@ bool splitAtKinks(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const Ref
 // the interpolation error cannot see) and stepping where the light crossed the rays. On the 64 grid
 // the same entries are within 0.13 % of the brute force. Each entry is told where it found light
 // before; every interval of the ghost is measured again, from entries on one grid.
-bool traceFiner(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const RefinementLimits& limits, std::size_t& spent) {
+bool traceFiner(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const RefinementLimits& limits,
+                std::size_t& spent) {
     std::vector<std::pair<double, std::size_t>> failing; // (worst error, ghost)
     for (std::size_t g = 0; g < nodes.size(); ++g) {
         const GhostNodes& n = nodes[g];
@@ -191,7 +203,8 @@ bool traceFiner(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const Refin
         const GhostNodes& n = nodes[g];
         if (spent + tasks.size() + n.angles.size() > limits.budget) continue;
         chosen.push_back(g);
-        for (std::size_t j = 0; j < n.angles.size(); ++j) tasks.push_back({g, n.angles[j], n.found[j].pieces, true, 2 * n.gridScale});
+        for (std::size_t j = 0; j < n.angles.size(); ++j)
+            tasks.push_back({g, n.angles[j], n.found[j].pieces, true, 2 * n.gridScale});
     }
     if (tasks.empty()) return false;
     Traced traced = tracer.trace(tasks);
@@ -254,8 +267,9 @@ std::vector<double> strongestFlux(const std::vector<GhostNodes>& nodes, double a
     return flux;
 }
 
-std::pair<double, bool> midError(const std::vector<TableEntry>& lo, const std::vector<TableEntry>& hi, const std::vector<TableEntry>& mid,
-                                 double t, const std::vector<double>& strongest, double floorMm) {
+std::pair<double, bool> midError(const std::vector<TableEntry>& lo, const std::vector<TableEntry>& hi,
+                                 const std::vector<TableEntry>& mid, double t, const std::vector<double>& strongest,
+                                 double floorMm) {
     double worst = 0.0;
     bool relevant = false;
     for (std::size_t w = 0; w < mid.size(); ++w) {
@@ -263,7 +277,8 @@ std::pair<double, bool> midError(const std::vector<TableEntry>& lo, const std::v
         if (e.flux < 0.01 * strongest[w] || e.sigmaR <= 0.0) continue;
         relevant = true;
         const TableEntry i = interpolate(lo[w], hi[w], t);
-        worst = std::max(worst, std::abs(i.centroidY - e.centroidY) / std::max({std::abs(e.centroidY), e.sigmaR, floorMm}));
+        worst =
+            std::max(worst, std::abs(i.centroidY - e.centroidY) / std::max({std::abs(e.centroidY), e.sigmaR, floorMm}));
         worst = std::max(worst, std::abs(i.sigmaR - e.sigmaR) / e.sigmaR);
         if (e.sigmaT > 0.0) worst = std::max(worst, std::abs(i.sigmaT - e.sigmaT) / e.sigmaT);
     }
@@ -289,7 +304,9 @@ double kinkAngle(const GhostNodes& n, std::size_t i, const std::vector<double>& 
     };
     for (std::size_t w = 0; w < strongest.size(); ++w) {
         const TableEntry &e0 = n.rows[i - 1][w], &e1 = n.rows[i][w], &e2 = n.rows[i + 1][w], &e3 = n.rows[i + 2][w];
-        if (std::min({e0.flux, e1.flux, e2.flux, e3.flux}) <= 0.0 || interpolate(e1, e2, 0.5).flux < 0.01 * strongest[w]) continue;
+        if (std::min({e0.flux, e1.flux, e2.flux, e3.flux}) <= 0.0 ||
+            interpolate(e1, e2, 0.5).flux < 0.01 * strongest[w])
+            continue;
         const double sigmaR = 0.5 * (e1.sigmaR + e2.sigmaR), sigmaT = 0.5 * (e1.sigmaT + e2.sigmaT);
         consider(e0.centroidY, e1.centroidY, e2.centroidY, e3.centroidY,
                  std::max({0.5 * std::abs(e1.centroidY + e2.centroidY), sigmaR, floorMm}));
@@ -301,8 +318,9 @@ double kinkAngle(const GhostNodes& n, std::size_t i, const std::vector<double>& 
     return at;
 }
 
-std::vector<Node> retraceWithHints(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const std::map<Node, trace::PupilHints>& hints,
-                                   bool lookCloser, std::size_t budget, std::size_t& spent) {
+std::vector<Node> retraceWithHints(EntryTracer& tracer, std::vector<GhostNodes>& nodes,
+                                   const std::map<Node, trace::PupilHints>& hints, bool lookCloser, std::size_t budget,
+                                   std::size_t& spent) {
     const std::vector<std::pair<Node, trace::PupilHints>> candidates(hints.begin(), hints.end());
     std::vector<char> finds(candidates.size(), 0);
     tbb::parallel_for(std::size_t(0), candidates.size(), [&](std::size_t c) {
@@ -321,7 +339,8 @@ std::vector<Node> retraceWithHints(EntryTracer& tracer, std::vector<GhostNodes>&
         const auto& [node, h] = candidates[c];
         trace::PupilHints all = h;
         append(all, nodes[node.first].found[node.second].pieces);
-        again.push_back({node.first, nodes[node.first].angles[node.second], std::move(all), lookCloser, nodes[node.first].gridScale});
+        again.push_back({node.first, nodes[node.first].angles[node.second], std::move(all), lookCloser,
+                         nodes[node.first].gridScale});
         which.push_back(node);
     }
     if (again.empty()) return which;
@@ -335,8 +354,8 @@ std::vector<Node> retraceWithHints(EntryTracer& tracer, std::vector<GhostNodes>&
     return which;
 }
 
-std::vector<Node> retraceNeighbours(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const std::vector<Todo>& todo, const Traced& mids,
-                                    std::size_t budget, std::size_t& spent) {
+std::vector<Node> retraceNeighbours(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const std::vector<Todo>& todo,
+                                    const Traced& mids, std::size_t budget, std::size_t& spent) {
     std::map<Node, trace::PupilHints> hints;
     for (std::size_t k = 0; k < todo.size(); ++k)
         for (const std::size_t e : {todo[k].interval, todo[k].interval + 1}) {

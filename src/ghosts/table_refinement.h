@@ -24,11 +24,11 @@ TableEntry interpolate(const TableEntry& a, const TableEntry& b, double t);
 /// run out first (or, at the finest step, for good).
 struct Interval {
     bool measured = false;
-    bool relevant = false; ///< the ghost carried >= 1 % of the strongest ghost's flux at the mid-angle
-    double error = 0.0;    ///< measured error, or the parent's while not measured
-    bool compared = false; ///< at the finest step: its two entries' pieces of light have been compared
-    bool knotted = false;  ///< a part of an interval split at its kink (never split there again)
-    int carried = 0;       ///< times an entry of it was traced again at the finest step (at most kMaxCarried)
+    bool relevant = false;  ///< the ghost carried >= 1 % of the strongest ghost's flux at the mid-angle
+    double error = 0.0;     ///< measured error, or the parent's while not measured
+    bool compared = false;  ///< at the finest step: its two entries' pieces of light have been compared
+    bool knotted = false;   ///< a part of an interval split at its kink (never split there again)
+    int carried = 0;        ///< times an entry of it was traced again at the finest step (at most kMaxCarried)
     bool remeasure = false; ///< measured even at the finest step (its entries were traced on a finer grid)
 };
 
@@ -73,8 +73,9 @@ std::vector<double> strongestFlux(const std::vector<GhostNodes>& nodes, double a
 /// over the wavelengths at which it carries at least 1 % of the strongest ghost's flux there. floorMm
 /// keeps the centroid's scale from vanishing for tightly focused ghosts near the axis. Returns the
 /// error and whether any wavelength counted.
-std::pair<double, bool> midError(const std::vector<TableEntry>& lo, const std::vector<TableEntry>& hi, const std::vector<TableEntry>& mid,
-                                 double t, const std::vector<double>& strongest, double floorMm);
+std::pair<double, bool> midError(const std::vector<TableEntry>& lo, const std::vector<TableEntry>& hi,
+                                 const std::vector<TableEntry>& mid, double t, const std::vector<double>& strongest,
+                                 double floorMm);
 
 /// Where interval i's entries kink (a piece of light vanishing, a part of the pupil vignetted away):
 /// the lines through the two entries on either side of it, for the quantity and wavelength on which
@@ -87,14 +88,15 @@ double kinkAngle(const GhostNodes& n, std::size_t i, const std::vector<double>& 
 /// (EntryTracer::hintsFindLight, the looks alone), while the budget lasts. An entry traced again is
 /// told where it found light before, too, so that it keeps what earlier hints gave it. Returns those
 /// entries.
-std::vector<Node> retraceWithHints(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const std::map<Node, trace::PupilHints>& hints,
-                                   bool lookCloser, std::size_t budget, std::size_t& spent);
+std::vector<Node> retraceWithHints(EntryTracer& tracer, std::vector<GhostNodes>& nodes,
+                                   const std::map<Node, trace::PupilHints>& hints, bool lookCloser, std::size_t budget,
+                                   std::size_t& spent);
 
 /// Light a mid-angle's search found far from everything a neighbouring entry's search found was
 /// stepped over there, or is not there: the neighbour is traced again where its hints find it
 /// (retraceWithHints). Returns the entries traced again.
-std::vector<Node> retraceNeighbours(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const std::vector<Todo>& todo, const Traced& mids,
-                                    std::size_t budget, std::size_t& spent);
+std::vector<Node> retraceNeighbours(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const std::vector<Todo>& todo,
+                                    const Traced& mids, std::size_t budget, std::size_t& spent);
 
 // At the finest step. What fails once no interval wider than the finest step waits fails for one of
 // three reasons that bisecting further would fix slowly or never: a piece of light one entry's search
@@ -108,11 +110,13 @@ std::vector<Node> retraceNeighbours(EntryTracer& tracer, std::vector<GhostNodes>
 /// yet compared: each entry is traced again where the other's pieces, far from its own, are found
 /// there. Intervals wider than the finest step beside an entry traced again are left to be measured
 /// again; those at the finest step have their error estimated again from the entries as they are now.
-bool carryPieces(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const RefinementLimits& limits, std::size_t& spent);
+bool carryPieces(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const RefinementLimits& limits,
+                 std::size_t& spent);
 
 /// Splits every failing interval at the finest step, not split so before, at its kink (kinkAngle)
 /// and measures both parts at their mid-angles: three entries each, while the budget lasts.
-bool splitAtKinks(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const RefinementLimits& limits, std::size_t& spent);
+bool splitAtKinks(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const RefinementLimits& limits,
+                  std::size_t& spent);
 
 /// A ghost's grid is doubled at most this many times.
 constexpr int kMaxGridScale = 2;
@@ -121,6 +125,7 @@ constexpr int kMaxGridScale = 2;
 /// finest step (worst first, while the budget lasts; each ghost at most up to kMaxGridScale), and
 /// leaves all its intervals to be measured again, those at the finest step too (Interval::remeasure):
 /// errors measured on the coarser entries no longer hold.
-bool traceFiner(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const RefinementLimits& limits, std::size_t& spent);
+bool traceFiner(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const RefinementLimits& limits,
+                std::size_t& spent);
 
 } // namespace ff::ghosts

@@ -29,10 +29,11 @@ GlAccumulator::GlAccumulator(const GlContext& context) {
 
 GlAccumulator::~GlAccumulator() = default;
 
-void GlAccumulator::accumulate(const std::vector<fourier::Ghost>& ghosts, const fourier::Plan& plan, const fourier::FourierSettings& settings,
-                               Buffer& z) {
+void GlAccumulator::accumulate(const std::vector<fourier::Ghost>& ghosts, const fourier::Plan& plan,
+                               const fourier::FourierSettings& settings, Buffer& z) {
     if (settings.gaussianForm != fourier::GaussianForm::Periodised)
-        throw Error(ErrorKind::Usage, "the GL accumulation computes periodised Gaussian coefficients only (no erf on the GPU)");
+        throw Error(ErrorKind::Usage,
+                    "the GL accumulation computes periodised Gaussian coefficients only (no erf on the GPU)");
     const std::size_t values = static_cast<std::size_t>(3) * 4 * plan.n * plan.m;
     z.zeros(values * sizeof(float));
     if (values == 0) return;
@@ -40,7 +41,8 @@ void GlAccumulator::accumulate(const std::vector<fourier::Ghost>& ghosts, const 
     for (std::size_t k = 0; k < ghosts.size(); ++k) {
         if (plan.route[k] != fourier::Route::Fourier) continue;
         const fourier::Ghost& g = ghosts[k];
-        list.push_back({periodFraction(g.x, plan.periodX), periodFraction(g.y, plan.periodY), gpuShape(g), 0.0f, gpuChannels(g)});
+        list.push_back(
+            {periodFraction(g.x, plan.periodX), periodFraction(g.y, plan.periodY), gpuShape(g), 0.0f, gpuChannels(g)});
     }
     if (list.empty()) return;
     ghosts_.upload(list.data(), list.size() * sizeof(GpuGhost));

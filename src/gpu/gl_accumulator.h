@@ -12,7 +12,7 @@
 namespace ff::gpu {
 
 class GlAccumulator {
-public:
+  public:
     explicit GlAccumulator(const GlContext& context);
     ~GlAccumulator();
 
@@ -21,9 +21,10 @@ public:
     fourier::Coefficients accumulate(const std::vector<fourier::Ghost>& ghosts, const fourier::Plan& plan,
                                      const fourier::FourierSettings& settings);
     /// The same into z, left on the GPU: float [3][2N][2M].
-    void accumulate(const std::vector<fourier::Ghost>& ghosts, const fourier::Plan& plan, const fourier::FourierSettings& settings, Buffer& z);
+    void accumulate(const std::vector<fourier::Ghost>& ghosts, const fourier::Plan& plan,
+                    const fourier::FourierSettings& settings, Buffer& z);
 
-private:
+  private:
     std::unique_ptr<ComputeProgram> program_;
     Buffer ghosts_, z_;
     int localSize_ = 0;

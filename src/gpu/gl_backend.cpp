@@ -30,7 +30,9 @@ GlBackend::GlBackend(std::unique_ptr<GlContext> context) : context_(std::move(co
 
 GlBackend::~GlBackend() = default;
 
-std::string GlBackend::describe() const { return "gl: " + context_->renderer(); }
+std::string GlBackend::describe() const {
+    return "gl: " + context_->renderer();
+}
 
 void GlBackend::begin(int width, int height) {
     width_ = width;
@@ -38,12 +40,13 @@ void GlBackend::begin(int width, int height) {
     image_.zeros(static_cast<std::size_t>(3) * width * height * sizeof(float));
 }
 
-void GlBackend::addLevel(const std::vector<fourier::Ghost>& ghosts, const fourier::Plan& plan, const fourier::FourierSettings& settings,
-                         fourier::StageSeconds& seconds) {
+void GlBackend::addLevel(const std::vector<fourier::Ghost>& ghosts, const fourier::Plan& plan,
+                         const fourier::FourierSettings& settings, fourier::StageSeconds& seconds) {
     auto t = std::chrono::steady_clock::now();
     if (plan.fourier > 0 && plan.n > 0 && plan.m > 0) {
         // The GPU has no erf: the exact and A&S Gaussian forms are accumulated on the CPU and uploaded.
-        const bool anyGaussian = std::any_of(ghosts.begin(), ghosts.end(), [](const fourier::Ghost& g) { return g.shape == fourier::Shape::Gaussian; });
+        const bool anyGaussian = std::any_of(
+            ghosts.begin(), ghosts.end(), [](const fourier::Ghost& g) { return g.shape == fourier::Shape::Gaussian; });
         if (settings.gaussianForm == fourier::GaussianForm::Periodised || !anyGaussian) {
             accumulator_->accumulate(ghosts, plan, settings, z_);
         } else {
@@ -65,7 +68,9 @@ void GlBackend::finish(fourier::FlareImage& image) {
     downloadImage(image_, image);
 }
 
-std::vector<float> GlBackend::composite(const std::vector<float>& plate) { return compositor_->composite(plate, width_, height_, image_); }
+std::vector<float> GlBackend::composite(const std::vector<float>& plate) {
+    return compositor_->composite(plate, width_, height_, image_);
+}
 
 GlFft& GlBackend::fft() {
     if (!fft_) fft_ = std::make_unique<GlFft>(*context_);

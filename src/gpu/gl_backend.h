@@ -18,14 +18,14 @@
 namespace ff::gpu {
 
 class GlBackend final : public fourier::Backend {
-public:
+  public:
     explicit GlBackend(std::unique_ptr<GlContext> context);
     ~GlBackend() override;
 
     std::string describe() const override;
     void begin(int width, int height) override;
-    void addLevel(const std::vector<fourier::Ghost>& ghosts, const fourier::Plan& plan, const fourier::FourierSettings& settings,
-                  fourier::StageSeconds& seconds) override;
+    void addLevel(const std::vector<fourier::Ghost>& ghosts, const fourier::Plan& plan,
+                  const fourier::FourierSettings& settings, fourier::StageSeconds& seconds) override;
     void finish(fourier::FlareImage& image) override;
 
     /// plate + the last frame (R, G, B interleaved, the frame's size); see GlCompositor.
@@ -37,7 +37,7 @@ public:
     GlFft& fft();
     const GlContext& context() const { return *context_; }
 
-private:
+  private:
     std::unique_ptr<GlContext> context_;
     std::unique_ptr<GlAccumulator> accumulator_;
     std::unique_ptr<GlEvaluator> evaluator_;

@@ -18,10 +18,11 @@ GlCompositor::~GlCompositor() = default;
 
 std::vector<float> GlCompositor::composite(const std::vector<float>& plate, int W, int H, const Buffer& flare) {
     if (W > maxSide_ || H > maxSide_)
-        throwRuntimeError("the plate (" + std::to_string(W) + " x " + std::to_string(H) + ") is larger than this device's textures (" +
-                          std::to_string(maxSide_) + ")");
+        throwRuntimeError("the plate (" + std::to_string(W) + " x " + std::to_string(H) +
+                          ") is larger than this device's textures (" + std::to_string(maxSide_) + ")");
     const std::size_t values = static_cast<std::size_t>(3) * W * H;
-    if (plate.size() != values || flare.bytes() != values * sizeof(float)) throwRuntimeError("GlCompositor: plate and flare sizes differ");
+    if (plate.size() != values || flare.bytes() != values * sizeof(float))
+        throwRuntimeError("GlCompositor: plate and flare sizes differ");
     plate_.upload(plate.data(), W, H);
     if (out_.bytes() != values * sizeof(float)) out_.upload(nullptr, values * sizeof(float));
     program_->use();

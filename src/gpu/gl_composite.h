@@ -11,7 +11,7 @@
 namespace ff::gpu {
 
 class GlCompositor {
-public:
+  public:
     explicit GlCompositor(const GlContext& context);
     ~GlCompositor();
 
@@ -21,7 +21,7 @@ public:
     /// Returns the composite, R, G, B interleaved. Throws ff::Error (Runtime) beyond maxSide().
     std::vector<float> composite(const std::vector<float>& plate, int width, int height, const Buffer& flare);
 
-private:
+  private:
     std::unique_ptr<ComputeProgram> program_;
     Texture plate_;
     Buffer out_;

@@ -5,9 +5,8 @@
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>
 
-#include <dlfcn.h>
-
 #include <cstring>
+#include <dlfcn.h>
 #include <string>
 #include <vector>
 
@@ -34,10 +33,15 @@ bool hasExtension(const char* list, const char* name) {
 // A 4.5 core context on an initialised display, or EGL_NO_CONTEXT.
 EGLContext makeContext(EGLDisplay d) {
     if (!eglBindAPI(EGL_OPENGL_API)) return EGL_NO_CONTEXT;
-    const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5, EGL_CONTEXT_OPENGL_PROFILE_MASK,
+    const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                 4,
+                                 EGL_CONTEXT_MINOR_VERSION,
+                                 5,
+                                 EGL_CONTEXT_OPENGL_PROFILE_MASK,
                                  EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
 #ifndef NDEBUG
-                                 EGL_CONTEXT_OPENGL_DEBUG, EGL_TRUE,
+                                 EGL_CONTEXT_OPENGL_DEBUG,
+                                 EGL_TRUE,
 #endif
                                  EGL_NONE};
     EGLContext c = eglCreateContext(d, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attributes);
@@ -51,8 +55,10 @@ EGLContext makeContext(EGLDisplay d) {
 #ifndef NDEBUG
 // Debug builds: the driver's errors and high-severity messages are kept and reported by the next
 // checkGl (gl_objects.cpp), with the failing call's name.
-void GLAPIENTRY debugMessage(GLenum, GLenum type, GLuint, GLenum severity, GLsizei length, const GLchar* message, const void*) {
-    if (type == GL_DEBUG_TYPE_ERROR || severity == GL_DEBUG_SEVERITY_HIGH) recordDebugMessage(std::string(message, static_cast<std::size_t>(length)));
+void GLAPIENTRY debugMessage(GLenum, GLenum type, GLuint, GLenum severity, GLsizei length, const GLchar* message,
+                             const void*) {
+    if (type == GL_DEBUG_TYPE_ERROR || severity == GL_DEBUG_SEVERITY_HIGH)
+        recordDebugMessage(std::string(message, static_cast<std::size_t>(length)));
 }
 #endif
 
@@ -65,12 +71,14 @@ std::unique_ptr<GlContext> GlContext::create(std::string& why, bool hardwareOnly
     }
     std::vector<EGLDisplay> candidates;
     const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
-    if (hasExtension(clientExtensions, "EGL_EXT_device_enumeration") && hasExtension(clientExtensions, "EGL_EXT_platform_device")) {
+    if (hasExtension(clientExtensions, "EGL_EXT_device_enumeration") &&
+        hasExtension(clientExtensions, "EGL_EXT_platform_device")) {
         EGLDeviceEXT devices[16];
         EGLint count = 0;
         if (eglQueryDevicesEXT(16, devices, &count))
             for (EGLint i = 0; i < count; ++i) {
-                const bool software = hasExtension(eglQueryDeviceStringEXT(devices[i], EGL_EXTENSIONS), "EGL_MESA_device_software");
+                const bool software =
+                    hasExtension(eglQueryDeviceStringEXT(devices[i], EGL_EXTENSIONS), "EGL_MESA_device_software");
                 if (software) continue; // Mesa's software device: the surfaceless platform below covers it
                 const EGLDisplay d = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
                 if (d != EGL_NO_DISPLAY) candidates.push_back(d);
@@ -83,7 +91,8 @@ std::unique_ptr<GlContext> GlContext::create(std::string& why, bool hardwareOnly
         if (d != EGL_NO_DISPLAY) candidates.push_back(d);
     }
     if (candidates.empty()) {
-        why = hardwareOnly ? "EGL offers no hardware device" : "EGL offers neither a device nor Mesa's surfaceless platform";
+        why = hardwareOnly ? "EGL offers no hardware device"
+                           : "EGL offers neither a device nor Mesa's surfaceless platform";
         return nullptr;
     }
     bool software = false;

@@ -11,19 +11,19 @@
 namespace ff::gpu {
 
 class GlContext {
-public:
-  /// A context, or null with the reason in `why` (no EGL library, no device, no 4.5 core context).
-  /// hardwareOnly: refuse a context whose renderer is a software rasteriser (llvmpipe, softpipe).
-  static std::unique_ptr<GlContext> create(std::string& why, bool hardwareOnly = false);
-  ~GlContext();
-  GlContext(const GlContext&) = delete;
-  GlContext& operator=(const GlContext&) = delete;
+  public:
+    /// A context, or null with the reason in `why` (no EGL library, no device, no 4.5 core context).
+    /// hardwareOnly: refuse a context whose renderer is a software rasteriser (llvmpipe, softpipe).
+    static std::unique_ptr<GlContext> create(std::string& why, bool hardwareOnly = false);
+    ~GlContext();
+    GlContext(const GlContext&) = delete;
+    GlContext& operator=(const GlContext&) = delete;
 
-  const std::string& renderer() const { return renderer_; } ///< GL_RENDERER and GL_VERSION
-  bool hardware() const { return hardware_; }               ///< not a software rasteriser
-  int maxWorkGroupInvocations() const { return maxInvocations_; }
+    const std::string& renderer() const { return renderer_; } ///< GL_RENDERER and GL_VERSION
+    bool hardware() const { return hardware_; }               ///< not a software rasteriser
+    int maxWorkGroupInvocations() const { return maxInvocations_; }
 
-private:
+  private:
     GlContext() = default;
     void* display_ = nullptr;
     void* context_ = nullptr;

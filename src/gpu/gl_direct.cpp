@@ -23,11 +23,13 @@ struct GpuDirectGhost {
 };
 static_assert(sizeof(GpuDirectGhost) == 80);
 
-constexpr int kTile = 16;          // direct_draw.comp's work group is one kTile x kTile tile
-constexpr int kAxesGroup = 64;     // direct_axes.comp's work group: one per ghost
+constexpr int kTile = 16;            // direct_draw.comp's work group is one kTile x kTile tile
+constexpr int kAxesGroup = 64;       // direct_axes.comp's work group: one per ghost
 constexpr GLuint kMaxGroups = 65535; // work groups per dispatch dimension every GL 4.5 device allows
 
-int samples(const GpuDirectGhost& g) { return g.box[2] - g.box[0] + 1 + g.box[3] - g.box[1] + 1; }
+int samples(const GpuDirectGhost& g) {
+    return g.box[2] - g.box[0] + 1 + g.box[3] - g.box[1] + 1;
+}
 
 } // namespace
 
@@ -39,30 +41,39 @@ GlDirect::GlDirect(const GlContext&, std::size_t batch) : batch_(std::max<std::s
 
 GlDirect::~GlDirect() = default;
 
-void GlDirect::add(const std::vector<fourier::Ghost>& ghosts, const std::vector<std::size_t>& which, int W, int H, Buffer& image) {
+void GlDirect::add(const std::vector<fourier::Ghost>& ghosts, const std::vector<std::size_t>& which, int W, int H,
+                   Buffer& image) {
     std::vector<GpuDirectGhost> list;
     list.reserve(which.size());
     for (std::size_t k : which) {
         const fourier::Ghost& g = ghosts[k];
         // The footprint as fourier::drawDirect clips it: pixels floor(c - e) .. floor(c + e) in the frame.
         const double ex = g.extentX(), ey = g.extentY();
-        const int x0 = std::max(0, static_cast<int>(std::floor(g.x - ex))), x1 = std::min(W - 1, static_cast<int>(std::floor(g.x + ex)));
-        const int y0 = std::max(0, static_cast<int>(std::floor(g.y - ey))), y1 = std::min(H - 1, static_cast<int>(std::floor(g.y + ey)));
+        const int x0 = std::max(0, static_cast<int>(std::floor(g.x - ex))),
+                  x1 = std::min(W - 1, static_cast<int>(std::floor(g.x + ex)));
+        const int y0 = std::max(0, static_cast<int>(std::floor(g.y - ey))),
+                  y1 = std::min(H - 1, static_cast<int>(std::floor(g.y + ey)));
         if (x1 < x0 || y1 < y0) continue;
-        list.push_back({{x0, y0, x1, y1}, static_cast<float>(x0 - g.x), static_cast<float>(y0 - g.y), gpuShape(g), 0, gpuChannels(g)});
+        list.push_back({{x0, y0, x1, y1},
+                        static_cast<float>(x0 - g.x),
+                        static_cast<float>(y0 - g.y),
+                        gpuShape(g),
+                        0,
+                        gpuChannels(g)});
     }
     // Batches whose axis integrals and tile lists each fit `batch_` entries, in ghost order: the
     // integrals of a batch (one work group per ghost), then its pixels (one work group per tile,
     // visiting the ghosts binned to it).
     const int tilesX = (W + kTile - 1) / kTile, tilesY = (H + kTile - 1) / kTile;
     const auto tilesOf = [](const GpuDirectGhost& g) {
-        return static_cast<std::size_t>(g.box[2] / kTile - g.box[0] / kTile + 1) * static_cast<std::size_t>(g.box[3] / kTile - g.box[1] / kTile + 1);
+        return static_cast<std::size_t>(g.box[2] / kTile - g.box[0] / kTile + 1) *
+               static_cast<std::size_t>(g.box[3] / kTile - g.box[1] / kTile + 1);
     };
     std::vector<int> tileStart, tileGhosts;
     for (std::size_t begin = 0; begin < list.size();) {
         std::size_t end = begin, total = 0, entries = 0;
-        while (end < list.size() &&
-               (end == begin || (total + static_cast<std::size_t>(samples(list[end])) <= batch_ && entries + tilesOf(list[end]) <= batch_))) {
+        while (end < list.size() && (end == begin || (total + static_cast<std::size_t>(samples(list[end])) <= batch_ &&
+                                                      entries + tilesOf(list[end]) <= batch_))) {
             list[end].axes = static_cast<int>(total);
             total += static_cast<std::size_t>(samples(list[end]));
             entries += tilesOf(list[end++]);
@@ -71,14 +82,16 @@ void GlDirect::add(const std::vector<fourier::Ghost>& ghosts, const std::vector<
         tileStart.assign(static_cast<std::size_t>(tilesX) * tilesY + 1, 0);
         for (std::size_t k = begin; k < end; ++k)
             for (int ty = list[k].box[1] / kTile; ty <= list[k].box[3] / kTile; ++ty)
-                for (int tx = list[k].box[0] / kTile; tx <= list[k].box[2] / kTile; ++tx) ++tileStart[static_cast<std::size_t>(ty * tilesX + tx) + 1];
+                for (int tx = list[k].box[0] / kTile; tx <= list[k].box[2] / kTile; ++tx)
+                    ++tileStart[static_cast<std::size_t>(ty * tilesX + tx) + 1];
         for (std::size_t t = 1; t < tileStart.size(); ++t) tileStart[t] += tileStart[t - 1];
         tileGhosts.assign(entries, 0);
         std::vector<int> fill(tileStart.begin(), tileStart.end() - 1);
         for (std::size_t k = begin; k < end; ++k)
             for (int ty = list[k].box[1] / kTile; ty <= list[k].box[3] / kTile; ++ty)
                 for (int tx = list[k].box[0] / kTile; tx <= list[k].box[2] / kTile; ++tx)
-                    tileGhosts[static_cast<std::size_t>(fill[static_cast<std::size_t>(ty * tilesX + tx)]++)] = static_cast<int>(k - begin);
+                    tileGhosts[static_cast<std::size_t>(fill[static_cast<std::size_t>(ty * tilesX + tx)]++)] =
+                        static_cast<int>(k - begin);
 
         const auto count = static_cast<GLuint>(end - begin);
         ghosts_.upload(&list[begin], count * sizeof(GpuDirectGhost));
@@ -106,7 +119,8 @@ void GlDirect::add(const std::vector<fourier::Ghost>& ghosts, const std::vector<
     }
 }
 
-void GlDirect::draw(const std::vector<fourier::Ghost>& ghosts, const std::vector<std::size_t>& which, fourier::FlareImage& image) {
+void GlDirect::draw(const std::vector<fourier::Ghost>& ghosts, const std::vector<std::size_t>& which,
+                    fourier::FlareImage& image) {
     uploadImage(image, image_);
     add(ghosts, which, image.width, image.height, image_);
     downloadImage(image_, image);

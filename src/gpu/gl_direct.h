@@ -15,7 +15,7 @@
 namespace ff::gpu {
 
 class GlDirect {
-public:
+  public:
     /// Axis integrals (vec4) and tile-list entries per batch of ghosts: at most 64 MiB of integrals;
     /// more ghosts are drawn in several batches.
     static constexpr std::size_t kDefaultBatch = std::size_t(1) << 22;
@@ -24,11 +24,13 @@ public:
     ~GlDirect();
 
     /// Adds the ghosts `which` to image (float [3][height][width] on the GPU).
-    void add(const std::vector<fourier::Ghost>& ghosts, const std::vector<std::size_t>& which, int width, int height, Buffer& image);
+    void add(const std::vector<fourier::Ghost>& ghosts, const std::vector<std::size_t>& which, int width, int height,
+             Buffer& image);
     /// Adds them to a CPU image (uploaded, drawn into, read back).
-    void draw(const std::vector<fourier::Ghost>& ghosts, const std::vector<std::size_t>& which, fourier::FlareImage& image);
+    void draw(const std::vector<fourier::Ghost>& ghosts, const std::vector<std::size_t>& which,
+              fourier::FlareImage& image);
 
-private:
+  private:
     std::unique_ptr<ComputeProgram> program_, axes_;
     Buffer ghosts_, integrals_, tileStart_, tileGhosts_, image_;
     std::size_t batch_;

@@ -12,7 +12,7 @@
 namespace ff::gpu {
 
 class GlEvaluator {
-public:
+  public:
     explicit GlEvaluator(const GlContext& context);
     ~GlEvaluator();
 
@@ -22,7 +22,7 @@ public:
     /// [3][height][width] on the GPU).
     void add(const Buffer& z, int n, int m, double periodX, double periodY, int width, int height, Buffer& image);
 
-private:
+  private:
     std::unique_ptr<ComputeProgram> rows_, pixels_;
     Buffer z_, basisX_, basisY_, t_, image_;
 };

@@ -5,14 +5,13 @@
 // multiplied (shaders/spectrum_product.comp) and transformed back, as diffraction::convolve does with
 // FFTW.
 
+#include "diffraction/convolution.h"
 #include "gpu/gl_context.h"
 #include "gpu/gl_objects.h"
 
 #include <complex>
 #include <memory>
 #include <vector>
-
-#include "diffraction/convolution.h"
 
 namespace ff::gpu {
 

@@ -32,6 +32,8 @@ inline float periodFraction(double x, double period) {
 }
 
 /// The shaders' shape code: 0 Gaussian, 1 cos^2.
-inline float gpuShape(const fourier::Ghost& g) { return g.shape == fourier::Shape::Gaussian ? 0.0f : 1.0f; }
+inline float gpuShape(const fourier::Ghost& g) {
+    return g.shape == fourier::Shape::Gaussian ? 0.0f : 1.0f;
+}
 
 } // namespace ff::gpu

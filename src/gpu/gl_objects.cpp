@@ -23,12 +23,16 @@ void checkGl(const char* what) {
     if (e == GL_NO_ERROR && messages.empty()) return;
     char code[16];
     std::snprintf(code, sizeof code, "%04x", e);
-    throwRuntimeError((e != GL_NO_ERROR ? std::string("OpenGL error 0x") + code : std::string("OpenGL debug message")) + " in " + what +
-                      (messages.empty() ? "" : ": " + messages));
+    throwRuntimeError((e != GL_NO_ERROR ? std::string("OpenGL error 0x") + code : std::string("OpenGL debug message")) +
+                      " in " + what + (messages.empty() ? "" : ": " + messages));
 }
 
-Buffer::Buffer() { glCreateBuffers(1, &id_); }
-Buffer::~Buffer() { glDeleteBuffers(1, &id_); }
+Buffer::Buffer() {
+    glCreateBuffers(1, &id_);
+}
+Buffer::~Buffer() {
+    glDeleteBuffers(1, &id_);
+}
 
 void Buffer::upload(const void* data, std::size_t bytes) {
     // The same size keeps the storage (a reallocation costs more than the copy on some drivers).
@@ -75,7 +79,8 @@ ComputeProgram::ComputeProgram(std::string_view name, std::string_view source, i
     // The #version line stays first; LOCAL_SIZE goes right after it.
     std::string text(source);
     const std::size_t eol = text.find('\n');
-    text.insert(eol == std::string::npos ? text.size() : eol + 1, "#define LOCAL_SIZE " + std::to_string(localSize) + "\n");
+    text.insert(eol == std::string::npos ? text.size() : eol + 1,
+                "#define LOCAL_SIZE " + std::to_string(localSize) + "\n");
     const GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
     const char* src = text.c_str();
     glShaderSource(shader, 1, &src, nullptr);
@@ -86,7 +91,8 @@ ComputeProgram::ComputeProgram(std::string_view name, std::string_view source, i
         GLint length = 0;
         program ? glGetProgramiv(obj, GL_INFO_LOG_LENGTH, &length) : glGetShaderiv(obj, GL_INFO_LOG_LENGTH, &length);
         std::vector<char> buf(static_cast<std::size_t>(length > 0 ? length : 1), '\0');
-        program ? glGetProgramInfoLog(obj, length, nullptr, buf.data()) : glGetShaderInfoLog(obj, length, nullptr, buf.data());
+        program ? glGetProgramInfoLog(obj, length, nullptr, buf.data())
+                : glGetShaderInfoLog(obj, length, nullptr, buf.data());
         return std::string(buf.data());
     };
     if (!ok) {
@@ -102,10 +108,16 @@ ComputeProgram::ComputeProgram(std::string_view name, std::string_view source, i
     if (!ok) throwRuntimeError("shaders/" + std::string(name) + " does not link: " + log(id_, true));
 }
 
-ComputeProgram::~ComputeProgram() { glDeleteProgram(id_); }
+ComputeProgram::~ComputeProgram() {
+    glDeleteProgram(id_);
+}
 
-void ComputeProgram::set(const char* uniform, int value) const { glProgramUniform1i(id_, glGetUniformLocation(id_, uniform), value); }
-void ComputeProgram::set(const char* uniform, float value) const { glProgramUniform1f(id_, glGetUniformLocation(id_, uniform), value); }
+void ComputeProgram::set(const char* uniform, int value) const {
+    glProgramUniform1i(id_, glGetUniformLocation(id_, uniform), value);
+}
+void ComputeProgram::set(const char* uniform, float value) const {
+    glProgramUniform1f(id_, glGetUniformLocation(id_, uniform), value);
+}
 void ComputeProgram::setDouble(const char* uniform, double value) const {
     glProgramUniform1d(id_, glGetUniformLocation(id_, uniform), value);
 }

@@ -16,7 +16,7 @@ void checkGl(const char* what);
 void recordDebugMessage(std::string message);
 
 class Buffer {
-public:
+  public:
     Buffer();
     ~Buffer();
     Buffer(const Buffer&) = delete;
@@ -30,14 +30,14 @@ public:
     std::size_t bytes() const { return bytes_; }
     GLuint id() const { return id_; }
 
-private:
+  private:
     GLuint id_ = 0;
     std::size_t bytes_ = 0;
 };
 
 /// A 2D RGB float32 texture, read by shaders with texelFetch.
 class Texture {
-public:
+  public:
     Texture();
     ~Texture();
     Texture(const Texture&) = delete;
@@ -46,13 +46,13 @@ public:
     void upload(const float* rgb, int width, int height);
     void bind(GLuint unit) const { glBindTextureUnit(unit, id_); }
 
-private:
+  private:
     GLuint id_ = 0;
     int width_ = 0, height_ = 0;
 };
 
 class ComputeProgram {
-public:
+  public:
     /// Compiles `source` (a shader of shaders/, by name for messages) with LOCAL_SIZE defined.
     ComputeProgram(std::string_view name, std::string_view source, int localSize);
     ~ComputeProgram();
@@ -64,7 +64,7 @@ public:
     void setDouble(const char* uniform, double value) const;
     int localSize() const { return localSize_; }
 
-private:
+  private:
     GLuint id_ = 0;
     int localSize_ = 0;
 };

@@ -28,20 +28,23 @@ constexpr std::size_t kSliceBytes = std::size_t(64) << 20;
 
 GlSampled::GlSampled(const GlContext& context) {
     const int local = std::max(1, std::min(256, context.maxWorkGroupInvocations()));
-    terms_ = std::make_unique<ComputeProgram>("sampled_coefficients.comp", embedded("sampled_coefficients.comp"), local);
+    terms_ =
+        std::make_unique<ComputeProgram>("sampled_coefficients.comp", embedded("sampled_coefficients.comp"), local);
     sum_ = std::make_unique<ComputeProgram>("sum_coefficients.comp", embedded("sum_coefficients.comp"), local);
 }
 
 GlSampled::~GlSampled() = default;
 
-void GlSampled::add(const std::vector<fourier::SampledGhost>& ghosts, int n, int m, double periodX, double periodY, Buffer& z) {
+void GlSampled::add(const std::vector<fourier::SampledGhost>& ghosts, int n, int m, double periodX, double periodY,
+                    Buffer& z) {
     fourier::checkSampled(ghosts, n, m, periodX, periodY);
     if (ghosts.empty() || n == 0 || m == 0) return;
     std::vector<GpuSampledGhost> list;
     std::vector<float> values;
     for (const auto& g : ghosts) {
-        list.push_back({periodFraction(g.x0 + 0.5 * g.step, periodX), periodFraction(g.y0 + 0.5 * g.step, periodY), static_cast<float>(g.step / periodX),
-                        static_cast<float>(g.step / periodY), g.width, g.height, static_cast<int>(values.size()), 0});
+        list.push_back({periodFraction(g.x0 + 0.5 * g.step, periodX), periodFraction(g.y0 + 0.5 * g.step, periodY),
+                        static_cast<float>(g.step / periodX), static_cast<float>(g.step / periodY), g.width, g.height,
+                        static_cast<int>(values.size()), 0});
         values.insert(values.end(), g.values.begin(), g.values.end());
     }
     ghosts_.upload(list.data(), list.size() * sizeof(GpuSampledGhost));

@@ -11,7 +11,7 @@
 namespace ff::gpu {
 
 class GlSampled {
-public:
+  public:
     explicit GlSampled(const GlContext& context);
     ~GlSampled();
 
@@ -20,7 +20,7 @@ public:
     /// Adds them to z on the CPU (uploaded, added to, read back).
     void accumulate(const std::vector<fourier::SampledGhost>& ghosts, fourier::Coefficients& z);
 
-private:
+  private:
     std::unique_ptr<ComputeProgram> terms_, sum_;
     Buffer ghosts_, values_, slices_, z_;
 };

@@ -16,7 +16,8 @@ void downloadCoefficients(const Buffer& buffer, fourier::Coefficients& z) {
     const std::size_t per = static_cast<std::size_t>(4) * z.n * z.m;
     std::vector<float> values(3 * per);
     buffer.download(values.data(), values.size() * sizeof(float));
-    for (std::size_t c = 0; c < 3; ++c) z.z[c].assign(values.begin() + static_cast<long>(c * per), values.begin() + static_cast<long>((c + 1) * per));
+    for (std::size_t c = 0; c < 3; ++c)
+        z.z[c].assign(values.begin() + static_cast<long>(c * per), values.begin() + static_cast<long>((c + 1) * per));
 }
 
 void uploadImage(const fourier::FlareImage& image, Buffer& buffer) {
@@ -30,7 +31,8 @@ void downloadImage(const Buffer& buffer, fourier::FlareImage& image) {
     const std::size_t plane = image.pixels();
     std::vector<float> planes(3 * plane);
     buffer.download(planes.data(), planes.size() * sizeof(float));
-    for (std::size_t c = 0; c < 3; ++c) std::copy_n(planes.begin() + static_cast<long>(c * plane), plane, image.channel[c].begin());
+    for (std::size_t c = 0; c < 3; ++c)
+        std::copy_n(planes.begin() + static_cast<long>(c * plane), plane, image.channel[c].begin());
 }
 
 } // namespace ff::gpu

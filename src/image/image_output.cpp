@@ -17,7 +17,8 @@ void setExrThreads(int n) {
 void writeExr(const std::string& path, int width, int height, const std::vector<std::string>& channels,
               const std::vector<float>& pixels, const Metadata& metadata) {
     if (pixels.size() != static_cast<std::size_t>(width) * height * channels.size())
-        throwRuntimeError("writeExr: pixel buffer does not match " + std::to_string(width) + "x" + std::to_string(height));
+        throwRuntimeError("writeExr: pixel buffer does not match " + std::to_string(width) + "x" +
+                          std::to_string(height));
     OIIO::ImageSpec spec(width, height, static_cast<int>(channels.size()), OIIO::TypeDesc::FLOAT);
     spec.channelnames = channels;
     spec.attribute("compression", "zip");
@@ -44,13 +45,16 @@ double autoExposure(const std::vector<float>& rgb) {
         if (m > 0.0f && std::isfinite(m)) peaks.push_back(m);
     }
     if (peaks.empty()) return 0.0;
-    const std::size_t k = std::min(peaks.size() - 1, static_cast<std::size_t>(0.99 * static_cast<double>(peaks.size())));
+    const std::size_t k =
+        std::min(peaks.size() - 1, static_cast<std::size_t>(0.99 * static_cast<double>(peaks.size())));
     std::nth_element(peaks.begin(), peaks.begin() + static_cast<long>(k), peaks.end());
     return -std::log2(static_cast<double>(peaks[k]));
 }
 
-void writePng(const std::string& path, int width, int height, const std::vector<unsigned char>& rgb8, const Metadata& metadata) {
-    if (rgb8.size() != static_cast<std::size_t>(width) * height * 3) throwRuntimeError("writePng: pixel buffer size mismatch");
+void writePng(const std::string& path, int width, int height, const std::vector<unsigned char>& rgb8,
+              const Metadata& metadata) {
+    if (rgb8.size() != static_cast<std::size_t>(width) * height * 3)
+        throwRuntimeError("writePng: pixel buffer size mismatch");
     OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
     for (const auto& [k, v] : metadata) spec.attribute(k, v);
     writeAtomic(path, spec, OIIO::TypeDesc::UINT8, rgb8.data());

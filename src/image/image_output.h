@@ -29,6 +29,7 @@ std::vector<unsigned char> tonemapPreview(const std::vector<float>& rgb, double 
 /// (Reinhard 0.5): bright ghosts stay visible in previews of faint flares. 0 for a black image.
 double autoExposure(const std::vector<float>& rgb);
 
-void writePng(const std::string& path, int width, int height, const std::vector<unsigned char>& rgb8, const Metadata& metadata);
+void writePng(const std::string& path, int width, int height, const std::vector<unsigned char>& rgb8,
+              const Metadata& metadata);
 
 } // namespace ff::image

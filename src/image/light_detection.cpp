@@ -14,17 +14,21 @@ DetectionSettings parseThreshold(const std::string& t) {
     DetectionSettings s;
     auto number = [&](std::string_view v) {
         const auto x = text::parseNumber(v);
-        if (!x || !std::isfinite(*x)) throw Error(ErrorKind::Usage, "expected --threshold VALUE, max:FRACTION or p:PERCENTILE, got " + text::quoted(t));
+        if (!x || !std::isfinite(*x))
+            throw Error(ErrorKind::Usage,
+                        "expected --threshold VALUE, max:FRACTION or p:PERCENTILE, got " + text::quoted(t));
         return *x;
     };
     if (t.rfind("max:", 0) == 0) {
         s.mode = ThresholdMode::RelativeToMax;
         s.value = number(std::string_view(t).substr(4));
-        if (s.value <= 0.0 || s.value > 1.0) throw Error(ErrorKind::Usage, "--threshold max:F needs 0 < F <= 1, got " + text::quoted(t));
+        if (s.value <= 0.0 || s.value > 1.0)
+            throw Error(ErrorKind::Usage, "--threshold max:F needs 0 < F <= 1, got " + text::quoted(t));
     } else if (t.rfind("p:", 0) == 0) {
         s.mode = ThresholdMode::Percentile;
         s.value = number(std::string_view(t).substr(2));
-        if (s.value <= 0.0 || s.value >= 100.0) throw Error(ErrorKind::Usage, "--threshold p:P needs 0 < P < 100, got " + text::quoted(t));
+        if (s.value <= 0.0 || s.value >= 100.0)
+            throw Error(ErrorKind::Usage, "--threshold p:P needs 0 < P < 100, got " + text::quoted(t));
     } else {
         s.value = number(t);
         if (s.value <= 0.0) throw Error(ErrorKind::Usage, "--threshold must be positive, got " + text::quoted(t));
@@ -66,8 +70,12 @@ DetectionReport detectLights(const Plate& plate, const DetectionSettings& s) {
         rep.maxLuminance = std::max(rep.maxLuminance, l);
     }
     switch (s.mode) {
-    case ThresholdMode::Absolute: rep.threshold = s.value; break;
-    case ThresholdMode::RelativeToMax: rep.threshold = s.value * rep.maxLuminance; break;
+    case ThresholdMode::Absolute:
+        rep.threshold = s.value;
+        break;
+    case ThresholdMode::RelativeToMax:
+        rep.threshold = s.value * rep.maxLuminance;
+        break;
     case ThresholdMode::Percentile: {
         std::vector<float> sorted(lum);
         const auto k = static_cast<std::size_t>(std::clamp(s.value / 100.0, 0.0, 1.0) * double(n - 1));
@@ -128,7 +136,9 @@ DetectionReport detectLights(const Plate& plate, const DetectionSettings& s) {
                 const std::uint32_t c = comp.find(static_cast<std::uint32_t>(p));
                 const Extent& e = extents[c];
                 const bool split = e.x1 - e.x0 >= block || e.y1 - e.y0 >= block;
-                const std::uint64_t cell = split ? (static_cast<std::uint64_t>((y - e.y0) / block) << 32) | static_cast<std::uint64_t>((x - e.x0) / block) : 0;
+                const std::uint64_t cell = split ? (static_cast<std::uint64_t>((y - e.y0) / block) << 32) |
+                                                       static_cast<std::uint64_t>((x - e.x0) / block)
+                                                 : 0;
                 auto [it, inserted] = index.try_emplace({c, cell}, lights.size());
                 if (inserted) {
                     lights.emplace_back();

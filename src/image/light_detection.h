@@ -21,8 +21,8 @@ enum class ThresholdMode { Absolute, RelativeToMax, Percentile };
 
 struct DetectionSettings {
     ThresholdMode mode = ThresholdMode::Absolute;
-    double value = 2.0;    ///< absolute luminance; fraction of the maximum; or percentile (0-100)
-    int blockSize = 32;    ///< pixels per side of the blocks an extended source is split into
+    double value = 2.0;           ///< absolute luminance; fraction of the maximum; or percentile (0-100)
+    int blockSize = 32;           ///< pixels per side of the blocks an extended source is split into
     std::size_t maxLights = 4096; ///< beyond this, blocks double in size until the lights fit
     bool lightImage = false;      ///< also return the lights as an image (DetectionReport::lightRgb)
 };
@@ -32,17 +32,17 @@ struct DetectionSettings {
 DetectionSettings parseThreshold(const std::string& text);
 
 struct DetectedLight {
-    double x = 0.0, y = 0.0;   ///< flux-weighted centroid, pixels in the display window (pixel centres at +0.5)
+    double x = 0.0, y = 0.0;      ///< flux-weighted centroid, pixels in the display window (pixel centres at +0.5)
     std::array<double, 3> flux{}; ///< sum of R, G, B over its pixels
     std::size_t pixels = 0;
-    double peak = 0.0;         ///< largest luminance
+    double peak = 0.0; ///< largest luminance
 };
 
 struct DetectionReport {
     std::vector<DetectedLight> lights;
-    double threshold = 0.0;    ///< the absolute luminance used
+    double threshold = 0.0; ///< the absolute luminance used
     double maxLuminance = 0.0;
-    int blockSize = 0;         ///< the block size finally used
+    int blockSize = 0; ///< the block size finally used
     std::size_t nonFinite = 0, negative = 0, emissiveZeroAlpha = 0, brightPixels = 0;
     /// With DetectionSettings::lightImage, the lights as an image: R, G, B of the pixels above the
     /// threshold (negatives as 0), interleaved over the data window, 0 elsewhere. Their sum is the
@@ -51,7 +51,9 @@ struct DetectionReport {
 };
 
 /// Rec. 709 luminance.
-inline double luminance(double r, double g, double b) { return 0.2126 * r + 0.7152 * g + 0.0722 * b; }
+inline double luminance(double r, double g, double b) {
+    return 0.2126 * r + 0.7152 * g + 0.0722 * b;
+}
 
 DetectionReport detectLights(const Plate& plate, const DetectionSettings& settings);
 

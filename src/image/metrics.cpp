@@ -46,8 +46,10 @@ std::vector<unsigned char> differencePicture(const std::vector<float>& a, const 
         // White at 0; towards red (1, 0, 0) for t > 0, blue (0, 0.2, 1) for t < 0 (sRGB-ish).
         const double u = std::sqrt(std::abs(t)); // perceptually spreads small differences
         double r = 1.0, g = 1.0, b = 1.0;
-        if (t > 0) g = 1.0 - u, b = 1.0 - u;
-        else if (t < 0) r = 1.0 - u, g = 1.0 - 0.8 * u;
+        if (t > 0)
+            g = 1.0 - u, b = 1.0 - u;
+        else if (t < 0)
+            r = 1.0 - u, g = 1.0 - 0.8 * u;
         out[3 * p] = static_cast<unsigned char>(std::lround(255.0 * r));
         out[3 * p + 1] = static_cast<unsigned char>(std::lround(255.0 * g));
         out[3 * p + 2] = static_cast<unsigned char>(std::lround(255.0 * b));

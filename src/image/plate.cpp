@@ -26,7 +26,7 @@ extern char** environ;
 namespace ff::image {
 
 struct PlateFile {
-    OIIO::ImageSpec spec;            ///< the first part's header as read
+    OIIO::ImageSpec spec;              ///< the first part's header as read
     std::vector<unsigned char> native; ///< its pixels in their native per-channel formats
 };
 
@@ -42,7 +42,9 @@ std::vector<float> Plate::rgb() const {
 
 namespace {
 
-[[noreturn]] void bad(const std::string& path, const std::string& what) { throw Error(ErrorKind::Input, SourceLocation{path}, what); }
+[[noreturn]] void bad(const std::string& path, const std::string& what) {
+    throw Error(ErrorKind::Input, SourceLocation{path}, what);
+}
 
 std::string firstLine(std::string s) {
     if (const auto n = s.find('\n'); n != std::string::npos) s.resize(n);
@@ -52,13 +54,17 @@ std::string firstLine(std::string s) {
 // Header checks, before any pixel is allocated.
 void checkSpec(const std::string& path, const OIIO::ImageSpec& s, const PlateLimits& limits) {
     if (s.deep) bad(path, "deep images are not supported as plates");
-    if (s.width <= 0 || s.height <= 0 || s.depth != 1) bad(path, "the image has no usable 2D data window (" + std::to_string(s.width) + "x" + std::to_string(s.height) + ")");
+    if (s.width <= 0 || s.height <= 0 || s.depth != 1)
+        bad(path, "the image has no usable 2D data window (" + std::to_string(s.width) + "x" +
+                      std::to_string(s.height) + ")");
     const std::uint64_t pixels = static_cast<std::uint64_t>(s.width) * static_cast<std::uint64_t>(s.height);
     if (pixels > limits.maxPixels)
-        bad(path, "the image is " + std::to_string(s.width) + "x" + std::to_string(s.height) + " = " + std::to_string(pixels) +
-                      " pixels, above the limit of " + std::to_string(limits.maxPixels) + " (--max-pixels raises it)");
+        bad(path, "the image is " + std::to_string(s.width) + "x" + std::to_string(s.height) + " = " +
+                      std::to_string(pixels) + " pixels, above the limit of " + std::to_string(limits.maxPixels) +
+                      " (--max-pixels raises it)");
     if (s.nchannels < 1 || s.nchannels > limits.maxChannels)
-        bad(path, "the image has " + std::to_string(s.nchannels) + " channels (1 to " + std::to_string(limits.maxChannels) + " are supported)");
+        bad(path, "the image has " + std::to_string(s.nchannels) + " channels (1 to " +
+                      std::to_string(limits.maxChannels) + " are supported)");
 }
 
 // Finds R, G, B (or a luminance Y) and A among the channel names.
@@ -201,7 +207,8 @@ Plate readDirect(const std::string& path, const PlateLimits& limits, bool keepNa
     takeWindows(spec, p);
     p.channels = spec.channelnames;
     p.subimages = spec.get_int_attribute("oiio:subimages", 1);
-    if (p.subimages > 1) p.notes.push_back("the file has " + std::to_string(p.subimages) + " parts; only the first is used");
+    if (p.subimages > 1)
+        p.notes.push_back("the file has " + std::to_string(p.subimages) + " parts; only the first is used");
     findChannels(path, p);
     const int n = spec.nchannels;
     p.pixels.resize(p.pixelCount() * static_cast<std::size_t>(n));
@@ -229,7 +236,8 @@ void guardedRead(const std::string& path, const PlateLimits& limits) {
     posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
     posix_spawn_file_actions_addclose(&actions, fds[0]);
     const std::string pixels = std::to_string(limits.maxPixels), channels = std::to_string(limits.maxChannels);
-    std::vector<std::string> args = {limits.checker, "plate-check", "--max-pixels", pixels, "--max-channels", channels, "--", path};
+    std::vector<std::string> args = {limits.checker,   "plate-check", "--max-pixels", pixels,
+                                     "--max-channels", channels,      "--",           path};
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
@@ -266,20 +274,24 @@ void guardedRead(const std::string& path, const PlateLimits& limits) {
     close(fds[0]);
     int status = 0;
     while (!timedOut && waitpid(pid, &status, WNOHANG) == 0) {
-        if (elapsed() > limits.timeoutSeconds) timedOut = true;
-        else usleep(1000);
+        if (elapsed() > limits.timeoutSeconds)
+            timedOut = true;
+        else
+            usleep(1000);
     }
     if (timedOut) {
         kill(pid, SIGKILL);
         waitpid(pid, &status, 0);
-        bad(path, "reading the image did not finish within " + std::to_string(static_cast<int>(limits.timeoutSeconds)) + " s (a corrupt file?)");
+        bad(path, "reading the image did not finish within " + std::to_string(static_cast<int>(limits.timeoutSeconds)) +
+                      " s (a corrupt file?)");
     }
     if (WIFSIGNALED(status))
-        bad(path, "the image library crashed reading this file (signal " + std::to_string(WTERMSIG(status)) + "): it is corrupt or hostile");
+        bad(path, "the image library crashed reading this file (signal " + std::to_string(WTERMSIG(status)) +
+                      "): it is corrupt or hostile");
     if (WIFEXITED(status) && WEXITSTATUS(status) == 3) bad(path, firstLine(message));
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-        bad(path, "the image library failed reading this file (exit status " + std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
-                      "): it is corrupt or hostile");
+        bad(path, "the image library failed reading this file (exit status " +
+                      std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + "): it is corrupt or hostile");
 }
 
 } // namespace
@@ -288,7 +300,8 @@ int checkPlate(const std::string& path, const PlateLimits& limits) {
 #if !defined(__SANITIZE_ADDRESS__)
     // Pixels as float plus the library's own buffers: a header that lies about its sizes fails here
     // instead of exhausting the machine. (AddressSanitizer reserves far more address space: no limit.)
-    const rlim_t budget = static_cast<rlim_t>(limits.maxPixels) * static_cast<rlim_t>(limits.maxChannels) * 8u + (rlim_t(4) << 30);
+    const rlim_t budget =
+        static_cast<rlim_t>(limits.maxPixels) * static_cast<rlim_t>(limits.maxChannels) * 8u + (rlim_t(4) << 30);
     const rlimit rl{budget, budget};
     setrlimit(RLIMIT_AS, &rl);
 #endif
@@ -357,7 +370,8 @@ void writeSimulatedExr(const std::string& path, const Plate& plate, const std::v
         const unsigned char* src = &plate.file->native[p * inPixelBytes];
         for (int c = 0; c < n; ++c) {
             const std::size_t ci = static_cast<std::size_t>(c);
-            if (outFormat[ci] == inFormat[ci]) std::memcpy(dst, src + inOffset[ci], inFormat[ci].size());
+            if (outFormat[ci] == inFormat[ci])
+                std::memcpy(dst, src + inOffset[ci], inFormat[ci].size());
             else {
                 const float v = plate.value(p, c);
                 std::memcpy(dst, &v, sizeof v);

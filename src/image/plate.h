@@ -22,7 +22,7 @@ namespace ff::image {
 struct PlateLimits {
     std::uint64_t maxPixels = 8192ull * 8192ull; ///< data-window pixels
     int maxChannels = 64;
-    double timeoutSeconds = 8.0;                  ///< for the guarded read
+    double timeoutSeconds = 8.0; ///< for the guarded read
     /// The checker: run as `checker plate-check --max-pixels N --max-channels C FILE`; empty = no guard.
     std::string checker;
 };
@@ -31,8 +31,8 @@ struct PlateFile; // the header and native channel data, for rewriting channels 
 
 struct Plate {
     std::string path;
-    int width = 0, height = 0;         ///< data window size
-    int originX = 0, originY = 0;      ///< data window origin
+    int width = 0, height = 0;                                           ///< data window size
+    int originX = 0, originY = 0;                                        ///< data window origin
     int displayX = 0, displayY = 0, displayWidth = 0, displayHeight = 0; ///< display window
     std::vector<std::string> channels;
     int r = -1, g = -1, b = -1, a = -1; ///< channel indices (g, b = r for a one-channel luminance plate)
@@ -42,7 +42,9 @@ struct Plate {
     std::shared_ptr<const PlateFile> file;
 
     std::size_t pixelCount() const { return static_cast<std::size_t>(width) * height; }
-    float value(std::size_t pixel, int channel) const { return pixels[pixel * channels.size() + static_cast<std::size_t>(channel)]; }
+    float value(std::size_t pixel, int channel) const {
+        return pixels[pixel * channels.size() + static_cast<std::size_t>(channel)];
+    }
     /// R, G, B of the data window, interleaved.
     std::vector<float> rgb() const;
 };

@@ -16,14 +16,16 @@ SourceLocation shifted(const SourceLocation& where, std::size_t offset) {
 double parseLambda0(std::string_view s, const SourceLocation& at) {
     auto v = text::parseNumber(s);
     if (!v || *v < 100.0 || *v > 3000.0)
-        throwInputError(at, "expected a design wavelength in nm (100..3000) in the coating spec, got " +
-                                text::quoted(s));
+        throwInputError(at,
+                        "expected a design wavelength in nm (100..3000) in the coating spec, got " + text::quoted(s));
     return *v;
 }
 
 } // namespace
 
-CoatingSpec CoatingSpec::mgf2(double lambda0Nm) { return {{{"MgF2", 0.25}}, lambda0Nm}; }
+CoatingSpec CoatingSpec::mgf2(double lambda0Nm) {
+    return {{{"MgF2", 0.25}}, lambda0Nm};
+}
 
 CoatingSpec CoatingSpec::broadband(double lambda0Nm) {
     return {{{"MgF2", 0.25}, {"ZrO2", 0.5}, {"Al2O3", 0.25}}, lambda0Nm};
@@ -67,20 +69,21 @@ CoatingSpec parseCoatingSpec(std::string_view textIn, const SourceLocation& wher
     }
     const double lambda0 = lambda.empty() ? 550.0 : parseLambda0(lambda, shifted(where, lambdaOffset));
     if (text::iequals(body, "none") || body == "0") {
-        if (!lambda.empty()) throwInputError(shifted(where, lambdaOffset), "a bare surface ('none') takes no wavelength");
+        if (!lambda.empty())
+            throwInputError(shifted(where, lambdaOffset), "a bare surface ('none') takes no wavelength");
         return CoatingSpec::none();
     }
     if (text::iequals(body, "mgf2")) return CoatingSpec::mgf2(lambda0);
     if (text::iequals(body, "broadband")) return CoatingSpec::broadband(lambda0);
     if (text::startsWith(text::toLower(body), "stack(")) {
-        if (body.back() != ')')
-            throwInputError(shifted(where, body.size()), "expected ')' to close the coating stack");
+        if (body.back() != ')') throwInputError(shifted(where, body.size()), "expected ')' to close the coating stack");
         const std::string_view inner = body.substr(6, body.size() - 7);
         CoatingSpec spec;
         spec.lambda0Nm = lambda0;
         std::size_t offset = 6;
         for (std::string_view rawPart : text::split(inner, ',')) {
-            const std::size_t lead = rawPart.find_first_not_of(" \t") == std::string_view::npos ? 0 : rawPart.find_first_not_of(" \t");
+            const std::size_t lead =
+                rawPart.find_first_not_of(" \t") == std::string_view::npos ? 0 : rawPart.find_first_not_of(" \t");
             const std::string_view part = text::trim(rawPart);
             const auto at = shifted(where, offset + lead);
             const auto colon = part.find(':');

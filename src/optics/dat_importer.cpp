@@ -26,19 +26,26 @@ Lens importDat(std::string_view textIn, const std::string& fileName, Reporter* r
         }
         lastLine = lineNo;
         if (t.size() != 4)
-            throwInputError({fileName, lineNo, t.size() > 4 ? t[4].column : t.back().column + static_cast<int>(t.back().text.size()) + 1},
-                            "expected 4 values per row (radius thickness eta aperture-diameter), found " + std::to_string(t.size()));
+            throwInputError({fileName, lineNo,
+                             t.size() > 4 ? t[4].column : t.back().column + static_cast<int>(t.back().text.size()) + 1},
+                            "expected 4 values per row (radius thickness eta aperture-diameter), found " +
+                                std::to_string(t.size()));
         double v[4];
         static constexpr const char* kNames[] = {"radius", "thickness", "eta", "aperture diameter"};
         for (int i = 0; i < 4; ++i) {
             auto x = text::parseNumber(t[i].text);
-            if (!x) throwInputError({fileName, lineNo, t[i].column}, std::string("expected a number for '") + kNames[i] + "', got " + text::quoted(t[i].text));
+            if (!x)
+                throwInputError({fileName, lineNo, t[i].column}, std::string("expected a number for '") + kNames[i] +
+                                                                     "', got " + text::quoted(t[i].text));
             v[i] = *x;
         }
         if (v[2] != 0.0 && (v[2] < 1.0 || v[2] > 4.0))
-            throwInputError({fileName, lineNo, t[2].column}, "expected eta 0 (air) or an index between 1 and 4, got " + text::quoted(t[2].text));
-        if (v[3] < 0.0) throwInputError({fileName, lineNo, t[3].column}, "negative aperture diameter " + text::quoted(t[3].text));
-        if (lens.surfaces.size() >= 1000) throwInputError({fileName, lineNo, 1}, "more than 1000 surfaces; this is not a lens prescription");
+            throwInputError({fileName, lineNo, t[2].column},
+                            "expected eta 0 (air) or an index between 1 and 4, got " + text::quoted(t[2].text));
+        if (v[3] < 0.0)
+            throwInputError({fileName, lineNo, t[3].column}, "negative aperture diameter " + text::quoted(t[3].text));
+        if (lens.surfaces.size() >= 1000)
+            throwInputError({fileName, lineNo, 1}, "more than 1000 surfaces; this is not a lens prescription");
         Surface s;
         s.origin = {fileName, lineNo, t[0].column};
         s.radius = v[0];
@@ -50,7 +57,8 @@ Lens importDat(std::string_view textIn, const std::string& fileName, Reporter* r
         second.push_back(v[1]);
         lens.surfaces.push_back(std::move(s));
     }
-    if (lens.surfaces.empty()) throwInputError({fileName, lineNo, 0}, "no lens rows (expected: radius thickness eta aperture-diameter)");
+    if (lens.surfaces.empty())
+        throwInputError({fileName, lineNo, 0}, "no lens rows (expected: radius thickness eta aperture-diameter)");
 
     // Axial positions grow strictly from row to row; real thicknesses (glass, air, glass...) do not.
     bool positions = second.size() >= 3;

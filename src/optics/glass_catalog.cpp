@@ -51,8 +51,7 @@ void GlassCatalog::addFromText(std::string_view text, const std::string& sourceN
         if (model == "sellmeier" || model == "sellmeier-c-um") {
             if (tokens.size() != 8 && tokens.size() != 10)
                 throwInputError(at, "expected 6 Sellmeier coefficients (and optionally nd Vd) after '" +
-                                        std::string(model) + "', got " + std::to_string(tokens.size() - 2) +
-                                        " values");
+                                        std::string(model) + "', got " + std::to_string(tokens.size() - 2) + " values");
             std::array<double, 3> b{}, c{};
             for (int i = 0; i < 3; ++i) {
                 b[i] = num(2 + 2 * i, "B");

@@ -18,11 +18,11 @@ struct GlassEntry {
     Dispersion dispersion;
     double catalogNd = 0.0; ///< value printed in the catalogue (0 when it gives none)
     double catalogVd = 0.0;
-    std::string source;     ///< catalogue file it came from
+    std::string source; ///< catalogue file it came from
 };
 
 class GlassCatalog {
-public:
+  public:
     /// The built-in catalogue (SCHOTT glasses + coating materials), parsed once.
     static const GlassCatalog& builtin();
 
@@ -40,7 +40,7 @@ public:
     std::vector<std::string> names() const;
     const std::vector<GlassEntry>& entries() const { return entries_; }
 
-private:
+  private:
     std::vector<GlassEntry> entries_;
     std::vector<std::pair<std::string, std::string>> aliases_; // (alias, target)
 };

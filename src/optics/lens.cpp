@@ -25,7 +25,9 @@ double Lens::vertexZ(std::size_t i) const {
     return z;
 }
 
-double Lens::sensorZ() const { return vertexZ(surfaces.size()); }
+double Lens::sensorZ() const {
+    return vertexZ(surfaces.size());
+}
 
 CoatingSpec Lens::coatingOf(std::size_t i) const {
     const Surface& s = surfaces[i];

@@ -15,17 +15,17 @@ namespace ff::optics {
 struct Lens {
     // --- description and provenance ---
     std::string name;
-    std::string source;          ///< where the numbers come from (publication, sample, database)
+    std::string source; ///< where the numbers come from (publication, sample, database)
     std::string patent;
     std::string file;            ///< path it was read from (for messages)
     std::string contentHash;     ///< hash of the file's bytes (cache keys, output metadata)
     std::string format = "lens"; ///< lens | zmx | dat: the format it was read from
 
     // --- header data (all optional) ---
-    std::optional<double> nominalFocalLength; ///< as stated by the file; informational only
-    std::optional<double> fNumber;            ///< working f-number (sets the stop opening)
+    std::optional<double> nominalFocalLength;          ///< as stated by the file; informational only
+    std::optional<double> fNumber;                     ///< working f-number (sets the stop opening)
     std::optional<std::pair<double, double>> sensorMm; ///< width x height, mm
-    int apertureBlades = 0;                   ///< iris blades; 0 = circular
+    int apertureBlades = 0;                            ///< iris blades; 0 = circular
     double bladeRotationDeg = 0.0;
     std::optional<CoatingSpec> defaultCoating; ///< lens-wide coating of coated surfaces
 
@@ -35,8 +35,8 @@ struct Lens {
     bool stopInferred = false;      ///< no stop row: the stop is the surface that limits the axial beam
 
     // --- zoom ---
-    std::vector<std::string> zoomLabels;          ///< empty for a prime lens
-    std::vector<std::vector<double>> zoomGaps;    ///< per surface: thickness per position (or empty)
+    std::vector<std::string> zoomLabels;       ///< empty for a prime lens
+    std::vector<std::vector<double>> zoomGaps; ///< per surface: thickness per position (or empty)
     std::size_t activeZoom = 0;
 
     std::size_t zoomCount() const { return zoomLabels.empty() ? 1 : zoomLabels.size(); }

@@ -8,12 +8,18 @@
 
 namespace ff::optics {
 
-Lens parseLensBytes(std::string_view bytes, const std::string& format, const std::string& fileName, Reporter* reporter) {
+Lens parseLensBytes(std::string_view bytes, const std::string& format, const std::string& fileName,
+                    Reporter* reporter) {
     Lens lens;
-    if (format == "lens") lens = parseLensText(bytes, fileName, reporter);
-    else if (format == "zmx") lens = importZmx(bytes, fileName, reporter);
-    else if (format == "dat") lens = importDat(bytes, fileName, reporter);
-    else throw Error(ErrorKind::Usage, "unknown lens format " + text::quoted(format) + "; valid formats: lens, zmx, dat");
+    if (format == "lens")
+        lens = parseLensText(bytes, fileName, reporter);
+    else if (format == "zmx")
+        lens = importZmx(bytes, fileName, reporter);
+    else if (format == "dat")
+        lens = importDat(bytes, fileName, reporter);
+    else
+        throw Error(ErrorKind::Usage,
+                    "unknown lens format " + text::quoted(format) + "; valid formats: lens, zmx, dat");
     lens.format = format;
     lens.contentHash = hashHex(bytes);
     return lens;
@@ -22,11 +28,15 @@ Lens parseLensBytes(std::string_view bytes, const std::string& format, const std
 Lens loadLens(const std::filesystem::path& path, Reporter* reporter) {
     const std::string ext = text::toLower(path.extension().string());
     std::string format;
-    if (ext == ".lens") format = "lens";
-    else if (ext == ".zmx") format = "zmx";
-    else if (ext == ".dat") format = "dat";
+    if (ext == ".lens")
+        format = "lens";
+    else if (ext == ".zmx")
+        format = "zmx";
+    else if (ext == ".dat")
+        format = "dat";
     else
-        throwInputError({path.string()}, "unknown lens file extension " + text::quoted(ext.empty() ? path.filename().string() : ext) +
+        throwInputError({path.string()}, "unknown lens file extension " +
+                                             text::quoted(ext.empty() ? path.filename().string() : ext) +
                                              "; expected .lens (native/FlareSim), .zmx (Zemax) or .dat (pbrt)");
     const std::string bytes = readFileBytes(path, kMaxLensFileBytes);
     return parseLensBytes(bytes, format, path.string(), reporter);

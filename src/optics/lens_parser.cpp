@@ -14,14 +14,14 @@ namespace {
 
 using text::Token;
 
-constexpr const char* kHeaderKeys[] = {"name",        "focal_length",   "f_number", "sensor",
-                                       "aperture_blades", "blade_rotation", "coating",  "source",
-                                       "patent",      "zoom_positions"};
-constexpr const char* kColumns = "radius thickness ior abbe semi_ap [coating]  (or: radius thickness GLASS semi_ap [coating])";
+constexpr const char* kHeaderKeys[] = {"name",           "focal_length", "f_number", "sensor", "aperture_blades",
+                                       "blade_rotation", "coating",      "source",   "patent", "zoom_positions"};
+constexpr const char* kColumns =
+    "radius thickness ior abbe semi_ap [coating]  (or: radius thickness GLASS semi_ap [coating])";
 constexpr std::size_t kMaxSurfaces = 1000;
 
 class LensTextParser {
-public:
+  public:
     LensTextParser(std::string_view text, std::string file, Reporter& reporter)
         : text_(text), file_(std::move(file)), reporter_(reporter) {
         lens_.file = file_;
@@ -45,14 +45,16 @@ public:
             }
         }
         line_ = lineNo;
-        if (!inSurfaces_) failAt({file_, lineNo, 0}, "no 'surfaces:' section: expected a line 'surfaces:' followed by one row per surface");
+        if (!inSurfaces_)
+            failAt({file_, lineNo, 0},
+                   "no 'surfaces:' section: expected a line 'surfaces:' followed by one row per surface");
         if (lens_.surfaces.empty()) failAt(surfacesLine_, "the 'surfaces:' section has no surface rows");
         finishZoom();
         validateLens(lens_, surfacesLine_, reporter_);
         return std::move(lens_);
     }
 
-private:
+  private:
     [[noreturn]] void fail(int column, const std::string& msg) const { failAt({file_, line_, column}, msg); }
     [[noreturn]] void failAt(const SourceLocation& at, const std::string& msg) const { throwInputError(at, msg); }
     SourceLocation at(int column) const { return {file_, line_, column}; }
@@ -74,7 +76,8 @@ private:
     // ---------------------------------------------------------------- header
     void parseHeaderLine(std::string_view line, const std::vector<Token>& tokens) {
         if (tokens[0].text == "surfaces:") {
-            if (tokens.size() > 1) fail(tokens[1].column, "unexpected " + text::quoted(tokens[1].text) + " after 'surfaces:'");
+            if (tokens.size() > 1)
+                fail(tokens[1].column, "unexpected " + text::quoted(tokens[1].text) + " after 'surfaces:'");
             inSurfaces_ = true;
             surfacesLine_ = at(tokens[0].column);
             return;
@@ -92,7 +95,8 @@ private:
         if (!known) {
             std::vector<std::string> keys(std::begin(kHeaderKeys), std::end(kHeaderKeys));
             keys.push_back("surfaces");
-            fail(tokens[0].column, "unknown header key " + text::quoted(key) + "; " + text::suggestion(key, keys, "keys"));
+            fail(tokens[0].column,
+                 "unknown header key " + text::quoted(key) + "; " + text::suggestion(key, keys, "keys"));
         }
         for (const auto& seen : seenKeys_)
             if (seen == key) fail(tokens[0].column, "duplicate header key " + text::quoted(key));
@@ -107,18 +111,23 @@ private:
         const int endCol = keyCol + static_cast<int>(first.size());
         auto needValues = [&](std::size_t n, const char* form) {
             if (value.size() < n) fail(endCol + 1, "expected " + std::string(form) + " after '" + key + ":'");
-            if (value.size() > n) fail(value[n].column, "unexpected " + text::quoted(value[n].text) + " after the value of '" + key + ":'");
+            if (value.size() > n)
+                fail(value[n].column,
+                     "unexpected " + text::quoted(value[n].text) + " after the value of '" + key + ":'");
         };
         auto rest = [&]() -> std::string {
             if (value.empty()) fail(endCol + 1, "expected a value after '" + key + ":'");
-            return std::string(text::trim(line.substr(static_cast<std::size_t>(value.front().column - 1),
-                                                      static_cast<std::size_t>(value.back().column - value.front().column) +
-                                                          value.back().text.size())));
+            return std::string(text::trim(line.substr(
+                static_cast<std::size_t>(value.front().column - 1),
+                static_cast<std::size_t>(value.back().column - value.front().column) + value.back().text.size())));
         };
 
-        if (key == "name") lens_.name = rest();
-        else if (key == "source") lens_.source = rest();
-        else if (key == "patent") lens_.patent = rest();
+        if (key == "name")
+            lens_.name = rest();
+        else if (key == "source")
+            lens_.source = rest();
+        else if (key == "patent")
+            lens_.patent = rest();
         else if (key == "focal_length") {
             needValues(1, "a focal length in mm");
             const std::string lower = text::toLower(value[0].text);
@@ -129,7 +138,8 @@ private:
         } else if (key == "f_number") {
             needValues(1, "an f-number");
             const double n = number(value[0], "f_number");
-            if (n < 0.3 || n > 1000.0) fail(value[0].column, "'f_number' must be between 0.3 and 1000, got " + text::quoted(value[0].text));
+            if (n < 0.3 || n > 1000.0)
+                fail(value[0].column, "'f_number' must be between 0.3 and 1000, got " + text::quoted(value[0].text));
             lens_.fNumber = n;
         } else if (key == "sensor") {
             parseSensor(value, endCol);
@@ -137,7 +147,8 @@ private:
             needValues(1, "a blade count");
             auto n = text::parseInt(value[0].text);
             if (!n || *n == 1 || *n == 2 || *n > 64)
-                fail(value[0].column, "expected a blade count of 0 (circular) or 3..64, got " + text::quoted(value[0].text));
+                fail(value[0].column,
+                     "expected a blade count of 0 (circular) or 3..64, got " + text::quoted(value[0].text));
             lens_.apertureBlades = *n;
         } else if (key == "blade_rotation") {
             needValues(1, "an angle in degrees");
@@ -146,7 +157,9 @@ private:
             const std::string spec = rest();
             lens_.defaultCoating = parseCoatingSpec(spec, at(value.front().column));
         } else if (key == "zoom_positions") {
-            if (value.size() < 2) fail(value.empty() ? endCol + 1 : value[0].column, "expected at least two zoom position labels after 'zoom_positions:'");
+            if (value.size() < 2)
+                fail(value.empty() ? endCol + 1 : value[0].column,
+                     "expected at least two zoom position labels after 'zoom_positions:'");
             for (const Token& t : value) {
                 for (const auto& l : lens_.zoomLabels)
                     if (l == t.text) fail(t.column, "duplicate zoom position label " + text::quoted(t.text));
@@ -162,8 +175,10 @@ private:
         std::string_view s = text::trim(joined);
         const auto x = s.find_first_of("xX");
         std::string_view w = x == std::string_view::npos ? s.substr(0, s.find(' ')) : text::trim(s.substr(0, x));
-        std::string_view h = x == std::string_view::npos ? (s.find(' ') == std::string_view::npos ? std::string_view{} : text::trim(s.substr(s.find(' '))))
-                                                         : text::trim(s.substr(x + 1));
+        std::string_view h =
+            x == std::string_view::npos
+                ? (s.find(' ') == std::string_view::npos ? std::string_view{} : text::trim(s.substr(s.find(' '))))
+                : text::trim(s.substr(x + 1));
         auto wv = text::parseNumber(w), hv = text::parseNumber(h);
         const int col = value.empty() ? endCol + 1 : value[0].column;
         if (!wv || !hv || *wv <= 0.0 || *hv <= 0.0 || *wv > 1000.0 || *hv > 1000.0)
@@ -174,7 +189,8 @@ private:
     // ---------------------------------------------------------------- surface rows
     void parseRow(const std::vector<Token>& t) {
         if (lens_.surfaces.size() >= kMaxSurfaces)
-            fail(t[0].column, "more than " + std::to_string(kMaxSurfaces) + " surfaces; this is not a lens prescription");
+            fail(t[0].column,
+                 "more than " + std::to_string(kMaxSurfaces) + " surfaces; this is not a lens prescription");
         Surface s;
         s.origin = at(t[0].column);
         const std::size_t index = lens_.surfaces.size();
@@ -182,11 +198,13 @@ private:
         // radius
         if (t[0].text == "stop") {
             s.stop = s.flatStopRow = true;
-        } else if (text::iequals(t[0].text, "inf") || text::iequals(t[0].text, "infinity") || text::iequals(t[0].text, "flat")) {
+        } else if (text::iequals(t[0].text, "inf") || text::iequals(t[0].text, "infinity") ||
+                   text::iequals(t[0].text, "flat")) {
             s.radius = 0.0;
         } else {
             auto r = text::parseNumber(t[0].text);
-            if (!r) fail(t[0].column, "expected a number, 'inf' or 'stop' for 'radius', got " + text::quoted(t[0].text));
+            if (!r)
+                fail(t[0].column, "expected a number, 'inf' or 'stop' for 'radius', got " + text::quoted(t[0].text));
             s.radius = *r;
         }
         if (t.size() < 2) short_(t, 1);
@@ -220,19 +238,23 @@ private:
         std::size_t next;
         if (auto ior = text::parseNumber(t[2].text)) {
             if (*ior < 1.0 || *ior > 4.0)
-                fail(t[2].column, "expected a refractive index between 1 and 4 for 'ior', got " + text::quoted(t[2].text));
+                fail(t[2].column,
+                     "expected a refractive index between 1 and 4 for 'ior', got " + text::quoted(t[2].text));
             if (t.size() < 4) short_(t, 3);
             const double abbe = number(t[3], "abbe");
             if (abbe < 0.0 || abbe > 200.0)
-                fail(t[3].column, "expected an Abbe number between 0 and 200 (0 = no dispersion), got " + text::quoted(t[3].text));
+                fail(t[3].column,
+                     "expected an Abbe number between 0 and 200 (0 = no dispersion), got " + text::quoted(t[3].text));
             s.medium = (*ior == 1.0 && abbe == 0.0) ? Medium::air() : Medium::fromNdVd(*ior, abbe);
             next = 4;
         } else {
             const std::string_view g = t[2].text;
-            if (text::iequals(g, "air")) s.medium = Medium::air();
+            if (text::iequals(g, "air"))
+                s.medium = Medium::air();
             else if (!std::isalpha(static_cast<unsigned char>(g[0])))
                 fail(t[2].column, "expected a number for 'ior' or a glass name, got " + text::quoted(g));
-            else s.medium = GlassCatalog::builtin().medium(g, at(t[2].column));
+            else
+                s.medium = GlassCatalog::builtin().medium(g, at(t[2].column));
             next = 3;
         }
         if (t.size() <= next) short_(t, next);
@@ -240,7 +262,8 @@ private:
         // semi-aperture
         s.semiAperture = number(t[next], "semi_ap");
         if (s.semiAperture < 0.0)
-            fail(t[next].column, "negative semi-aperture " + text::quoted(t[next].text) + "; expected the clear semi-diameter in mm (>= 0)");
+            fail(t[next].column, "negative semi-aperture " + text::quoted(t[next].text) +
+                                     "; expected the clear semi-diameter in mm (>= 0)");
         if (s.semiAperture > 1e4) {
             // Libraries write 1e6 and the like for "no limit" (the Hologon's rear surfaces).
             reporter_.note(at(t[next].column), "semi-aperture " + text::quoted(t[next].text) +
@@ -252,7 +275,9 @@ private:
         // optional coating column (a whole number of layers)
         if (next < t.size() && !t[next].text.empty() && std::isdigit(static_cast<unsigned char>(t[next].text[0]))) {
             auto n = text::parseInt(t[next].text);
-            if (!n || *n > 20) fail(t[next].column, "expected a whole number of coating layers (0..20) for 'coating', got " + text::quoted(t[next].text));
+            if (!n || *n > 20)
+                fail(t[next].column, "expected a whole number of coating layers (0..20) for 'coating', got " +
+                                         text::quoted(t[next].text));
             s.coatingLayers = *n;
             ++next;
         } else {
@@ -276,8 +301,10 @@ private:
             return;
         }
         if (v == "sph" || v == "cyl_x" || v == "cyl_y" || v == "toric") {
-            s.shape = v == "sph" ? SurfaceShape::Spherical : v == "cyl_x" ? SurfaceShape::CylinderX
-                    : v == "cyl_y" ? SurfaceShape::CylinderY : SurfaceShape::Toric;
+            s.shape = v == "sph"     ? SurfaceShape::Spherical
+                      : v == "cyl_x" ? SurfaceShape::CylinderX
+                      : v == "cyl_y" ? SurfaceShape::CylinderY
+                                     : SurfaceShape::Toric;
             if (i + 1 < t.size() && text::parseNumber(t[i + 1].text)) s.radiusY = *text::parseNumber(t[++i].text);
             return;
         }
@@ -308,10 +335,12 @@ private:
                 s.coating = parseCoatingSpec(val, at(valCol));
                 return;
             }
-            fail(tok.column, "unknown surface option " + text::quoted(key) + "; valid options: conic=K, asph=A4,A6,..., coating=SPEC");
+            fail(tok.column, "unknown surface option " + text::quoted(key) +
+                                 "; valid options: conic=K, asph=A4,A6,..., coating=SPEC");
         }
-        fail(tok.column, "unexpected " + text::quoted(v) + " after the surface columns; expected 'stop', a shape "
-                                                              "(sph, cyl_x, cyl_y, toric), conic=K, asph=A4,A6,... or coating=SPEC");
+        fail(tok.column, "unexpected " + text::quoted(v) +
+                             " after the surface columns; expected 'stop', a shape "
+                             "(sph, cyl_x, cyl_y, toric), conic=K, asph=A4,A6,... or coating=SPEC");
     }
 
     [[noreturn]] void short_(const std::vector<Token>& t, std::size_t have) const {
@@ -358,14 +387,17 @@ void checkIsText(std::string_view text, const std::string& fileName) {
         }
         if ((c < 0x20 && c != '\t' && c != '\r') || c == 0x7f)
             throwInputError({fileName, line, col}, c == 0 ? "not a text file (NUL byte)"
-                                                          : "unexpected control character " + text::quoted(text.substr(i, 1)) +
+                                                          : "unexpected control character " +
+                                                                text::quoted(text.substr(i, 1)) +
                                                                 "; is this a text file?");
         if (c >= 0x80) {
             // Validate one UTF-8 sequence.
             const int len = (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
             bool ok = len > 0 && i + static_cast<std::size_t>(len) <= text.size();
             for (int k = 1; ok && k < len; ++k) ok = (static_cast<unsigned char>(text[i + k]) >> 6) == 0x2;
-            if (!ok) throwInputError({fileName, line, col}, "invalid UTF-8 byte; is this a text file (or UTF-16, which only .zmx may use)?");
+            if (!ok)
+                throwInputError({fileName, line, col},
+                                "invalid UTF-8 byte; is this a text file (or UTF-16, which only .zmx may use)?");
             i += static_cast<std::size_t>(len - 1);
         }
         ++col;

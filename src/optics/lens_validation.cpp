@@ -65,9 +65,11 @@ void validateLens(Lens& lens, const SourceLocation& section, Reporter& reporter)
     for (std::size_t i = 0; i < surfaces.size(); ++i) {
         const Surface& s = surfaces[i];
         if (s.semiAperture == 0.0 && !s.stop)
-            reporter.note(s.origin, "surface " + std::to_string(i + 1) + " has semi-aperture 0 (not given): it is treated as unclipped");
+            reporter.note(s.origin, "surface " + std::to_string(i + 1) +
+                                        " has semi-aperture 0 (not given): it is treated as unclipped");
         if (!s.rotationallySymmetric())
-            reporter.note(s.origin, std::string("surface ") + std::to_string(i + 1) + " is anamorphic (" + toString(s.shape) +
+            reporter.note(s.origin, std::string("surface ") + std::to_string(i + 1) + " is anamorphic (" +
+                                        toString(s.shape) +
                                         "): first-order data use the radius of the y-z section; stages that need a "
                                         "rotationally symmetric lens will refuse it");
     }

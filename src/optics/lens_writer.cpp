@@ -10,7 +10,9 @@ namespace ff::optics {
 
 namespace {
 
-std::string num(double v) { return text::roundTrip(v); }
+std::string num(double v) {
+    return text::roundTrip(v);
+}
 
 std::string pad(const std::string& s, std::size_t width) {
     return s.size() >= width ? s + " " : s + std::string(width - s.size(), ' ');
@@ -53,8 +55,10 @@ std::string writeLensText(const Lens& lens) {
             thick = num(s.thickness);
         }
         row += pad(thick, 15);
-        if (!s.medium.glass.empty()) row += pad(s.medium.glass, 19);
-        else row += pad(num(s.medium.nd), 10) + pad(num(s.medium.vd), 9);
+        if (!s.medium.glass.empty())
+            row += pad(s.medium.glass, 19);
+        else
+            row += pad(num(s.medium.nd), 10) + pad(num(s.medium.vd), 9);
         row += pad(num(s.semiAperture), 10) + pad(std::to_string(s.coatingLayers), 9);
         if (s.shape != SurfaceShape::Spherical) {
             row += std::string(toString(s.shape)) + " ";

@@ -9,8 +9,10 @@ namespace ff::optics {
 double Dispersion::index(double lambdaNm) const {
     const double l = nmToUm(lambdaNm);
     switch (model) {
-    case Model::Constant: return n0;
-    case Model::Cauchy: return cauchyA + cauchyB / (l * l);
+    case Model::Constant:
+        return n0;
+    case Model::Cauchy:
+        return cauchyA + cauchyB / (l * l);
     case Model::Sellmeier: {
         const double l2 = l * l;
         double n2 = 1.0;
@@ -48,7 +50,9 @@ Dispersion Dispersion::sellmeier(const std::array<double, 3>& b, const std::arra
     return d;
 }
 
-Medium Medium::air() { return Medium{}; }
+Medium Medium::air() {
+    return Medium{};
+}
 
 Medium Medium::fromNdVd(double nd, double vd) {
     Medium m;

@@ -11,10 +11,10 @@ struct Dispersion {
     enum class Model { Constant, Cauchy, Sellmeier };
 
     Model model = Model::Constant;
-    double n0 = 1.0;                   ///< Constant: the index
+    double n0 = 1.0;                     ///< Constant: the index
     double cauchyA = 0.0, cauchyB = 0.0; ///< Cauchy: n = A + B / L^2, L in um
-    std::array<double, 3> sellB{};     ///< Sellmeier: n^2 - 1 = sum B_i L^2 / (L^2 - C_i)
-    std::array<double, 3> sellC{};     ///< in um^2
+    std::array<double, 3> sellB{};       ///< Sellmeier: n^2 - 1 = sum B_i L^2 / (L^2 - C_i)
+    std::array<double, 3> sellC{};       ///< in um^2
 
     /// Refractive index at lambdaNm (nm).
     double index(double lambdaNm) const;
@@ -28,9 +28,9 @@ struct Dispersion {
 
 /// The medium that follows a surface (towards the sensor).
 struct Medium {
-    std::string glass;  ///< catalogue name, or empty for media given by (nd, Vd)
-    double nd = 1.0;    ///< index at the d line (derived from the model for catalogue glasses)
-    double vd = 0.0;    ///< Abbe number (0 = non-dispersive)
+    std::string glass; ///< catalogue name, or empty for media given by (nd, Vd)
+    double nd = 1.0;   ///< index at the d line (derived from the model for catalogue glasses)
+    double vd = 0.0;   ///< Abbe number (0 = non-dispersive)
     Dispersion dispersion;
 
     double index(double lambdaNm) const { return dispersion.index(lambdaNm); }

@@ -128,6 +128,8 @@ FirstOrder analyzeFirstOrder(const Lens& lens, double lambdaNm, bool allowAfocal
     return f;
 }
 
-void focusAtParaxialImage(Lens& lens) { lens.surfaces.back().thickness = paraxialBfd(lens, lines::d); }
+void focusAtParaxialImage(Lens& lens) {
+    lens.surfaces.back().thickness = paraxialBfd(lens, lines::d);
+}
 
 } // namespace ff::optics

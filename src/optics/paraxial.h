@@ -19,21 +19,21 @@ struct ParaxialRay {
 
 struct FirstOrder {
     double lambdaNm = 0.0;
-    double efl = 0.0;              ///< effective focal length, mm (1 / power)
-    double bfd = 0.0;              ///< last vertex to the rear focal point, mm
-    double ffd = 0.0;              ///< front focal point to the first vertex, mm (> 0: in front of it)
-    double entrancePupilZ = 0.0;   ///< from the first vertex (> 0: behind it)
+    double efl = 0.0;            ///< effective focal length, mm (1 / power)
+    double bfd = 0.0;            ///< last vertex to the rear focal point, mm
+    double ffd = 0.0;            ///< front focal point to the first vertex, mm (> 0: in front of it)
+    double entrancePupilZ = 0.0; ///< from the first vertex (> 0: behind it)
     double entrancePupilDiameter = 0.0;
-    double exitPupilZ = 0.0;       ///< from the last vertex (< 0: in front of it); +-inf if telecentric
+    double exitPupilZ = 0.0; ///< from the last vertex (< 0: in front of it); +-inf if telecentric
     double exitPupilDiameter = 0.0;
-    double fNumber = 0.0;          ///< efl / entrance-pupil diameter
-    double stopSemiAperture = 0.0; ///< working stop opening used (see workingStopSemiAperture)
-    double totalTrack = 0.0;       ///< first vertex to the sensor
-    double imageDistance = 0.0;    ///< last vertex to the sensor (the last thickness)
+    double fNumber = 0.0;                 ///< efl / entrance-pupil diameter
+    double stopSemiAperture = 0.0;        ///< working stop opening used (see workingStopSemiAperture)
+    double totalTrack = 0.0;              ///< first vertex to the sensor
+    double imageDistance = 0.0;           ///< last vertex to the sensor (the last thickness)
     std::size_t reflectingInterfaces = 0; ///< surfaces with an index step at lambdaNm
-    std::size_t ghostCount = 0;    ///< two-bounce ghosts: m (m - 1) / 2
-    bool afocal = false;           ///< zero power: efl, bfd, ffd and fNumber are +inf
-    double angularMagnification = 0.0; ///< afocal only: u' / u of a ray through the first vertex
+    std::size_t ghostCount = 0;           ///< two-bounce ghosts: m (m - 1) / 2
+    bool afocal = false;                  ///< zero power: efl, bfd, ffd and fNumber are +inf
+    double angularMagnification = 0.0;    ///< afocal only: u' / u of a ray through the first vertex
 };
 
 /// Traces a paraxial ray that enters surface `from` with state `in` (in the medium before it)

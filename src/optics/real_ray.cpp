@@ -109,15 +109,22 @@ std::optional<glm::dvec3> refract(const glm::dvec3& d, const glm::dvec3& nIn, do
     return glm::normalize(eta * d + (eta * cosi - std::sqrt(k)) * n);
 }
 
-glm::dvec3 reflect(const glm::dvec3& d, const glm::dvec3& n) { return d - 2.0 * glm::dot(d, n) * n; }
+glm::dvec3 reflect(const glm::dvec3& d, const glm::dvec3& n) {
+    return d - 2.0 * glm::dot(d, n) * n;
+}
 
 const char* toString(RayStatus s) {
     switch (s) {
-    case RayStatus::Ok: return "ok";
-    case RayStatus::Missed: return "missed";
-    case RayStatus::Clipped: return "clipped";
-    case RayStatus::TotalInternalReflection: return "total internal reflection";
-    case RayStatus::Blocked: return "blocked";
+    case RayStatus::Ok:
+        return "ok";
+    case RayStatus::Missed:
+        return "missed";
+    case RayStatus::Clipped:
+        return "clipped";
+    case RayStatus::TotalInternalReflection:
+        return "total internal reflection";
+    case RayStatus::Blocked:
+        return "blocked";
     }
     return "?";
 }

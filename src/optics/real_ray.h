@@ -17,7 +17,7 @@ struct Ray {
 };
 
 struct SurfaceHit {
-    double t = 0.0;        ///< ray parameter of the hit (origin + t dir)
+    double t = 0.0; ///< ray parameter of the hit (origin + t dir)
     glm::dvec3 point{0.0};
     glm::dvec3 normal{0.0}; ///< unit normal, oriented with a positive z component
 };

@@ -6,10 +6,14 @@ namespace ff::optics {
 
 const char* toString(SurfaceShape s) {
     switch (s) {
-    case SurfaceShape::Spherical: return "sph";
-    case SurfaceShape::CylinderX: return "cyl_x";
-    case SurfaceShape::CylinderY: return "cyl_y";
-    case SurfaceShape::Toric: return "toric";
+    case SurfaceShape::Spherical:
+        return "sph";
+    case SurfaceShape::CylinderX:
+        return "cyl_x";
+    case SurfaceShape::CylinderY:
+        return "cyl_y";
+    case SurfaceShape::Toric:
+        return "toric";
     }
     return "sph";
 }

@@ -21,19 +21,19 @@ enum class SurfaceShape { Spherical, CylinderX, CylinderY, Toric };
 const char* toString(SurfaceShape s);
 
 struct Surface {
-    double radius = 0.0;             ///< vertex radius of curvature, mm; 0 = flat
-    double conic = 0.0;              ///< conic constant k (0 sphere, -1 paraboloid)
-    std::vector<double> asphere;     ///< A4, A6, A8, ...: coefficients of r^4, r^6, r^8, ...
-    double thickness = 0.0;          ///< axial distance to the next surface (or the sensor), mm
-    Medium medium;                   ///< medium after the surface
-    double semiAperture = 0.0;       ///< clear semi-diameter, mm; 0 = not given (unclipped)
-    int coatingLayers = 0;           ///< FlareSim coating column (0 bare, 1 single layer, >= 2 multi)
+    double radius = 0.0;                ///< vertex radius of curvature, mm; 0 = flat
+    double conic = 0.0;                 ///< conic constant k (0 sphere, -1 paraboloid)
+    std::vector<double> asphere;        ///< A4, A6, A8, ...: coefficients of r^4, r^6, r^8, ...
+    double thickness = 0.0;             ///< axial distance to the next surface (or the sensor), mm
+    Medium medium;                      ///< medium after the surface
+    double semiAperture = 0.0;          ///< clear semi-diameter, mm; 0 = not given (unclipped)
+    int coatingLayers = 0;              ///< FlareSim coating column (0 bare, 1 single layer, >= 2 multi)
     std::optional<CoatingSpec> coating; ///< explicit per-surface coating; overrides the column
-    bool stop = false;               ///< this surface is the aperture stop
-    bool flatStopRow = false;        ///< written as a 'stop' row (flat air-air stop) in the file
+    bool stop = false;                  ///< this surface is the aperture stop
+    bool flatStopRow = false;           ///< written as a 'stop' row (flat air-air stop) in the file
     SurfaceShape shape = SurfaceShape::Spherical;
-    double radiusY = 0.0;            ///< second radius of anamorphic shapes (FlareSim 8th column)
-    SourceLocation origin;           ///< where it was defined (for messages)
+    double radiusY = 0.0;  ///< second radius of anamorphic shapes (FlareSim 8th column)
+    SourceLocation origin; ///< where it was defined (for messages)
 
     double curvature() const { return radius == 0.0 ? 0.0 : 1.0 / radius; }
     bool isFlat() const { return radius == 0.0 && asphere.empty(); }

@@ -20,8 +20,8 @@ cplx cosIn(double n, double n0SinI) {
     return c.imag() < 0.0 ? -c : c;
 }
 
-double stackReflectanceComplex(double n0, const std::vector<FilmLayer>& layers, double nSub, double cosI, double lambdaNm,
-                               bool pPolarised) {
+double stackReflectanceComplex(double n0, const std::vector<FilmLayer>& layers, double nSub, double cosI,
+                               double lambdaNm, bool pPolarised) {
     const double sinI = std::sqrt(std::max(0.0, 1.0 - cosI * cosI));
     const double inv = n0 * sinI;
     auto eta = [&](double n, cplx c) { return pPolarised ? cplx(n) / c : cplx(n) * c; };
@@ -94,7 +94,8 @@ double fresnelReflectance(double n1, double n2, double cosI) {
 double filmReflectance(double n0, const std::vector<FilmLayer>& layers, double nSub, double cosI, double lambdaNm) {
     if (layers.empty()) return fresnelReflectance(n0, nSub, cosI);
     double rs = 0.0, rp = 0.0;
-    if (cosI > 0.0 && stackReflectanceReal(n0, layers, nSub, cosI, lambdaNm, rs, rp)) return std::min(1.0, 0.5 * (rs + rp));
+    if (cosI > 0.0 && stackReflectanceReal(n0, layers, nSub, cosI, lambdaNm, rs, rp))
+        return std::min(1.0, 0.5 * (rs + rp));
     return 0.5 * (stackReflectanceComplex(n0, layers, nSub, cosI, lambdaNm, false) +
                   stackReflectanceComplex(n0, layers, nSub, cosI, lambdaNm, true));
 }

@@ -1,14 +1,13 @@
 #include "optics/zmx_importer.h"
 
 #include "core/text.h"
+#include "core/units.h"
 #include "optics/glass_catalog.h"
 #include "optics/lens_parser.h"
 #include "optics/lens_validation.h"
 #include "optics/paraxial.h"
-#include "core/units.h"
 
 #include <cmath>
-
 #include <map>
 
 namespace ff::optics {
@@ -112,10 +111,13 @@ Lens importZmx(std::string_view bytes, const std::string& fileName, Reporter* re
         const std::string key = text::toUpper(t[0].text);
         const SourceLocation at{fileName, lineNo, t[0].column};
         auto arg = [&](std::size_t i, const char* what) -> double {
-            if (i >= t.size()) throwInputError({fileName, lineNo, t.back().column + static_cast<int>(t.back().text.size()) + 1},
-                                               std::string("expected ") + what + " after " + key);
+            if (i >= t.size())
+                throwInputError({fileName, lineNo, t.back().column + static_cast<int>(t.back().text.size()) + 1},
+                                std::string("expected ") + what + " after " + key);
             auto v = text::parseNumber(t[i].text);
-            if (!v) throwInputError({fileName, lineNo, t[i].column}, std::string("expected ") + what + " after " + key + ", got " + text::quoted(t[i].text));
+            if (!v)
+                throwInputError({fileName, lineNo, t[i].column},
+                                std::string("expected ") + what + " after " + key + ", got " + text::quoted(t[i].text));
             return *v;
         };
         auto needSurface = [&]() -> ZmxSurface& {
@@ -126,15 +128,20 @@ Lens importZmx(std::string_view bytes, const std::string& fileName, Reporter* re
         if (key == "UNIT") {
             if (t.size() < 2) throwInputError(at, "expected a lens unit after UNIT (MM, CM, IN or METER)");
             scale = unitScale(t[1].text);
-            if (scale == 0.0) throwInputError({fileName, lineNo, t[1].column}, "unknown lens unit " + text::quoted(t[1].text) + "; valid units: MM, CM, IN, METER");
+            if (scale == 0.0)
+                throwInputError({fileName, lineNo, t[1].column},
+                                "unknown lens unit " + text::quoted(t[1].text) + "; valid units: MM, CM, IN, METER");
         } else if (key == "NAME" && surfs.empty()) {
-            if (t.size() > 1) lens.name = std::string(text::trim(line.substr(static_cast<std::size_t>(t[1].column - 1))));
+            if (t.size() > 1)
+                lens.name = std::string(text::trim(line.substr(static_cast<std::size_t>(t[1].column - 1))));
         } else if (key == "ENPD") {
             enpd = arg(1, "the entrance-pupil diameter");
         } else if (key == "SURF") {
             const double n = arg(1, "the surface number");
             if (n != static_cast<double>(surfs.size()))
-                throwInputError({fileName, lineNo, t[1].column}, "expected SURF " + std::to_string(surfs.size()) + " (surfaces in order), got SURF " + std::string(t[1].text));
+                throwInputError({fileName, lineNo, t[1].column}, "expected SURF " + std::to_string(surfs.size()) +
+                                                                     " (surfaces in order), got SURF " +
+                                                                     std::string(t[1].text));
             surfs.push_back({});
             surfs.back().where = at;
         } else if (key == "TYPE") {
@@ -142,14 +149,17 @@ Lens importZmx(std::string_view bytes, const std::string& fileName, Reporter* re
             if (t.size() < 2) throwInputError(at, "expected a surface type after TYPE");
             s.type = text::toUpper(t[1].text);
             if (s.type != "STANDARD" && s.type != "EVENASPH")
-                throwInputError({fileName, lineNo, t[1].column}, "unsupported surface type " + text::quoted(t[1].text) +
-                                                                     "; supported: STANDARD, EVENASPH (rotationally symmetric sequential lenses)");
+                throwInputError({fileName, lineNo, t[1].column},
+                                "unsupported surface type " + text::quoted(t[1].text) +
+                                    "; supported: STANDARD, EVENASPH (rotationally symmetric sequential lenses)");
         } else if (key == "CURV") {
             needSurface().curv = arg(1, "a curvature");
         } else if (key == "DISZ") {
             ZmxSurface& s = needSurface();
-            if (t.size() >= 2 && text::iequals(t[1].text, "INFINITY")) s.diszInfinite = true;
-            else s.disz = arg(1, "a thickness");
+            if (t.size() >= 2 && text::iequals(t[1].text, "INFINITY"))
+                s.diszInfinite = true;
+            else
+                s.disz = arg(1, "a thickness");
         } else if (key == "DIAM") {
             needSurface().diam = arg(1, "a semi-diameter");
         } else if (key == "CLAP") {
@@ -184,8 +194,9 @@ Lens importZmx(std::string_view bytes, const std::string& fileName, Reporter* re
     }
 
     if (surfs.size() < 3)
-        throwInputError({fileName, lineNo, 0}, "expected at least an object surface (SURF 0), one lens surface and an image surface, found " +
-                                                   std::to_string(surfs.size()) + " SURF block(s)");
+        throwInputError({fileName, lineNo, 0},
+                        "expected at least an object surface (SURF 0), one lens surface and an image surface, found " +
+                            std::to_string(surfs.size()) + " SURF block(s)");
     if (!surfs.front().diszInfinite)
         reporter.note(surfs.front().where, "the object distance " + text::roundTrip(surfs.front().disz * scale) +
                                                " mm is ignored: FourierFlare images sources at infinity");
@@ -194,7 +205,8 @@ Lens importZmx(std::string_view bytes, const std::string& fileName, Reporter* re
         const ZmxSurface& z = surfs[i];
         Surface s;
         s.origin = z.where;
-        if (z.diszInfinite) throwInputError(z.where, "DISZ INFINITY on a lens surface (only the object may be at infinity)");
+        if (z.diszInfinite)
+            throwInputError(z.where, "DISZ INFINITY on a lens surface (only the object may be at infinity)");
         s.radius = z.curv == 0.0 ? 0.0 : 1.0 / (z.curv / scale);
         s.thickness = z.disz * scale;
         s.conic = z.conic;
@@ -217,8 +229,9 @@ Lens importZmx(std::string_view bytes, const std::string& fileName, Reporter* re
             s.medium = GlassCatalog::builtin().medium(z.glass, z.glassWhere);
         } else if (z.inlineNd && *z.inlineNd >= 1.0 && *z.inlineNd <= 4.0) {
             s.medium = Medium::fromNdVd(*z.inlineNd, z.inlineVd.value_or(0.0) > 0.0 ? *z.inlineVd : 0.0);
-            reporter.note(z.glassWhere, "glass " + text::quoted(z.glass) + " is not in the catalogue; using its inline nd " +
-                                            text::roundTrip(s.medium.nd) + ", Vd " + text::roundTrip(s.medium.vd) + " (Cauchy)");
+            reporter.note(z.glassWhere,
+                          "glass " + text::quoted(z.glass) + " is not in the catalogue; using its inline nd " +
+                              text::roundTrip(s.medium.nd) + ", Vd " + text::roundTrip(s.medium.vd) + " (Cauchy)");
         } else {
             GlassCatalog::builtin().get(z.glass, z.glassWhere); // throws with the closest names
         }
@@ -233,7 +246,8 @@ Lens importZmx(std::string_view bytes, const std::string& fileName, Reporter* re
         lens.surfaces.push_back(std::move(s));
     }
     const ZmxSurface& image = surfs.back();
-    if (image.curv != 0.0) reporter.note(image.where, "the image surface is curved; FourierFlare uses a flat sensor at its vertex");
+    if (image.curv != 0.0)
+        reporter.note(image.where, "the image surface is curved; FourierFlare uses a flat sensor at its vertex");
 
     if (!ignored.empty()) {
         std::vector<std::string> names;
@@ -242,7 +256,8 @@ Lens importZmx(std::string_view bytes, const std::string& fileName, Reporter* re
             names.push_back(k);
             total += n;
         }
-        reporter.note({fileName}, "ignored " + std::to_string(total) + " directive(s) that do not affect the prescription: " + text::join(names));
+        reporter.note({fileName}, "ignored " + std::to_string(total) +
+                                      " directive(s) that do not affect the prescription: " + text::join(names));
     }
     // Aperture: the stop's DIAM, else the system entrance-pupil diameter (ENPD): the stop opening
     // whose paraxial image in object space has that diameter (EPD = 2 r / |yA| at the stop).
@@ -251,7 +266,8 @@ Lens importZmx(std::string_view bytes, const std::string& fileName, Reporter* re
         if (!s.stop || s.semiAperture > 0.0 || !enpd || *enpd <= 0.0) continue;
         const double yA = heightAt(lens, lines::d, {1.0, 0.0}, 0, i);
         s.semiAperture = 0.5 * *enpd * scale * std::abs(yA);
-        reporter.note(s.origin, "stop semi-aperture " + text::fixed(s.semiAperture, 4) + " mm from ENPD " + text::roundTrip(*enpd * scale) + " mm");
+        reporter.note(s.origin, "stop semi-aperture " + text::fixed(s.semiAperture, 4) + " mm from ENPD " +
+                                    text::roundTrip(*enpd * scale) + " mm");
     }
     validateLens(lens, {fileName, surfs.front().where.line, 0}, reporter);
     return lens;

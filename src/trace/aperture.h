@@ -7,9 +7,9 @@
 namespace ff::trace {
 
 struct Iris {
-    int blades = 0;          ///< 0 = circular
+    int blades = 0; ///< 0 = circular
     double rotationRad = 0.0;
-    double radius = 0.0;     ///< working stop radius (equivalent circle), mm
+    double radius = 0.0; ///< working stop radius (equivalent circle), mm
     double circumradius = 0.0;
 
     Iris() = default;

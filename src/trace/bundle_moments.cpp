@@ -9,7 +9,8 @@
 namespace ff::trace {
 
 bool landsWithin(const RayResult& r, double maxRadius) {
-    return maxRadius <= 0.0 || r.sensorPoint.x * r.sensorPoint.x + r.sensorPoint.y * r.sensorPoint.y <= maxRadius * maxRadius;
+    return maxRadius <= 0.0 ||
+           r.sensorPoint.x * r.sensorPoint.x + r.sensorPoint.y * r.sensorPoint.y <= maxRadius * maxRadius;
 }
 
 namespace {
@@ -20,7 +21,8 @@ constexpr double kWeightStep = 2.0;
 
 } // namespace
 
-BundleMoments measureSamples(std::span<const RayResult> hits, std::span<const double> areas, double scale, double maxRadius) {
+BundleMoments measureSamples(std::span<const RayResult> hits, std::span<const double> areas, double scale,
+                             double maxRadius) {
     BundleMoments m;
     auto counts = [&](const RayResult& r) { return landsWithin(r, maxRadius); };
     double sx = 0.0, sy = 0.0;
@@ -81,8 +83,9 @@ BundleMoments combineMoments(std::span<const BundleMoments> parts) {
     return m;
 }
 
-BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWavelength& L, const std::vector<PathStep>& steps,
-                                    const PupilFrame& pupil, const Field& field, const Bundle& centres, const std::vector<RayResult>& c,
+BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWavelength& L,
+                                    const std::vector<PathStep>& steps, const PupilFrame& pupil, const Field& field,
+                                    const Bundle& centres, const std::vector<RayResult>& c,
                                     const std::vector<RayResult>& k, int subdivisions, double scale, double maxRadius,
                                     std::span<const glm::dvec2> litPoints) {
     // Cells whose centre and corners disagree on whether their light counts: lost or not, and
@@ -97,8 +100,8 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
     const int n = centres.n;
     auto cellRays = [&](int i, int j) {
         const std::size_t corner = static_cast<std::size_t>(j) * (n + 1) + i;
-        return std::array<const RayResult*, 5>{&c[static_cast<std::size_t>(j) * n + i], &k[corner], &k[corner + 1], &k[corner + n + 1],
-                                               &k[corner + n + 2]};
+        return std::array<const RayResult*, 5>{&c[static_cast<std::size_t>(j) * n + i], &k[corner], &k[corner + 1],
+                                               &k[corner + n + 1], &k[corner + n + 2]};
     };
     // The diameter of a cell's image on the sensor (its arriving rays' landing points), 0 with fewer than two.
     auto imageSize = [](const std::array<const RayResult*, 5>& rays) {
@@ -106,7 +109,8 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
         for (std::size_t a = 0; a < rays.size(); ++a)
             for (std::size_t b = a + 1; b < rays.size(); ++b)
                 if (rays[a]->status == optics::RayStatus::Ok && rays[b]->status == optics::RayStatus::Ok) {
-                    const double dx = rays[a]->sensorPoint.x - rays[b]->sensorPoint.x, dy = rays[a]->sensorPoint.y - rays[b]->sensorPoint.y;
+                    const double dx = rays[a]->sensorPoint.x - rays[b]->sensorPoint.x,
+                                 dy = rays[a]->sensorPoint.y - rays[b]->sensorPoint.y;
                     d2 = std::max(d2, dx * dx + dy * dy);
                 }
         return std::sqrt(d2);
@@ -143,7 +147,8 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
                 bool first = true;
                 for (const RayResult* r : rays)
                     if (r->status == optics::RayStatus::Ok) {
-                        lo = first ? r->weight : std::min(lo, r->weight), hi = first ? r->weight : std::max(hi, r->weight);
+                        lo = first ? r->weight : std::min(lo, r->weight),
+                        hi = first ? r->weight : std::max(hi, r->weight);
                         first = false;
                     }
                 if (hi > kWeightStep * lo) {
@@ -154,8 +159,9 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
             if (!straddles && maxRadius > 0.0 && arriving > 0 && arriving < 5) {
                 const double d = imageSize(rays), reach = d > 0.0 ? d : typicalSize;
                 for (const RayResult* r : rays)
-                    straddles = straddles || (r->status == optics::RayStatus::Ok &&
-                                              std::abs(std::hypot(r->sensorPoint.x, r->sensorPoint.y) - maxRadius) <= reach);
+                    straddles =
+                        straddles || (r->status == optics::RayStatus::Ok &&
+                                      std::abs(std::hypot(r->sensorPoint.x, r->sensorPoint.y) - maxRadius) <= reach);
             }
             if (straddles) edge[static_cast<std::size_t>(j) * n + i] = kEdgeCell;
         }
@@ -247,7 +253,8 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
         std::vector<optics::Ray> subRays;
         std::vector<std::size_t> first; // each queued cell's first sub-ray
         for (const Resolve& r : queue) {
-            const int col = static_cast<int>(r.cell % static_cast<std::size_t>(n)), row = static_cast<int>(r.cell / static_cast<std::size_t>(n));
+            const int col = static_cast<int>(r.cell % static_cast<std::size_t>(n)),
+                      row = static_cast<int>(r.cell / static_cast<std::size_t>(n));
             const Bundle sub = gridBundle(pupil, field, r.sub, centres.x0 + (col + 0.5) * centres.cell,
                                           centres.y0 + (row + 0.5) * centres.cell, 0.5 * centres.cell, false);
             first.push_back(subRays.size());

@@ -12,9 +12,9 @@ namespace ff::trace {
 
 struct BundleMoments {
     std::size_t launched = 0, surviving = 0, blocked = 0; ///< ray counts over launched rays
-    double energy = 0.0;                    ///< sum of weight x cell area x scale over the counted rays
-    double centroidX = 0.0, centroidY = 0.0; ///< energy-weighted, mm
-    double mxx = 0.0, myy = 0.0, mxy = 0.0;  ///< central second moments, mm^2
+    double energy = 0.0;                                  ///< sum of weight x cell area x scale over the counted rays
+    double centroidX = 0.0, centroidY = 0.0;              ///< energy-weighted, mm
+    double mxx = 0.0, myy = 0.0, mxy = 0.0;               ///< central second moments, mm^2
 };
 
 /// Whether a ray's landing point lies within maxRadiusMm of the axis (0: no limit).
@@ -26,7 +26,8 @@ BundleMoments measureBundle(const Bundle& bundle, const std::vector<RayResult>& 
                             double maxRadiusMm = 0.0);
 
 /// The same over samples that stand for pupil areas of their own (area 0: not launched).
-BundleMoments measureSamples(std::span<const RayResult> hits, std::span<const double> areas, double scale, double maxRadiusMm);
+BundleMoments measureSamples(std::span<const RayResult> hits, std::span<const double> areas, double scale,
+                             double maxRadiusMm);
 
 /// The moments of the union of disjoint sets of samples (the parts of a path's pupil, each on its own
 /// grid) from theirs: energies and counts add, the centroid is the energy-weighted mean, and each
@@ -50,9 +51,10 @@ BundleMoments combineMoments(std::span<const BundleMoments> parts);
 /// rays count is integrated by 2/3 of its centre ray plus 1/3 of its corners' mean (fourth order: the
 /// h^2 terms of the midpoint and trapezoid rules cancel). Counts (launched, surviving, blocked) stay
 /// those of the grid's centre rays.
-BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWavelength& L, const std::vector<PathStep>& steps,
-                                    const PupilFrame& pupil, const Field& field, const Bundle& centres,
-                                    const std::vector<RayResult>& centreHits, const std::vector<RayResult>& cornerHits, int subdivisions,
-                                    double scale = 1.0, double maxRadiusMm = 0.0, std::span<const glm::dvec2> litPoints = {});
+BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWavelength& L,
+                                    const std::vector<PathStep>& steps, const PupilFrame& pupil, const Field& field,
+                                    const Bundle& centres, const std::vector<RayResult>& centreHits,
+                                    const std::vector<RayResult>& cornerHits, int subdivisions, double scale = 1.0,
+                                    double maxRadiusMm = 0.0, std::span<const glm::dvec2> litPoints = {});
 
 } // namespace ff::trace

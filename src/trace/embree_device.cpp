@@ -17,7 +17,8 @@ EmbreeDevice::EmbreeDevice() {
     // gains nothing on machines shared with other work.
     const std::size_t threads = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
     device_ = rtcNewDevice(("threads=" + std::to_string(threads)).c_str());
-    if (!device_) throwRuntimeError("cannot create an Embree device (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
+    if (!device_)
+        throwRuntimeError("cannot create an Embree device (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
     rtcSetDeviceErrorFunction(device_, &EmbreeDevice::onError, this);
 }
 
@@ -27,7 +28,8 @@ EmbreeDevice::~EmbreeDevice() {
 
 void EmbreeDevice::onError(void* user, RTCError code, const char* message) {
     auto* self = static_cast<EmbreeDevice*>(user);
-    if (self->error_.empty()) self->error_ = "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (message ? message : "");
+    if (self->error_.empty())
+        self->error_ = "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (message ? message : "");
 }
 
 void EmbreeDevice::check(const char* what) {

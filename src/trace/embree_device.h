@@ -9,7 +9,7 @@
 namespace ff::trace {
 
 class EmbreeDevice {
-public:
+  public:
     EmbreeDevice();
     ~EmbreeDevice();
     EmbreeDevice(const EmbreeDevice&) = delete;
@@ -19,7 +19,7 @@ public:
     /// Throws ff::Error (Runtime) if Embree reported an error since the last check, naming `what`.
     void check(const char* what);
 
-private:
+  private:
     static void onError(void* user, RTCError code, const char* message);
     RTCDevice device_ = nullptr;
     std::string error_;

@@ -57,8 +57,10 @@ void tracePacket(RTCScene scene, const LensAtWavelength& L, const std::vector<Pa
             if (i >= count || !alive[i]) continue;
             hit[i] = optics::intersectSurface(L.lens->surfaces[s], L.vertexZ[s], cur[i], kMinStep);
             RayResult& res = out[first + i];
-            if (!hit[i]) loseRay(res, RayStatus::Missed, k);
-            else if (!L.insideAperture(s, hit[i]->point)) loseRay(res, RayStatus::Clipped, k);
+            if (!hit[i])
+                loseRay(res, RayStatus::Missed, k);
+            else if (!L.insideAperture(s, hit[i]->point))
+                loseRay(res, RayStatus::Clipped, k);
             else {
                 valid[i] = -1;
                 any = true;
@@ -115,35 +117,37 @@ void tracePacket(RTCScene scene, const LensAtWavelength& L, const std::vector<Pa
 
 EmbreeTracer::EmbreeTracer(const LensAtWavelength& geometry) : device_(), scene_(device_, geometry) {}
 
-void EmbreeTracer::trace(const LensAtWavelength& L, const std::vector<PathStep>& steps, std::span<const optics::Ray> rays,
-                         std::span<RayResult> out) const {
+void EmbreeTracer::trace(const LensAtWavelength& L, const std::vector<PathStep>& steps,
+                         std::span<const optics::Ray> rays, std::span<RayResult> out) const {
     if (out.size() != rays.size()) throwRuntimeError("EmbreeTracer::trace: output size differs from the ray count");
     const std::size_t packets = (rays.size() + kPacket - 1) / kPacket;
     RTCScene scene = scene_.get();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, packets, kPacketsPerTask), [&](const tbb::blocked_range<std::size_t>& r) {
-        setFlushDenormalsToZero();
-        for (std::size_t p = r.begin(); p < r.end(); ++p) {
-            const std::size_t first = p * kPacket;
-            const int count = static_cast<int>(std::min<std::size_t>(kPacket, rays.size() - first));
-            tracePacket(scene, L, steps, rays, out, first, count);
-        }
-    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, packets, kPacketsPerTask),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          setFlushDenormalsToZero();
+                          for (std::size_t p = r.begin(); p < r.end(); ++p) {
+                              const std::size_t first = p * kPacket;
+                              const int count = static_cast<int>(std::min<std::size_t>(kPacket, rays.size() - first));
+                              tracePacket(scene, L, steps, rays, out, first, count);
+                          }
+                      });
 }
 
 void traceAnalytic(const LensAtWavelength& L, const std::vector<PathStep>& steps, std::span<const optics::Ray> rays,
                    std::span<RayResult> out, Weighting weighting) {
     if (out.size() != rays.size()) throwRuntimeError("traceAnalytic: output size differs from the ray count");
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 128), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i) {
-            const SequentialResult s = traceSequential(L, steps, rays[i], weighting);
-            RayResult& res = out[i];
-            res.status = s.status;
-            res.lostAtStep = s.lostAtStep;
-            res.weight = s.weight;
-            res.sensorPoint = s.status == RayStatus::Ok ? s.ray.origin : glm::dvec3(0.0);
-            res.dir = s.ray.dir;
-        }
-    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 128),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                              const SequentialResult s = traceSequential(L, steps, rays[i], weighting);
+                              RayResult& res = out[i];
+                              res.status = s.status;
+                              res.lostAtStep = s.lostAtStep;
+                              res.weight = s.weight;
+                              res.sensorPoint = s.status == RayStatus::Ok ? s.ray.origin : glm::dvec3(0.0);
+                              res.dir = s.ray.dir;
+                          }
+                      });
 }
 
 } // namespace ff::trace

@@ -20,11 +20,11 @@ struct RayResult {
     std::size_t lostAtStep = 0;
     glm::dvec3 sensorPoint{0.0}; ///< where the ray meets the sensor plane (valid when Ok)
     glm::dvec3 dir{0.0};
-    double weight = 0.0;         ///< product of all Fresnel/coating factors; 0 when lost
+    double weight = 0.0; ///< product of all Fresnel/coating factors; 0 when lost
 };
 
 class EmbreeTracer {
-public:
+  public:
     /// Builds the scene of L's lens (apertures, iris and stop from L; the same for every wavelength).
     explicit EmbreeTracer(const LensAtWavelength& geometry);
 
@@ -32,7 +32,7 @@ public:
     void trace(const LensAtWavelength& L, const std::vector<PathStep>& steps, std::span<const optics::Ray> rays,
                std::span<RayResult> out) const;
 
-private:
+  private:
     EmbreeDevice device_;
     LensScene scene_;
 };

@@ -10,7 +10,9 @@ namespace {
 
 using Vec2 = glm::dvec2;
 
-double cross(const Vec2& a, const Vec2& b, const Vec2& c) { return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x); }
+double cross(const Vec2& a, const Vec2& b, const Vec2& c) {
+    return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+}
 
 // Signed area (shoelace; positive when clockwise on the screen, +y down).
 double signedArea(std::span<const Vec2> p) {
@@ -33,10 +35,14 @@ double areaInBox(std::span<const Vec2> poly, double x0, double y0, double x1, do
         }
         std::swap(a, b);
     };
-    clip([&](const Vec2& p) { return p.x >= x0; }, [&](const Vec2& p, const Vec2& q) { return Vec2(x0, p.y + (q.y - p.y) * (x0 - p.x) / (q.x - p.x)); });
-    clip([&](const Vec2& p) { return p.x <= x1; }, [&](const Vec2& p, const Vec2& q) { return Vec2(x1, p.y + (q.y - p.y) * (x1 - p.x) / (q.x - p.x)); });
-    clip([&](const Vec2& p) { return p.y >= y0; }, [&](const Vec2& p, const Vec2& q) { return Vec2(p.x + (q.x - p.x) * (y0 - p.y) / (q.y - p.y), y0); });
-    clip([&](const Vec2& p) { return p.y <= y1; }, [&](const Vec2& p, const Vec2& q) { return Vec2(p.x + (q.x - p.x) * (y1 - p.y) / (q.y - p.y), y1); });
+    clip([&](const Vec2& p) { return p.x >= x0; },
+         [&](const Vec2& p, const Vec2& q) { return Vec2(x0, p.y + (q.y - p.y) * (x0 - p.x) / (q.x - p.x)); });
+    clip([&](const Vec2& p) { return p.x <= x1; },
+         [&](const Vec2& p, const Vec2& q) { return Vec2(x1, p.y + (q.y - p.y) * (x1 - p.x) / (q.x - p.x)); });
+    clip([&](const Vec2& p) { return p.y >= y0; },
+         [&](const Vec2& p, const Vec2& q) { return Vec2(p.x + (q.x - p.x) * (y0 - p.y) / (q.y - p.y), y0); });
+    clip([&](const Vec2& p) { return p.y <= y1; },
+         [&](const Vec2& p, const Vec2& q) { return Vec2(p.x + (q.x - p.x) * (y1 - p.y) / (q.y - p.y), y1); });
     return std::abs(signedArea(a));
 }
 
@@ -223,7 +229,8 @@ namespace {
 
 // Derivative of the landing point (pixels) along one grid axis from the neighbouring centre rays:
 // central difference, else one-sided; false when neither neighbour arrives.
-bool derivative(const Bundle& b, const std::vector<RayResult>& centre, const ImageFrame& frame, int i, int j, int di, int dj, Vec2& d) {
+bool derivative(const Bundle& b, const std::vector<RayResult>& centre, const ImageFrame& frame, int i, int j, int di,
+                int dj, Vec2& d) {
     const int n = b.n;
     auto alive = [&](int a, int c) {
         if (a < 0 || c < 0 || a >= n || c >= n) return false;
@@ -235,16 +242,21 @@ bool derivative(const Bundle& b, const std::vector<RayResult>& centre, const Ima
         return frame.sensorToPixel(h.sensorPoint.x, h.sensorPoint.y);
     };
     const bool plus = alive(i + di, j + dj), minus = alive(i - di, j - dj);
-    if (plus && minus) d = 0.5 * (at(i + di, j + dj) - at(i - di, j - dj));
-    else if (plus) d = at(i + di, j + dj) - at(i, j);
-    else if (minus) d = at(i, j) - at(i - di, j - dj);
-    else return false;
+    if (plus && minus)
+        d = 0.5 * (at(i + di, j + dj) - at(i - di, j - dj));
+    else if (plus)
+        d = at(i + di, j + dj) - at(i, j);
+    else if (minus)
+        d = at(i, j) - at(i - di, j - dj);
+    else
+        return false;
     return true;
 }
 
 // The footprint edge vectors (pixels per cell along the grid's i and j axes) of cell (i, j), from the
 // neighbouring centre rays; false when a neighbour is missing along an axis.
-bool cellJacobian(const Bundle& b, const std::vector<RayResult>& centre, const ImageFrame& frame, int i, int j, Vec2& du, Vec2& dv) {
+bool cellJacobian(const Bundle& b, const std::vector<RayResult>& centre, const ImageFrame& frame, int i, int j,
+                  Vec2& du, Vec2& dv) {
     return derivative(b, centre, frame, i, j, 1, 0, du) && derivative(b, centre, frame, i, j, 0, 1, dv);
 }
 
@@ -288,8 +300,10 @@ void rasterizeCells(const Bundle& b, const std::vector<RayResult>& centre, const
             if (!alive(i, j)) continue; // a lost centre ray contributes nothing
             const double e = centre[k].weight * b.cellArea * scale;
             if (e <= 0.0) continue;
-            const RayResult* c[4] = {&corner[static_cast<std::size_t>(j) * (n + 1) + i], &corner[static_cast<std::size_t>(j) * (n + 1) + i + 1],
-                                     &corner[static_cast<std::size_t>(j + 1) * (n + 1) + i + 1], &corner[static_cast<std::size_t>(j + 1) * (n + 1) + i]};
+            const RayResult* c[4] = {&corner[static_cast<std::size_t>(j) * (n + 1) + i],
+                                     &corner[static_cast<std::size_t>(j) * (n + 1) + i + 1],
+                                     &corner[static_cast<std::size_t>(j + 1) * (n + 1) + i + 1],
+                                     &corner[static_cast<std::size_t>(j + 1) * (n + 1) + i]};
             bool all = true;
             for (const RayResult* h : c) all = all && h->status == optics::RayStatus::Ok;
             if (all && drawQuad(px(*c[0]), px(*c[1]), px(*c[2]), px(*c[3]), e)) {

@@ -32,7 +32,7 @@ namespace ff::trace {
 /// local image of one ghost).
 struct ImageFrame {
     int width = 0, height = 0;
-    double pitchMm = 0.0; ///< sensor millimetres per pixel
+    double pitchMm = 0.0;                    ///< sensor millimetres per pixel
     double centreXMm = 0.0, centreYMm = 0.0; ///< sensor point at the image centre (the axis by default)
     glm::dvec2 sensorToPixel(double xMm, double yMm) const {
         return {0.5 * width + (xMm - centreXMm) / pitchMm, 0.5 * height - (yMm - centreYMm) / pitchMm};
@@ -43,8 +43,8 @@ struct ImageFrame {
 };
 
 struct RasterStats {
-    double deposited = 0.0;  ///< energy drawn into the image
-    double offImage = 0.0;   ///< energy that landed outside it
+    double deposited = 0.0; ///< energy drawn into the image
+    double offImage = 0.0;  ///< energy that landed outside it
     std::size_t quads = 0, splats = 0;
 };
 

@@ -24,7 +24,7 @@ optics::Lens withCoating(const optics::Lens& lens, CoatingChoice choice) {
     for (std::size_t s = 0; s < out.surfaces.size(); ++s) {
         const bool glassAir = out.mediumBefore(s).isAir() != out.surfaces[s].medium.isAir();
         out.surfaces[s].coating = (choice == CoatingChoice::MgF2 && glassAir) ? optics::CoatingSpec::mgf2(550.0)
-                                                                               : optics::CoatingSpec::none();
+                                                                              : optics::CoatingSpec::none();
     }
     return out;
 }
@@ -45,7 +45,8 @@ PathStats statistics(const Bundle& b, const std::vector<RayResult>& results, dou
     double inside = 0.0;
     for (std::size_t i = 0; i < results.size(); ++i) {
         const RayResult& r = results[i];
-        if (b.launched[i] && r.status == optics::RayStatus::Ok && std::abs(r.sensorPoint.x) <= halfW && std::abs(r.sensorPoint.y) <= halfH)
+        if (b.launched[i] && r.status == optics::RayStatus::Ok && std::abs(r.sensorPoint.x) <= halfW &&
+            std::abs(r.sensorPoint.y) <= halfH)
             inside += r.weight * b.cellArea;
     }
     st.onSensor = inside / m.energy;
@@ -104,11 +105,12 @@ GhostReport analyzeGhosts(const optics::Lens& lensIn, const GhostAnalysisOptions
             st.relativeEnergy = directEnergy > 0.0 ? st.energy / directEnergy : 0.0;
             st.energyPerRay = st.launched ? st.relativeEnergy / static_cast<double>(st.launched) : 0.0;
             st.axialRatio = std::abs(wr.direct.centroidY) > 1e-9 ? st.centroidY / wr.direct.centroidY
-                                                                   : std::numeric_limits<double>::quiet_NaN();
+                                                                 : std::numeric_limits<double>::quiet_NaN();
         };
         finish(wr.direct);
         for (PathStats& g : wr.ghosts) finish(g);
-        std::stable_sort(wr.ghosts.begin(), wr.ghosts.end(), [](const PathStats& a, const PathStats& b) { return a.energy > b.energy; });
+        std::stable_sort(wr.ghosts.begin(), wr.ghosts.end(),
+                         [](const PathStats& a, const PathStats& b) { return a.energy > b.energy; });
         for (const PathStats& g : wr.ghosts) wr.totalGhostRelative += g.relativeEnergy;
         report.wavelengths.push_back(std::move(wr));
     }

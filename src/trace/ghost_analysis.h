@@ -32,15 +32,15 @@ struct GhostAnalysisOptions {
 };
 
 struct PathStats {
-    std::optional<GhostPair> ghost;  ///< empty for the direct image
+    std::optional<GhostPair> ghost; ///< empty for the direct image
     std::size_t launched = 0, surviving = 0, blocked = 0;
-    double energy = 0.0;             ///< sum of weight x cell area (mm^2)
-    double relativeEnergy = 0.0;     ///< energy / direct energy
-    double energyPerRay = 0.0;       ///< relative energy / launched rays
+    double energy = 0.0;                     ///< sum of weight x cell area (mm^2)
+    double relativeEnergy = 0.0;             ///< energy / direct energy
+    double energyPerRay = 0.0;               ///< relative energy / launched rays
     double centroidX = 0.0, centroidY = 0.0; ///< energy-weighted, mm on the sensor
-    double rmsRadius = 0.0;          ///< about the centroid, mm
-    double axialRatio = 0.0;         ///< centroid y / direct centroid y (NaN on axis)
-    double onSensor = 0.0;           ///< share of the energy inside the sensor rectangle
+    double rmsRadius = 0.0;                  ///< about the centroid, mm
+    double axialRatio = 0.0;                 ///< centroid y / direct centroid y (NaN on axis)
+    double onSensor = 0.0;                   ///< share of the energy inside the sensor rectangle
     std::string label() const { return ghost ? ghost->label() : std::string("direct"); }
 };
 

@@ -4,7 +4,9 @@
 
 namespace ff::trace {
 
-std::string GhostPair::label() const { return "R" + std::to_string(first + 1) + "\u2192R" + std::to_string(second + 1); }
+std::string GhostPair::label() const {
+    return "R" + std::to_string(first + 1) + "\u2192R" + std::to_string(second + 1);
+}
 
 std::vector<GhostPair> enumerateGhosts(const optics::Lens& lens) {
     const auto reflecting = lens.reflectingInterfaces(lines::d);

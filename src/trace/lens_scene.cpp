@@ -35,9 +35,13 @@ struct LensScene::BarrelPrim {
 
 namespace {
 
-const QueryContext& context(RTCIntersectContext* c) { return *reinterpret_cast<const QueryContext*>(c); }
+const QueryContext& context(RTCIntersectContext* c) {
+    return *reinterpret_cast<const QueryContext*>(c);
+}
 
-bool ignored(const QueryContext& ctx, unsigned rayId, unsigned geomID) { return ctx.ignore && ctx.ignore[rayId] == geomID; }
+bool ignored(const QueryContext& ctx, unsigned rayId, unsigned geomID) {
+    return ctx.ignore && ctx.ignore[rayId] == geomID;
+}
 
 // Records a hit at parameter t if it is nearer than the ray's current tfar. Ng is left zero: callers
 // compute normals in double precision from the surface they asked about.
@@ -67,7 +71,8 @@ std::optional<double> irisHitT(const LensScene::IrisPrim& p, const optics::Ray& 
     const double t = (p.z - r.origin.z) / r.dir.z;
     if (!(t > tnear)) return std::nullopt;
     const double x = r.origin.x + t * r.dir.x, y = r.origin.y + t * r.dir.y;
-    if (p.iris.contains(x, y) || x * x + y * y > p.outerRadius * p.outerRadius) return std::nullopt; // open, or outside the barrel
+    if (p.iris.contains(x, y) || x * x + y * y > p.outerRadius * p.outerRadius)
+        return std::nullopt; // open, or outside the barrel
     return t;
 }
 
@@ -152,7 +157,8 @@ void irisBounds(const RTCBoundsFunctionArguments* args) {
 void barrelBounds(const RTCBoundsFunctionArguments* args) {
     const auto* p = static_cast<const LensScene::BarrelPrim*>(args->geometryUserPtr);
     const float r = static_cast<float>(p->radius) + 1e-3f;
-    *args->bounds_o = RTCBounds{-r, -r, static_cast<float>(p->z0) - 1e-3f, 0.0f, r, r, static_cast<float>(p->z1) + 1e-3f, 0.0f};
+    *args->bounds_o =
+        RTCBounds{-r, -r, static_cast<float>(p->z0) - 1e-3f, 0.0f, r, r, static_cast<float>(p->z1) + 1e-3f, 0.0f};
 }
 
 RTCGeometry newUserGeometry(EmbreeDevice& device, void* user, RTCBoundsFunction bounds, RTCIntersectFunctionN intersect,
@@ -190,7 +196,8 @@ LensScene::LensScene(EmbreeDevice& device, const LensAtWavelength& L) {
         p->boundsRadius = p->radius > 0.0 ? p->radius : unclippedRadius;
         p->isStop = (s == L.stop);
         p->iris = L.iris;
-        RTCGeometry g = newUserGeometry(device, p.get(), surfaceBounds, intersectN<SurfacePrim, surfaceHitT>, occludedN<SurfacePrim, surfaceHitT>);
+        RTCGeometry g = newUserGeometry(device, p.get(), surfaceBounds, intersectN<SurfacePrim, surfaceHitT>,
+                                        occludedN<SurfacePrim, surfaceHitT>);
         rtcAttachGeometryByID(scene_, g, id);
         rtcReleaseGeometry(g);
         surfaces_.push_back(std::move(p));
@@ -205,7 +212,8 @@ LensScene::LensScene(EmbreeDevice& device, const LensAtWavelength& L) {
         iris_->z = L.vertexZ[L.stop];
         iris_->outerRadius = 2.0 * largest;
         iris_->iris = L.iris;
-        RTCGeometry irisGeom = newUserGeometry(device, iris_.get(), irisBounds, intersectN<IrisPrim, irisHitT>, occludedN<IrisPrim, irisHitT>);
+        RTCGeometry irisGeom = newUserGeometry(device, iris_.get(), irisBounds, intersectN<IrisPrim, irisHitT>,
+                                               occludedN<IrisPrim, irisHitT>);
         rtcAttachGeometryByID(scene_, irisGeom, id++);
         rtcReleaseGeometry(irisGeom);
     }
@@ -221,7 +229,8 @@ LensScene::LensScene(EmbreeDevice& device, const LensAtWavelength& L) {
         b->z0 = L.vertexZ[s] + *rim0;
         b->z1 = L.vertexZ[s + 1] + *rim1;
         if (b->z1 <= b->z0) continue;
-        RTCGeometry g = newUserGeometry(device, b.get(), barrelBounds, intersectN<BarrelPrim, barrelHitT>, occludedN<BarrelPrim, barrelHitT>);
+        RTCGeometry g = newUserGeometry(device, b.get(), barrelBounds, intersectN<BarrelPrim, barrelHitT>,
+                                        occludedN<BarrelPrim, barrelHitT>);
         rtcAttachGeometryByID(scene_, g, id++);
         rtcReleaseGeometry(g);
         barrel_.push_back(std::move(b));

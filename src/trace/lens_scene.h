@@ -26,12 +26,12 @@ namespace ff::trace {
 /// Per-query data reaching the callbacks: must begin with the Embree context.
 struct QueryContext {
     RTCIntersectContext embree;
-    const optics::Ray* rays = nullptr;    ///< double rays, indexed by the Embree ray id
-    const unsigned* ignore = nullptr;     ///< per ray id: a geometry ID that never counts (or null)
+    const optics::Ray* rays = nullptr; ///< double rays, indexed by the Embree ray id
+    const unsigned* ignore = nullptr;  ///< per ray id: a geometry ID that never counts (or null)
 };
 
 class LensScene {
-public:
+  public:
     /// Builds the scene of the lens at its active zoom position (aperture shapes from `geometry`).
     LensScene(EmbreeDevice& device, const LensAtWavelength& geometry);
     ~LensScene();
@@ -47,7 +47,7 @@ public:
     struct IrisPrim;
     struct BarrelPrim;
 
-private:
+  private:
     RTCScene scene_ = nullptr;
     std::size_t surfaceCount_ = 0;
     std::vector<std::unique_ptr<SurfacePrim>> surfaces_;

@@ -13,7 +13,8 @@ namespace {
 // A fixed pseudo-random place in cell (i, j), within +-0.45 of a cell of its centre along each axis;
 // passes with different seeds place their points independently.
 glm::dvec2 jitter(int i, int j, std::uint32_t seed) {
-    std::uint32_t h = (static_cast<std::uint32_t>(i) * 0x9E3779B1u ^ static_cast<std::uint32_t>(j) * 0x85EBCA77u) + seed * 0xC2B2AE3Du;
+    std::uint32_t h = (static_cast<std::uint32_t>(i) * 0x9E3779B1u ^ static_cast<std::uint32_t>(j) * 0x85EBCA77u) +
+                      seed * 0xC2B2AE3Du;
     const auto next = [&h] {
         h ^= h >> 16, h *= 0x7FEB352Du, h ^= h >> 15, h *= 0x846CA68Bu, h ^= h >> 16;
         return (h >> 8) * (1.0 / 16777216.0) - 0.5;
@@ -57,7 +58,8 @@ LitGrid litGrid(Bundle b, const LensAtWavelength& L, const std::vector<PathStep>
     g.lit.assign(hits.size(), 0);
     for (std::size_t k = 0; k < hits.size(); ++k) {
         const RayResult& r = hits[k];
-        g.lit[k] = r.status == optics::RayStatus::Ok && (maxRadius <= 0.0 || std::hypot(r.sensorPoint.x, r.sensorPoint.y) <= maxRadius);
+        g.lit[k] = r.status == optics::RayStatus::Ok &&
+                   (maxRadius <= 0.0 || std::hypot(r.sensorPoint.x, r.sensorPoint.y) <= maxRadius);
     }
     return g;
 }

@@ -16,8 +16,8 @@ namespace ff::trace {
 /// Bounding box of lit grid points, with what the region search needs to know of them.
 struct LitBox {
     double xMin = 1e300, xMax = -1e300, yMin = 1e300, yMax = -1e300;
-    bool touchesEdge = false; ///< light at a grid point of the outermost ring
-    double litArea = 0.0;     ///< lit points x cell area
+    bool touchesEdge = false;          ///< light at a grid point of the outermost ring
+    double litArea = 0.0;              ///< lit points x cell area
     int litPoints = 0, thinPoints = 0; ///< lit points; those with no lit neighbour on either side along x or along y
     bool empty() const { return xMin > xMax; }
     /// Grows the box over o's extent only (counts and flags unchanged).
@@ -38,7 +38,9 @@ struct LitGrid {
     Bundle b;
     std::vector<char> lit;
     std::vector<glm::dvec2> offsets; ///< per point, in cells from its cell's centre (empty: none)
-    bool at(int i, int j) const { return i >= 0 && j >= 0 && i < b.n && j < b.n && lit[static_cast<std::size_t>(j) * b.n + i]; }
+    bool at(int i, int j) const {
+        return i >= 0 && j >= 0 && i < b.n && j < b.n && lit[static_cast<std::size_t>(j) * b.n + i];
+    }
     glm::dvec2 point(int i, int j) const {
         const glm::dvec2 o = offsets.empty() ? glm::dvec2(0.0) : offsets[static_cast<std::size_t>(j) * b.n + i];
         return {b.x0 + (i + 0.5 + o.x) * b.cell, b.y0 + (j + 0.5 + o.y) * b.cell};

@@ -17,9 +17,11 @@ using optics::RayStatus;
 namespace {
 
 // One ray's open trace into res and margins[0, steps).
-void traceOpenRay(const LensAtWavelength& L, const std::vector<PathStep>& steps, const optics::Ray& ray, RayResult& res, double* margins) {
+void traceOpenRay(const LensAtWavelength& L, const std::vector<PathStep>& steps, const optics::Ray& ray, RayResult& res,
+                  double* margins) {
     const SequentialResult r = traceSequential(L, steps, ray, Weighting::Fresnel, margins);
-    res = RayResult{r.status, r.lostAtStep, r.status == RayStatus::Ok ? r.ray.origin : glm::dvec3(0.0), r.ray.dir, r.weight};
+    res = RayResult{r.status, r.lostAtStep, r.status == RayStatus::Ok ? r.ray.origin : glm::dvec3(0.0), r.ray.dir,
+                    r.weight};
 }
 
 } // namespace
@@ -29,9 +31,11 @@ OpenTrace traceOpen(const LensAtWavelength& L, const std::vector<PathStep>& step
     t.steps = steps.size();
     t.hits.resize(rays.size());
     t.margins.resize(rays.size() * steps.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i) traceOpenRay(L, steps, rays[i], t.hits[i], &t.margins[i * steps.size()]);
-    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 64),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t i = r.begin(); i < r.end(); ++i)
+                              traceOpenRay(L, steps, rays[i], t.hits[i], &t.margins[i * steps.size()]);
+                      });
     return t;
 }
 
@@ -78,12 +82,14 @@ double marginOf(const OpenTrace& t, std::size_t i, std::size_t k, double maxRadi
     if (k < t.steps) return t.margin(i, k);
     const RayResult& r = t.hits[i];
     if (r.status != RayStatus::Ok) return std::numeric_limits<double>::quiet_NaN();
-    return maxRadius > 0.0 ? maxRadius - std::hypot(r.sensorPoint.x, r.sensorPoint.y) : std::numeric_limits<double>::infinity();
+    return maxRadius > 0.0 ? maxRadius - std::hypot(r.sensorPoint.x, r.sensorPoint.y)
+                           : std::numeric_limits<double>::infinity();
 }
 
 } // namespace
 
-std::vector<double> subCellShares(const OpenTrace& t, std::size_t first, int sub, double maxRadius, std::vector<glm::dvec2>* centroids) {
+std::vector<double> subCellShares(const OpenTrace& t, std::size_t first, int sub, double maxRadius,
+                                  std::vector<glm::dvec2>* centroids) {
     const std::size_t count = static_cast<std::size_t>(sub) * sub;
     std::vector<double> shares(count, 0.0);
     if (centroids) centroids->assign(count, glm::dvec2(0.0));
@@ -137,13 +143,15 @@ bool mayHoldLight(const OpenTrace& t, std::size_t first, double maxRadius) {
     return feasibleShare(cut) > 0.0;
 }
 
-std::vector<std::size_t> cellsWithRoomForLight(const LensAtWavelength& L, const std::vector<PathStep>& steps, const PupilFrame& pupil,
-                                               const Field& field, const Bundle& centres, const std::vector<RayResult>& c,
-                                               const std::vector<RayResult>& k, double maxRadius, const std::vector<char>& taken) {
+std::vector<std::size_t> cellsWithRoomForLight(const LensAtWavelength& L, const std::vector<PathStep>& steps,
+                                               const PupilFrame& pupil, const Field& field, const Bundle& centres,
+                                               const std::vector<RayResult>& c, const std::vector<RayResult>& k,
+                                               double maxRadius, const std::vector<char>& taken) {
     auto counted = [&](const RayResult& r) { return r.status == RayStatus::Ok && landsWithin(r, maxRadius); };
     // Why a dark ray is dark: the step and way it was lost, or (-1) landing beyond the circle.
     auto reason = [](const RayResult& r) {
-        return r.status == RayStatus::Ok ? -1L : static_cast<long>(r.status) * 100000L + static_cast<long>(r.lostAtStep);
+        return r.status == RayStatus::Ok ? -1L
+                                         : static_cast<long>(r.status) * 100000L + static_cast<long>(r.lostAtStep);
     };
     const int n = centres.n;
     std::vector<std::size_t> candidates;
@@ -153,15 +161,17 @@ std::vector<std::size_t> cellsWithRoomForLight(const LensAtWavelength& L, const 
             const std::size_t i = static_cast<std::size_t>(row) * n + col;
             if (taken[i] || !centres.launched[i]) continue;
             const std::size_t corner = static_cast<std::size_t>(row) * (n + 1) + col;
-            const std::array<const RayResult*, 5> five{&c[i], &k[corner], &k[corner + 1], &k[corner + n + 1], &k[corner + n + 2]};
+            const std::array<const RayResult*, 5> five{&c[i], &k[corner], &k[corner + 1], &k[corner + n + 1],
+                                                       &k[corner + n + 2]};
             bool dark = true, mixed = false;
-            for (const RayResult* r : five) dark = dark && !counted(*r), mixed = mixed || reason(*r) != reason(*five[0]);
+            for (const RayResult* r : five)
+                dark = dark && !counted(*r), mixed = mixed || reason(*r) != reason(*five[0]);
             if (!dark || !mixed) continue;
             candidates.push_back(i);
             rays.push_back(centres.rays[i]);
             // The corners, (-,-), (+,-), (-,+), (+,+): a 2 x 2 grid over the square twice the cell's side.
-            const Bundle corners =
-                gridBundle(pupil, field, 2, centres.x0 + (col + 0.5) * centres.cell, centres.y0 + (row + 0.5) * centres.cell, centres.cell, false);
+            const Bundle corners = gridBundle(pupil, field, 2, centres.x0 + (col + 0.5) * centres.cell,
+                                              centres.y0 + (row + 0.5) * centres.cell, centres.cell, false);
             rays.insert(rays.end(), corners.rays.begin(), corners.rays.end());
         }
     const OpenTrace open = traceOpen(L, steps, rays);
@@ -172,7 +182,8 @@ std::vector<std::size_t> cellsWithRoomForLight(const LensAtWavelength& L, const 
 }
 
 SubGridTrace traceSubGrids(const EmbreeTracer& tracer, const LensAtWavelength& L, const std::vector<PathStep>& steps,
-                           std::span<const optics::Ray> rays, std::span<const std::size_t> first, std::span<const int> subs, double maxRadius) {
+                           std::span<const optics::Ray> rays, std::span<const std::size_t> first,
+                           std::span<const int> subs, double maxRadius) {
     SubGridTrace out;
     out.hits.resize(rays.size());
     out.share.assign(rays.size(), 0.0);
@@ -189,7 +200,8 @@ SubGridTrace traceSubGrids(const EmbreeTracer& tracer, const LensAtWavelength& L
         t.steps = steps.size();
         t.hits.resize(count);
         t.margins.resize(count * steps.size());
-        for (std::size_t i = 0; i < count; ++i) traceOpenRay(L, steps, rays[first[q] + i], t.hits[i], &t.margins[i * steps.size()]);
+        for (std::size_t i = 0; i < count; ++i)
+            traceOpenRay(L, steps, rays[first[q] + i], t.hits[i], &t.margins[i * steps.size()]);
         std::vector<glm::dvec2> centroids;
         const std::vector<double> shares = subCellShares(t, 0, sub, maxRadius, &centroids);
         // The sub-cell's side: the rays of a grid are parallel, their origins a sub-cell apart.

@@ -63,7 +63,8 @@ struct SubGridTrace {
 };
 
 SubGridTrace traceSubGrids(const EmbreeTracer& tracer, const LensAtWavelength& L, const std::vector<PathStep>& steps,
-                           std::span<const optics::Ray> rays, std::span<const std::size_t> first, std::span<const int> subs, double maxRadius);
+                           std::span<const optics::Ray> rays, std::span<const std::size_t> first,
+                           std::span<const int> subs, double maxRadius);
 
 /// Whether a cell may hold light between its five rays, all of them dark: from the open traces of its
 /// centre (t's ray first) and corners (the next four: (-,-), (+,-), (-,+), (+,+) in u, v), each margin linear across
@@ -76,8 +77,9 @@ bool mayHoldLight(const OpenTrace& t, std::size_t first, double maxRadius);
 /// whose five rays counts (arrives, within maxRadius where > 0) whose rays were lost for different
 /// reasons (clipped at different steps, lost otherwise, landing beyond the circle) — two edges cross
 /// such a cell — and whose five rays' open traces leave room for light between them (mayHoldLight).
-std::vector<std::size_t> cellsWithRoomForLight(const LensAtWavelength& L, const std::vector<PathStep>& steps, const PupilFrame& pupil,
-                                               const Field& field, const Bundle& centres, const std::vector<RayResult>& c,
-                                               const std::vector<RayResult>& k, double maxRadius, const std::vector<char>& taken);
+std::vector<std::size_t> cellsWithRoomForLight(const LensAtWavelength& L, const std::vector<PathStep>& steps,
+                                               const PupilFrame& pupil, const Field& field, const Bundle& centres,
+                                               const std::vector<RayResult>& c, const std::vector<RayResult>& k,
+                                               double maxRadius, const std::vector<char>& taken);
 
 } // namespace ff::trace

@@ -14,7 +14,9 @@
 
 namespace ff::trace {
 
-std::size_t Bundle::launchedCount() const { return static_cast<std::size_t>(std::count(launched.begin(), launched.end(), 1)); }
+std::size_t Bundle::launchedCount() const {
+    return static_cast<std::size_t>(std::count(launched.begin(), launched.end(), 1));
+}
 
 glm::dvec3 fieldDirection(const Field& f, double eflSign) {
     // The image lies on the continuation of the chief ray through the nodal point: to image at
@@ -37,7 +39,8 @@ PupilFrame pupilFrame(const optics::Lens& lens) {
     return p;
 }
 
-Bundle gridBundle(const PupilFrame& frame, const Field& field, int n, double cx, double cy, double halfSize, bool discOnly) {
+Bundle gridBundle(const PupilFrame& frame, const Field& field, int n, double cx, double cy, double halfSize,
+                  bool discOnly) {
     Bundle b;
     b.n = n;
     b.cell = 2.0 * halfSize / n;
@@ -63,11 +66,12 @@ namespace {
 // The region search's shared steps, for one field and path: the coarse pass, the local passes that
 // find a box's extent at their finer spacing, and the square over a box.
 class RegionSearch {
-public:
-    RegionSearch(const PupilFrame& frame, const Field& field, const LensAtWavelength& L, const std::vector<PathStep>& steps,
-                 double maxRadius)
-        : frame_(frame), field_(field), L_(L), steps_(steps), maxRadius_(maxRadius), half_(searchHalfSize(frame, field)),
-          cell_(2.0 * half_ / kNominal), symmetric_(L.iris.mirrorSymmetricAbout(field.azimuthRad + 0.5 * std::numbers::pi)) {}
+  public:
+    RegionSearch(const PupilFrame& frame, const Field& field, const LensAtWavelength& L,
+                 const std::vector<PathStep>& steps, double maxRadius)
+        : frame_(frame), field_(field), L_(L), steps_(steps), maxRadius_(maxRadius),
+          half_(searchHalfSize(frame, field)), cell_(2.0 * half_ / kNominal),
+          symmetric_(L.iris.mirrorSymmetricAbout(field.azimuthRad + 0.5 * std::numbers::pi)) {}
 
     // Coarse pass over everything that could enter the front surface, traced analytically. The
     // margins below are in cells of a 96 x 96 pass over it. The pass itself is denser where the
@@ -91,8 +95,9 @@ public:
     // A jittered n x n pass over the square around the box, two coarse cells wider on every side.
     LitGrid jittered(const LitBox& box, int n) const {
         const double h = 0.5 * std::max(box.xMax - box.xMin, box.yMax - box.yMin) + 2.0 * cell_;
-        return litGrid(gridBundle(frame_, field_, n, 0.5 * (box.xMin + box.xMax), 0.5 * (box.yMin + box.yMax), h, false), L_, steps_,
-                       maxRadius_, kLookSeed);
+        return litGrid(
+            gridBundle(frame_, field_, n, 0.5 * (box.xMin + box.xMax), 0.5 * (box.yMin + box.yMax), h, false), L_,
+            steps_, maxRadius_, kLookSeed);
     }
 
     // Whether light is at this wavelength where another's search found a piece: a jittered local pass
@@ -102,14 +107,16 @@ public:
     // um apart meets at some angles only) falls between the points of a pass two coarse cells wider
     // than it on every side: told to look closer, where that pass finds nothing, a second one looks
     // over the piece's box and as much again on every side.
-    std::vector<LitBox> look(const LitBox& hint, std::size_t maxPieces, std::vector<glm::dvec2>& lit, bool closer = false) const {
+    std::vector<LitBox> look(const LitBox& hint, std::size_t maxPieces, std::vector<glm::dvec2>& lit,
+                             bool closer = false) const {
         LitGrid g = jittered(hint, kLocal);
         std::vector<glm::dvec2> places = litPlaces(g);
         const double side = std::max(hint.xMax - hint.xMin, hint.yMax - hint.yMin);
         if (closer && places.empty() && side < cell_) {
             const double h = 1.5 * std::max(side, 0.1 * cell_);
-            g = litGrid(gridBundle(frame_, field_, kLocal, 0.5 * (hint.xMin + hint.xMax), 0.5 * (hint.yMin + hint.yMax), h, false), L_,
-                        steps_, maxRadius_, kLookSeed);
+            g = litGrid(gridBundle(frame_, field_, kLocal, 0.5 * (hint.xMin + hint.xMax), 0.5 * (hint.yMin + hint.yMax),
+                                   h, false),
+                        L_, steps_, maxRadius_, kLookSeed);
             places = litPlaces(g);
         }
         lit.insert(lit.end(), places.begin(), places.end());
@@ -158,8 +165,13 @@ public:
     // One cell of margin on every side, then a square over the box, holding the lit points given.
     PupilRegion square(const LitBox& box, std::vector<glm::dvec2> lit = {}) const {
         const double side = std::max(box.xMax - box.xMin, box.yMax - box.yMin) + 2.0 * cell_;
-        return {0.5 * (box.xMin + box.xMax), 0.5 * (box.yMin + box.yMax), 0.5 * side, false, std::min(1.0, box.litArea / (side * side)),
-                double(box.thinPoints) / box.litPoints, std::move(lit)};
+        return {0.5 * (box.xMin + box.xMax),
+                0.5 * (box.yMin + box.yMax),
+                0.5 * side,
+                false,
+                std::min(1.0, box.litArea / (side * side)),
+                double(box.thinPoints) / box.litPoints,
+                std::move(lit)};
     }
 
     // The square over what local passes find around a box the coarse pass found, with their lit points.
@@ -196,7 +208,7 @@ public:
 
     double cell() const { return cell_; }
 
-private:
+  private:
     static constexpr int kNominal = 96, kMaxCoarse = 512, kLocal = 64;
     static constexpr std::uint32_t kLookSeed = 0xA5A5u;
     const PupilFrame& frame_;
@@ -223,7 +235,9 @@ struct Slide {
     double lo, hi;
 };
 
-Slide slide(double boxMin, double boxMax, double half, double margin) { return {boxMax + margin - half, boxMin - margin + half}; }
+Slide slide(double boxMin, double boxMax, double half, double margin) {
+    return {boxMax + margin - half, boxMin - margin + half};
+}
 
 // Slides overlapping squares apart along an axis on which their boxes lie apart, each within its own
 // slack: two pieces far apart whose boxes are long across the gap between them get squares reaching
@@ -236,7 +250,8 @@ bool slideApart(std::vector<PupilRegion>& parts, const std::vector<LitBox>& boxe
         double& ca = alongY ? parts[a].cy : parts[a].cx;
         double& cb = alongY ? parts[b].cy : parts[b].cx;
         const auto span = [&](std::size_t k) {
-            return alongY ? slide(boxes[k].yMin, boxes[k].yMax, parts[k].half, margin) : slide(boxes[k].xMin, boxes[k].xMax, parts[k].half, margin);
+            return alongY ? slide(boxes[k].yMin, boxes[k].yMax, parts[k].half, margin)
+                          : slide(boxes[k].xMin, boxes[k].xMax, parts[k].half, margin);
         };
         const double loA = alongY ? boxes[a].yMin : boxes[a].xMin, loB = alongY ? boxes[b].yMin : boxes[b].xMin;
         const bool aAbove = loA > loB;
@@ -297,7 +312,9 @@ void addPoints(const RegionSearch& search, Found& f, const std::vector<glm::dvec
 }
 
 // Whether b lies within `margin` of a (their boxes, each widened by margin, overlap).
-bool near(const LitBox& a, const LitBox& b, double margin) { return gap(a, b) < margin; }
+bool near(const LitBox& a, const LitBox& b, double margin) {
+    return gap(a, b) < margin;
+}
 
 // Completes what was found by symmetry: the light is its own mirror image (RegionSearch::mirror), so
 // a piece whose image is far from every piece found was met on one side and stepped over on the
@@ -364,8 +381,9 @@ std::vector<PupilRegion> partsFrom(const RegionSearch& search, const PupilFrame&
             for (int i = 0; i < whole.b.n && split; ++i) {
                 if (!whole.at(i, j)) continue;
                 const glm::dvec2 p = whole.point(i, j);
-                split = std::any_of(parts.begin(), parts.end(),
-                                    [&](const PupilRegion& r) { return std::abs(p.x - r.cx) <= r.half && std::abs(p.y - r.cy) <= r.half; });
+                split = std::any_of(parts.begin(), parts.end(), [&](const PupilRegion& r) {
+                    return std::abs(p.x - r.cx) <= r.half && std::abs(p.y - r.cy) <= r.half;
+                });
             }
     }
     if (split) {
@@ -386,9 +404,10 @@ PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sa
     return withPoints(search.region(found.all), found.points);
 }
 
-std::vector<PupilRegion> pupilParts(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
-                                    const std::vector<PathStep>& steps, double maxRadiusMm) {
-    return pupilPartsByWavelength(frame, field, sampling, std::span<const LensAtWavelength>(&L, 1), steps, maxRadiusMm).front();
+std::vector<PupilRegion> pupilParts(const PupilFrame& frame, const Field& field, Sampling sampling,
+                                    const LensAtWavelength& L, const std::vector<PathStep>& steps, double maxRadiusMm) {
+    return pupilPartsByWavelength(frame, field, sampling, std::span<const LensAtWavelength>(&L, 1), steps, maxRadiusMm)
+        .front();
 }
 
 namespace {
@@ -399,7 +418,9 @@ LitBox litBoxOf(const PupilBox& b) {
     return l;
 }
 
-bool tooBroken(const Found& f) { return f.pieces.empty() && !f.all.empty(); }
+bool tooBroken(const Found& f) {
+    return f.pieces.empty() && !f.all.empty();
+}
 
 // Looks at the hints (pieces of light found elsewhere) lying far from every piece `mine` holds, unless
 // they fall in more groups than a region is cut into, and adds the pieces of light found there.
@@ -433,8 +454,9 @@ std::vector<LitBox> litBoxes(const std::vector<PupilBox>& boxes) {
 
 } // namespace
 
-PupilSearch searchPupil(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> Ls,
-                        const std::vector<PathStep>& steps, double maxRadiusMm, const PupilHints& hints, bool lookCloser) {
+PupilSearch searchPupil(const PupilFrame& frame, const Field& field, Sampling sampling,
+                        std::span<const LensAtWavelength> Ls, const std::vector<PathStep>& steps, double maxRadiusMm,
+                        const PupilHints& hints, bool lookCloser) {
     PupilSearch out;
     out.pieces.assign(Ls.size(), {});
     out.tooBroken.assign(Ls.size(), 0);
@@ -461,7 +483,8 @@ PupilSearch searchPupil(const PupilFrame& frame, const Field& field, Sampling sa
             for (std::size_t v = 0; v < Ls.size(); ++v)
                 if (v != w) shared.insert(shared.end(), found[v].pieces.begin(), found[v].pieces.end());
             lookAt(searches[w], mine, std::move(shared));
-            if (w < hints.size() && lookAt(searches[w], mine, litBoxes(hints[w]), lookCloser)) out.hintsFoundLight = true;
+            if (w < hints.size() && lookAt(searches[w], mine, litBoxes(hints[w]), lookCloser))
+                out.hintsFoundLight = true;
         }
         completeBySymmetry(searches[w], mine); // what the looks found, too
         out.parts.push_back(partsFrom(searches[w], frame, mine));
@@ -471,15 +494,15 @@ PupilSearch searchPupil(const PupilFrame& frame, const Field& field, Sampling sa
     return out;
 }
 
-std::vector<std::vector<PupilRegion>> pupilPartsByWavelength(const PupilFrame& frame, const Field& field, Sampling sampling,
-                                                             std::span<const LensAtWavelength> Ls, const std::vector<PathStep>& steps,
-                                                             double maxRadiusMm) {
+std::vector<std::vector<PupilRegion>> pupilPartsByWavelength(const PupilFrame& frame, const Field& field,
+                                                             Sampling sampling, std::span<const LensAtWavelength> Ls,
+                                                             const std::vector<PathStep>& steps, double maxRadiusMm) {
     return searchPupil(frame, field, sampling, Ls, steps, maxRadiusMm).parts;
 }
 
-bool hintsFindLight(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> Ls,
-                    const std::vector<PathStep>& steps, double maxRadiusMm, const PupilSearch& known, const PupilHints& hints,
-                    bool lookCloser) {
+bool hintsFindLight(const PupilFrame& frame, const Field& field, Sampling sampling,
+                    std::span<const LensAtWavelength> Ls, const std::vector<PathStep>& steps, double maxRadiusMm,
+                    const PupilSearch& known, const PupilHints& hints, bool lookCloser) {
     if (sampling == Sampling::ParaxialGrid) return false;
     for (std::size_t w = 0; w < Ls.size() && w < hints.size(); ++w) {
         if (hints[w].empty() || (w < known.tooBroken.size() && known.tooBroken[w])) continue;
@@ -500,14 +523,15 @@ PupilHints piecesAwayFrom(const PupilSearch& from, const PupilSearch& of) {
         const std::vector<LitBox> mine = w < of.pieces.size() ? litBoxes(of.pieces[w]) : std::vector<LitBox>{};
         for (const PupilBox& b : from.pieces[w]) {
             const LitBox p = litBoxOf(b);
-            if (std::none_of(mine.begin(), mine.end(), [&](const LitBox& q) { return near(p, q, margin); })) out[w].push_back(b);
+            if (std::none_of(mine.begin(), mine.end(), [&](const LitBox& q) { return near(p, q, margin); }))
+                out[w].push_back(b);
         }
     }
     return out;
 }
 
-PupilRegion bandRegion(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> ends,
-                       const std::vector<PathStep>& steps, double maxRadiusMm) {
+PupilRegion bandRegion(const PupilFrame& frame, const Field& field, Sampling sampling,
+                       std::span<const LensAtWavelength> ends, const std::vector<PathStep>& steps, double maxRadiusMm) {
     double xMin = 1e300, xMax = -1e300, yMin = 1e300, yMax = -1e300, litArea = 0.0, thin = 0.0;
     std::vector<glm::dvec2> lit;
     for (std::size_t e = 0; e < ends.size(); ++e) {

@@ -32,9 +32,9 @@ struct Field {
 };
 
 struct Bundle {
-    int n = 0;                    ///< grid size per side
-    double x0 = 0.0, y0 = 0.0;    ///< pupil-plane corner of the grid (mm)
-    double cell = 0.0;            ///< cell side (mm); cells are square
+    int n = 0;                 ///< grid size per side
+    double x0 = 0.0, y0 = 0.0; ///< pupil-plane corner of the grid (mm)
+    double cell = 0.0;         ///< cell side (mm); cells are square
     double cellArea = 0.0;
     std::vector<optics::Ray> rays; ///< n*n rays, row-major (row = y index)
     std::vector<char> launched;    ///< 0 for grid points outside the sampled region
@@ -56,7 +56,8 @@ struct PupilFrame {
 PupilFrame pupilFrame(const optics::Lens& lens);
 
 /// A grid of n x n rays over the square [cx - h, cx + h] x [cy - h, cy + h] of the pupil plane.
-Bundle gridBundle(const PupilFrame& frame, const Field& field, int n, double cx, double cy, double halfSize, bool discOnly);
+Bundle gridBundle(const PupilFrame& frame, const Field& field, int n, double cx, double cy, double halfSize,
+                  bool discOnly);
 
 /// The square of the pupil plane a path's grid covers: centre (cx, cy) and half side.
 struct PupilRegion {
@@ -105,8 +106,9 @@ PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sa
 /// all the light, twice as dense as the local passes, finds light outside every part (a band between
 /// the pieces that the coarse pass stepped over). The parts' squares never overlap, so their grids
 /// count no light twice.
-std::vector<PupilRegion> pupilParts(const PupilFrame& frame, const Field& field, Sampling sampling, const LensAtWavelength& L,
-                                    const std::vector<PathStep>& steps, double maxRadiusMm = 0.0);
+std::vector<PupilRegion> pupilParts(const PupilFrame& frame, const Field& field, Sampling sampling,
+                                    const LensAtWavelength& L, const std::vector<PathStep>& steps,
+                                    double maxRadiusMm = 0.0);
 
 /// pupilParts at several wavelengths of the same field and path, [wavelength][part]. The searches help
 /// one another: each places its coarse points independently of the others, and where one finds a piece
@@ -115,8 +117,9 @@ std::vector<PupilRegion> pupilParts(const PupilFrame& frame, const Field& field,
 /// (the wide angle's R4->R2 at 30.3-31.6 deg: 0.055 mm thick against 0.28 mm apart, missed at 450 nm
 /// at 6 of 66 of those angles alone, at none searched with 550 and 650 nm); where one search finds
 /// it, the others' finer passes find it too, if it is there at their wavelengths.
-std::vector<std::vector<PupilRegion>> pupilPartsByWavelength(const PupilFrame& frame, const Field& field, Sampling sampling,
-                                                             std::span<const LensAtWavelength> Ls, const std::vector<PathStep>& steps,
+std::vector<std::vector<PupilRegion>> pupilPartsByWavelength(const PupilFrame& frame, const Field& field,
+                                                             Sampling sampling, std::span<const LensAtWavelength> Ls,
+                                                             const std::vector<PathStep>& steps,
                                                              double maxRadiusMm = 0.0);
 
 /// A box of the pupil plane (mm) over a piece of light a search found.
@@ -150,16 +153,16 @@ struct PupilSearch {
 /// serve the wavelengths' hints to one another. lookCloser: where such a pass finds nothing at a hint
 /// smaller than a coarse cell, one as dense looks over the hint's box alone (for a piece shrinking to
 /// nothing, traced at the finest step of a ghost table).
-PupilSearch searchPupil(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> Ls,
-                        const std::vector<PathStep>& steps, double maxRadiusMm = 0.0, const PupilHints& hints = {},
-                        bool lookCloser = false);
+PupilSearch searchPupil(const PupilFrame& frame, const Field& field, Sampling sampling,
+                        std::span<const LensAtWavelength> Ls, const std::vector<PathStep>& steps,
+                        double maxRadiusMm = 0.0, const PupilHints& hints = {}, bool lookCloser = false);
 
 /// Whether the hints' looks of searchPupil find light far from what `known` (searchPupil's result at
 /// this field, without these hints) found: the looks alone, without the coarse passes, to tell cheaply
 /// whether searching again with the hints (and lookCloser) would find more.
-bool hintsFindLight(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> Ls,
-                    const std::vector<PathStep>& steps, double maxRadiusMm, const PupilSearch& known, const PupilHints& hints,
-                    bool lookCloser = false);
+bool hintsFindLight(const PupilFrame& frame, const Field& field, Sampling sampling,
+                    std::span<const LensAtWavelength> Ls, const std::vector<PathStep>& steps, double maxRadiusMm,
+                    const PupilSearch& known, const PupilHints& hints, bool lookCloser = false);
 
 /// The pieces `from` found that lie far from every piece `of` found, [wavelength][piece] (none at a
 /// wavelength where `of`'s light was too broken up to compare).
@@ -170,8 +173,9 @@ PupilHints piecesAwayFrom(const PupilSearch& from, const PupilSearch& of);
 /// of `ends`). A lit pupil can change shape with the wavelength, not only shift, and the indices,
 /// which move its edges, change monotonically across a band; its lit fraction is the larger lit
 /// area's share of that square, its thin share the larger one, its lit points both searches'.
-PupilRegion bandRegion(const PupilFrame& frame, const Field& field, Sampling sampling, std::span<const LensAtWavelength> ends,
-                       const std::vector<PathStep>& steps, double maxRadiusMm = 0.0);
+PupilRegion bandRegion(const PupilFrame& frame, const Field& field, Sampling sampling,
+                       std::span<const LensAtWavelength> ends, const std::vector<PathStep>& steps,
+                       double maxRadiusMm = 0.0);
 
 /// The n x n bundle over a region.
 Bundle regionBundle(const PupilFrame& frame, const Field& field, const PupilRegion& region, int n);

@@ -88,7 +88,8 @@ SequentialResult traceSequential(const LensAtWavelength& L, const std::vector<Pa
         const std::size_t s = steps[k].surface;
         RayStatus status = RayStatus::Ok;
         auto hit = optics::intersectSurface(L.lens->surfaces[s], L.vertexZ[s], ray, kMinStep);
-        if (!hit) status = RayStatus::Missed;
+        if (!hit)
+            status = RayStatus::Missed;
         else if (openMargins) {
             openMargins[k] = L.apertureMargin(s, hit->point);
             if (openPoints) openPoints[k] = hit->point;

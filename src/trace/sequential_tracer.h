@@ -63,9 +63,9 @@ inline constexpr double kMinStep = 1e-9;
 
 struct SequentialResult {
     optics::RayStatus status = optics::RayStatus::Ok;
-    std::size_t lostAtStep = 0;   ///< index into the path steps where the ray was lost
-    optics::Ray ray;              ///< on the sensor plane (when Ok): origin = hit point, dir = final direction
-    double weight = 0.0;          ///< product of the Fresnel/coating factors (0 when lost)
+    std::size_t lostAtStep = 0; ///< index into the path steps where the ray was lost
+    optics::Ray ray;            ///< on the sensor plane (when Ok): origin = hit point, dir = final direction
+    double weight = 0.0;        ///< product of the Fresnel/coating factors (0 when lost)
 };
 
 /// With openMargins (steps.size() of them), every aperture is left open: nothing clips the ray (a

@@ -229,13 +229,16 @@ Field fieldForSensorPoint(const optics::Lens& lens, double sensorZ, double xMm, 
     for (int it = 0; it < 100 && hi - lo > 1e-13; ++it) {
         const double mid = 0.5 * (lo + hi);
         const auto h = height(mid);
-        if (h && *h < r) lo = mid;
-        else hi = mid;
+        if (h && *h < r)
+            lo = mid;
+        else
+            hi = mid;
     }
     const auto reached = height(lo);
     if (!reached || std::abs(*reached - r) > 1e-6 * (1.0 + r))
-        throw Error(ErrorKind::Input, "no field angle images a source at " + text::fixed(r, 3) +
-                                          " mm from the axis (the chief ray does not reach it); is the light outside the lens's field?");
+        throw Error(ErrorKind::Input,
+                    "no field angle images a source at " + text::fixed(r, 3) +
+                        " mm from the axis (the chief ray does not reach it); is the light outside the lens's field?");
     f.angleRad = lo;
     return f;
 }

@@ -37,7 +37,7 @@ struct TracedFlareOptions {
 
 struct TracedFlare {
     int width = 0, height = 0;
-    std::vector<float> rgb;         ///< width x height x 3, linear
+    std::vector<float> rgb; ///< width x height x 3, linear
     std::vector<double> wavelengthsNm;
     std::vector<RasterStats> stats; ///< per wavelength
     std::size_t ghostCount = 0;
@@ -49,7 +49,8 @@ struct TracedFlare {
 };
 
 /// Wavelengths and their linear-sRGB weights (one row of 3 per wavelength) for a colour mode.
-void colourWeights(int spectralSamples, std::vector<double>& wavelengthsNm, std::vector<std::array<double, 3>>& weights);
+void colourWeights(int spectralSamples, std::vector<double>& wavelengthsNm,
+                   std::vector<std::array<double, 3>>& weights);
 
 /// CIE 1931 2-degree colour matching functions (x, y, z) at lambdaNm, analytic fit.
 std::array<double, 3> cie1931(double lambdaNm);

@@ -1,18 +1,19 @@
 // The fourierflare executable as a user meets it: output, error format, exit codes.
 
-#include "cli_runner.h"
-#include "test_support.h"
-
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cli_runner.h"
+#include "test_support.h"
 
 namespace {
 
 using ff::test::run;
 using ff::test::RunResult;
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+bool contains(const std::string& s, const std::string& part) {
+    return s.find(part) != std::string::npos;
+}
 
 } // namespace
 
@@ -42,7 +43,8 @@ TEST(Cli, BadLensFileGivesFileLineColumnAndExitCode2) {
     ff::test::writeFile(dir / "x.lens", "name: x\nsurfaces:\n  stop 2 1 0 5\n  12 abc 1.5 60 10\n  -50 40 1 0 10\n");
     const RunResult r = run("lens info '" + (dir / "x.lens").string() + "'");
     EXPECT_EQ(r.code, 2);
-    EXPECT_EQ(r.err, "fourierflare: error: " + (dir / "x.lens").string() + ":4:6: expected a number for 'thickness', got 'abc'\n");
+    EXPECT_EQ(r.err, "fourierflare: error: " + (dir / "x.lens").string() +
+                         ":4:6: expected a number for 'thickness', got 'abc'\n");
     EXPECT_TRUE(r.out.empty());
 }
 

@@ -1,8 +1,5 @@
 // `fourierflare render --mode fitted|fourier`, explicit ghost lists and `fourierflare compare`.
 
-#include "cli_runner.h"
-#include "test_support.h"
-
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -12,11 +9,16 @@
 #include <fstream>
 #include <numbers>
 
+#include "cli_runner.h"
+#include "test_support.h"
+
 using ff::test::run;
 
 namespace {
 
-void write(const std::filesystem::path& p, const std::string& text) { std::ofstream(p) << text; }
+void write(const std::filesystem::path& p, const std::string& text) {
+    std::ofstream(p) << text;
+}
 
 // Parses "probe X,Y: R G B" lines.
 std::vector<std::array<double, 3>> probes(const std::string& out) {
@@ -36,11 +38,13 @@ std::vector<std::array<double, 3>> probes(const std::string& out) {
 TEST(CliFourier, GhostListRendersTheAnalyticValueInBothModes) {
     ff::test::TempDir dir;
     // One Gaussian with its centre on a pixel corner: pixel (32, 20) holds flux x P(0<X<1) x P(0<Y<1).
-    write(dir / "g.json", R"({"ghosts": [{"x": 32, "y": 20, "profile": "gaussian", "widthX": 5, "widthY": [3, 4, 5], "flux": [1, 2, 3]}]})");
+    write(
+        dir / "g.json",
+        R"({"ghosts": [{"x": 32, "y": 20, "profile": "gaussian", "widthX": 5, "widthY": [3, 4, 5], "flux": [1, 2, 3]}]})");
     auto mass = [](double s) { return 0.5 * std::erf(1.0 / (s * std::numbers::sqrt2)); };
     for (const char* mode : {"fitted", "fourier"}) {
-        const auto r = run(std::string("render --ghosts '") + (dir / "g.json").string() + "' --size 64x40 --mode " + mode +
-                           " --probe 32,20 --probe 2,2 -o '" + (dir / "g.exr").string() + "'");
+        const auto r = run(std::string("render --ghosts '") + (dir / "g.json").string() + "' --size 64x40 --mode " +
+                           mode + " --probe 32,20 --probe 2,2 -o '" + (dir / "g.exr").string() + "'");
         ASSERT_EQ(r.code, 0) << r.err;
         const auto p = probes(r.out);
         ASSERT_EQ(p.size(), 2u) << r.out;
@@ -61,7 +65,8 @@ TEST(CliFourier, GhostListOnTheGlBackendGivesTheAnalyticValue) {
                                          {"x": 100, "y": 40, "widthX": 12, "widthY": 10, "flux": 50}]})");
     auto mass = [](double s) { return 0.5 * std::erf(1.0 / (s * std::numbers::sqrt2)); };
     const auto r = run("render --ghosts '" + (dir / "g.json").string() +
-                       "' --size 160x80 --mode fourier --backend gl --fourier-n 24 --probe 20,20 --probe 100,40 -o '" + (dir / "g.exr").string() + "'");
+                       "' --size 160x80 --mode fourier --backend gl --fourier-n 24 --probe 20,20 --probe 100,40 -o '" +
+                       (dir / "g.exr").string() + "'");
     if (r.code == 1 && r.err.find("no OpenGL 4.5 context") != std::string::npos) GTEST_SKIP() << r.err;
     ASSERT_EQ(r.code, 0) << r.err;
     const auto p = probes(r.out);
@@ -76,22 +81,26 @@ TEST(CliFourier, GhostListOnTheGlBackendGivesTheAnalyticValue) {
 TEST(CliFourier, GhostListErrorsNameTheEntry) {
     ff::test::TempDir dir;
     write(dir / "bad.json", R"({"ghosts": [{"x": 1, "y": 2, "widthX": 3, "widthY": -1, "flux": 1}]})");
-    const auto r = run("render --ghosts '" + (dir / "bad.json").string() + "' --size 16x16 --mode fourier -o '" + (dir / "o.exr").string() + "'");
+    const auto r = run("render --ghosts '" + (dir / "bad.json").string() + "' --size 16x16 --mode fourier -o '" +
+                       (dir / "o.exr").string() + "'");
     EXPECT_EQ(r.code, 2);
     EXPECT_NE(r.err.find("ghosts[0].widthY: values must be finite and positive"), std::string::npos) << r.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "o.exr"));
     write(dir / "syntax.json", "{\"ghosts\": [\n  {\"x\": 1,, }]}");
-    const auto s = run("render --ghosts '" + (dir / "syntax.json").string() + "' --size 16x16 --mode fitted -o '" + (dir / "o.exr").string() + "'");
+    const auto s = run("render --ghosts '" + (dir / "syntax.json").string() + "' --size 16x16 --mode fitted -o '" +
+                       (dir / "o.exr").string() + "'");
     EXPECT_EQ(s.code, 2);
     EXPECT_NE(s.err.find("syntax.json:2:"), std::string::npos) << s.err;
-    const auto traced = run("render --ghosts '" + (dir / "bad.json").string() + "' --size 16x16 -o '" + (dir / "o.exr").string() + "'");
+    const auto traced =
+        run("render --ghosts '" + (dir / "bad.json").string() + "' --size 16x16 -o '" + (dir / "o.exr").string() + "'");
     EXPECT_EQ(traced.code, 2);
 }
 
 TEST(CliFourier, FittedAndFourierOfALensAgreeAndKeepFlux) {
     ff::test::TempDir dir;
     const std::string env = "FF_CACHE_DIR='" + (dir / "cache").string() + "' ";
-    const std::string common = "render lenses/cooke-triplet-50mm-f5.lens --light 150,40 --light 60,80,2,1,0.5 --size 192x108 --table-grid 8 ";
+    const std::string common =
+        "render lenses/cooke-triplet-50mm-f5.lens --light 150,40 --light 60,80,2,1,0.5 --size 192x108 --table-grid 8 ";
     const auto fitted = run(common + "--mode fitted --probe 96,54 -o '" + (dir / "a.exr").string() + "'", env);
     ASSERT_EQ(fitted.code, 0) << fitted.err;
     const auto four = run("-v " + common + "--mode fourier --probe 96,54 -o '" + (dir / "b.exr").string() + "'", env);
@@ -113,7 +122,8 @@ TEST(CliFourier, FittedAndFourierOfALensAgreeAndKeepFlux) {
         EXPECT_GT(fa[c], 0.0);
         EXPECT_NEAR(fb[c], fa[c], 1e-3 * fa[c]);
     }
-    EXPECT_EQ(run(common + "--mode fourier --angle 5 -o '" + (dir / "c.exr").string() + "'", env).code, 2); // --angle is traced-only
+    EXPECT_EQ(run(common + "--mode fourier --angle 5 -o '" + (dir / "c.exr").string() + "'", env).code,
+              2); // --angle is traced-only
 }
 
 // render --mode diffraction: the light's flux spread by the lens's PSF, all of it in the frame (printed
@@ -192,7 +202,8 @@ TEST(CliCompare, WritesTheReport) {
         const auto& prof = j["profiles"][p];
         ASSERT_EQ(prof["errorVsN"].size(), 3u);
         // More terms never make the truncation error larger.
-        EXPECT_LE(prof["errorVsN"][2]["vsFitted"]["relativeL2"].get<double>(), prof["errorVsN"][0]["vsFitted"]["relativeL2"].get<double>() + 1e-9);
+        EXPECT_LE(prof["errorVsN"][2]["vsFitted"]["relativeL2"].get<double>(),
+                  prof["errorVsN"][0]["vsFitted"]["relativeL2"].get<double>() + 1e-9);
         EXPECT_LE(prof["fourierVsFitted"]["relativeL2"].get<double>(), 1e-3); // the hybrid keeps the budget
         EXPECT_NEAR(prof["fourierVsFitted"]["fluxRatio"].get<double>(), 1.0, 1e-3);
     }
@@ -209,5 +220,6 @@ TEST(CliCompare, WritesTheReport) {
         EXPECT_NEAR(j["diffraction"][mode]["fluxInFrame"].get<double>(), 1.0, 1e-4) << mode;
     EXPECT_GT(j["diffraction"]["tracedVsPhysical"]["relativeL2"].get<double>(), 0.0);
     EXPECT_NE(ff::test::readFile(out / "report.md").find("## Diffraction"), std::string::npos);
-    EXPECT_EQ(run("compare lenses/cooke-triplet-50mm-f5.lens --size 64x64 -o '" + out.string() + "'", env).code, 2); // no lights
+    EXPECT_EQ(run("compare lenses/cooke-triplet-50mm-f5.lens --size 64x64 -o '" + out.string() + "'", env).code,
+              2); // no lights
 }

@@ -1,17 +1,17 @@
 // `fourierflare simulate` on small generated plates, the shared real plates and the damaged corpus.
 
-#include "cli_runner.h"
-#include "test_support.h"
-
-#include <Imath/half.h>
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <Imath/half.h>
 #include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+
+#include "cli_runner.h"
+#include "test_support.h"
 
 using ff::test::run;
 namespace fs = std::filesystem;
@@ -48,7 +48,8 @@ TestPlate writePlate(const fs::path& path, int lightX, int lightY, float value, 
             for (int dx = 0; dx < 2; ++dx) t.set(lightX + dx, lightY + dy, value, value, value);
     OIIO::ImageSpec spec(kW, kH, 5, OIIO::TypeDesc::HALF);
     spec.channelnames = {"R", "G", "B", "A", "Z"};
-    spec.channelformats = {OIIO::TypeDesc::HALF, OIIO::TypeDesc::HALF, OIIO::TypeDesc::HALF, OIIO::TypeDesc::HALF, OIIO::TypeDesc::FLOAT};
+    spec.channelformats = {OIIO::TypeDesc::HALF, OIIO::TypeDesc::HALF, OIIO::TypeDesc::HALF, OIIO::TypeDesc::HALF,
+                           OIIO::TypeDesc::FLOAT};
     spec.alpha_channel = 3;
     spec.z_channel = 4;
     spec.x = originX;
@@ -65,7 +66,8 @@ TestPlate writePlate(const fs::path& path, int lightX, int lightY, float value, 
         all[p * 5 + 4] = t.z[p];
     }
     auto out = OIIO::ImageOutput::create(path.string());
-    EXPECT_TRUE(out && out->open(path.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, all.data()) && out->close());
+    EXPECT_TRUE(out && out->open(path.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, all.data()) &&
+                out->close());
     return t;
 }
 
@@ -77,7 +79,9 @@ struct Exr {
             if (spec.channelnames[static_cast<std::size_t>(i)] == name) return i;
         return -1;
     }
-    float at(std::size_t p, int c) const { return pixels[p * static_cast<std::size_t>(spec.nchannels) + static_cast<std::size_t>(c)]; }
+    float at(std::size_t p, int c) const {
+        return pixels[p * static_cast<std::size_t>(spec.nchannels) + static_cast<std::size_t>(c)];
+    }
 };
 
 Exr readExr(const fs::path& path) {
@@ -91,7 +95,8 @@ Exr readExr(const fs::path& path) {
 }
 
 std::string simulate(const fs::path& plate, const fs::path& out, const std::string& extra = "") {
-    return "simulate --lens " + kLens + " --plate '" + plate.string() + "' -o '" + out.string() + "' --table-grid 8 " + extra;
+    return "simulate --lens " + kLens + " --plate '" + plate.string() + "' -o '" + out.string() + "' --table-grid 8 " +
+           extra;
 }
 
 } // namespace
@@ -99,8 +104,10 @@ std::string simulate(const fs::path& plate, const fs::path& out, const std::stri
 TEST(CliSimulate, KeepsEveryChannelAndAddsFlareLayers) {
     ff::test::TempDir dir;
     const TestPlate plate = writePlate(dir / "plate.exr", 20, 12, 400.0f, 3, 2);
-    const auto r = run(simulate(dir / "plate.exr", dir / "out.exr", "--preview '" + (dir / "out.png").string() + "' --lights-out '" +
-                                                                        (dir / "lights.json").string() + "'"), kEnv);
+    const auto r = run(simulate(dir / "plate.exr", dir / "out.exr",
+                                "--preview '" + (dir / "out.png").string() + "' --lights-out '" +
+                                    (dir / "lights.json").string() + "'"),
+                       kEnv);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("1 lights above luminance"), std::string::npos) << r.err;
     const Exr e = readExr(dir / "out.exr");
@@ -126,7 +133,7 @@ TEST(CliSimulate, KeepsEveryChannelAndAddsFlareLayers) {
         ASSERT_EQ(e.at(p, A), asHalf(plate.rgba[p * 4 + 3]));
         ASSERT_EQ(e.at(p, Z), plate.z[p]);
         ASSERT_EQ(e.at(p, fR), e.at(p, gR) + e.at(p, dR)); // flare = ghosts + diffraction
-        ASSERT_EQ(e.at(p, cR), e.at(p, R) + e.at(p, fR)); // composite = plate + flare
+        ASSERT_EQ(e.at(p, cR), e.at(p, R) + e.at(p, fR));  // composite = plate + flare
         ghosts += e.at(p, gR);
         diffraction += e.at(p, dR);
         spread += std::max(0.0f, e.at(p, dR));
@@ -224,15 +231,18 @@ TEST(CliSimulate, CentredLightFluxAndSymmetryFollowTheTable) {
             const double flux = wl["relative_flux"][0].get<double>();
             if (flux <= 0.0) continue;
             // On the axis the radial direction is image y: sigma_t along x, sigma_r along y.
-            const double sx = wl["gaussian"]["sigma_tangential_mm"][0].get<double>(), sy = wl["gaussian"]["sigma_radial_mm"][0].get<double>();
-            expected += lightFlux * flux * std::erf(halfW / (std::sqrt(2.0) * sx)) * std::erf(halfH / (std::sqrt(2.0) * sy));
+            const double sx = wl["gaussian"]["sigma_tangential_mm"][0].get<double>(),
+                         sy = wl["gaussian"]["sigma_radial_mm"][0].get<double>();
+            expected +=
+                lightFlux * flux * std::erf(halfW / (std::sqrt(2.0) * sx)) * std::erf(halfH / (std::sqrt(2.0) * sy));
         }
         const int ch = e.channel(names[c]);
         ASSERT_GE(ch, 0);
         double sum = 0.0, peak = 0.0, asym = 0.0;
         for (int y = 0; y < kH; ++y)
             for (int x = 0; x < kW; ++x) {
-                const float v = e.at(static_cast<std::size_t>(y) * kW + x, ch), m = e.at(static_cast<std::size_t>(kH - 1 - y) * kW + (kW - 1 - x), ch);
+                const float v = e.at(static_cast<std::size_t>(y) * kW + x, ch),
+                            m = e.at(static_cast<std::size_t>(kH - 1 - y) * kW + (kW - 1 - x), ch);
                 sum += v;
                 peak = std::max(peak, double(v));
                 asym = std::max(asym, double(std::abs(v - m)));
@@ -267,7 +277,8 @@ TEST(CliSimulate, PlatesWithoutLightsAndTinyPlates) {
     OIIO::ImageSpec spec(1, 1, 3, OIIO::TypeDesc::FLOAT);
     const float px[3] = {100.0f, 100.0f, 100.0f};
     auto out = OIIO::ImageOutput::create((dir / "one.exr").string());
-    ASSERT_TRUE(out->open((dir / "one.exr").string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, px) && out->close());
+    ASSERT_TRUE(out->open((dir / "one.exr").string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, px) &&
+                out->close());
     const auto one = run(simulate(dir / "one.exr", dir / "one-out.exr"), kEnv);
     EXPECT_EQ(one.code, 0) << one.err;
 }
@@ -288,7 +299,8 @@ TEST(CliSimulate, RefusesBadInputsWithoutWritingAnything) {
     {
         std::string bytes = ff::test::readFile(dir / "small.exr");
         const int huge[4] = {0, 0, 16383, 16383};
-        for (const std::string& key : {std::string("dataWindow\0box2i\0", 17), std::string("displayWindow\0box2i\0", 20)}) {
+        for (const std::string& key :
+             {std::string("dataWindow\0box2i\0", 17), std::string("displayWindow\0box2i\0", 20)}) {
             const auto at = bytes.find(key);
             ASSERT_NE(at, std::string::npos);
             std::memcpy(&bytes[at + key.size() + 4], huge, sizeof huge);
@@ -298,11 +310,13 @@ TEST(CliSimulate, RefusesBadInputsWithoutWritingAnything) {
     }
     const auto huge = run(simulate(dir / "huge.exr", out), kEnv);
     EXPECT_EQ(huge.code, 2) << huge.err;
-    EXPECT_NE(huge.err.find("16384x16384 = 268435456 pixels, above the limit of 67108864 (--max-pixels raises it)"), std::string::npos) << huge.err;
+    EXPECT_NE(huge.err.find("16384x16384 = 268435456 pixels, above the limit of 67108864 (--max-pixels raises it)"),
+              std::string::npos)
+        << huge.err;
     EXPECT_FALSE(fs::exists(out));
     writePlate(dir / "plate.exr", 20, 12, 400.0f);
-    EXPECT_EQ(run(simulate(dir / "plate.exr", dir / "plate.exr"), kEnv).code, 2);  // output = input
-    EXPECT_EQ(run(simulate(dir / "plate.exr", dir / "out.png"), kEnv).code, 2);    // not an EXR
+    EXPECT_EQ(run(simulate(dir / "plate.exr", dir / "plate.exr"), kEnv).code, 2); // output = input
+    EXPECT_EQ(run(simulate(dir / "plate.exr", dir / "out.png"), kEnv).code, 2);   // not an EXR
     const auto folder = run(simulate(dir / "plate.exr", dir / "no" / "such" / "folder.exr"), kEnv);
     EXPECT_EQ(folder.code, 1) << folder.err;
     EXPECT_EQ(run(simulate(dir / "plate.exr", out, "--threshold max:2"), kEnv).code, 2);
@@ -375,8 +389,8 @@ TEST(CliSimulate, SequencesRenderEveryFrame) {
     ff::test::TempDir dir;
     writePlate(dir / "shot.0007.exr", 20, 12, 400.0f);
     writePlate(dir / "shot.0008.exr", 60, 40, 400.0f);
-    const auto r = run("simulate --lens " + kLens + " --plate '" + (dir / "shot.%04d.exr").string() + "' --frames 7-8 -o '" +
-                           (dir / "out.%04d.exr").string() + "' --table-grid 8",
+    const auto r = run("simulate --lens " + kLens + " --plate '" + (dir / "shot.%04d.exr").string() +
+                           "' --frames 7-8 -o '" + (dir / "out.%04d.exr").string() + "' --table-grid 8",
                        kEnv);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_TRUE(fs::exists(dir / "out.0007.exr"));
@@ -385,7 +399,8 @@ TEST(CliSimulate, SequencesRenderEveryFrame) {
 
 TEST(CliSimulate, SharedPlatesRun) {
     const fs::path plates = ff::test::sharedDataDir() / "plates";
-    if (!fs::exists(plates)) GTEST_SKIP() << "shared plates not found at " << plates << " (they are not part of the repository)";
+    if (!fs::exists(plates))
+        GTEST_SKIP() << "shared plates not found at " << plates << " (they are not part of the repository)";
     ff::test::TempDir dir;
     for (const char* name : {"Desk.exr", "CandleGlass.exr", "BrightRingsNanInf.exr"}) {
         const auto r = run(simulate(plates / name, dir / "out.exr"), kEnv);
@@ -403,7 +418,8 @@ TEST(CliSimulate, SharedPlatesRun) {
 
 TEST(CliSimulate, DamagedFilesFailCleanlyAndQuickly) {
     const fs::path damaged = ff::test::sharedDataDir() / "damaged";
-    if (!fs::exists(damaged)) GTEST_SKIP() << "damaged corpus not found at " << damaged << " (it is not part of the repository)";
+    if (!fs::exists(damaged))
+        GTEST_SKIP() << "damaged corpus not found at " << damaged << " (it is not part of the repository)";
     ff::test::TempDir dir;
     int files = 0;
     for (const auto& entry : fs::directory_iterator(damaged)) {

@@ -1,14 +1,14 @@
 // `fourierflare ghosts` and `fourierflare render` as a user runs them.
 
-#include "cli_runner.h"
-#include "test_support.h"
-
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <numeric>
+
+#include "cli_runner.h"
+#include "test_support.h"
 
 using ff::test::run;
 
@@ -36,9 +36,10 @@ TEST(CliGhosts, ReportsAll45GhostsOfTheDoubleGauss) {
 TEST(CliGhosts, TextReportAndTopK) {
     const auto r = run("ghosts lenses/cooke-triplet-50mm-f5.lens --angle 5 --top 3");
     ASSERT_EQ(r.code, 0) << r.err;
-    EXPECT_NE(r.out.find("6 reflecting interfaces -> 15 two-bounce ghosts, the 3 strongest shown"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("6 reflecting interfaces -> 15 two-bounce ghosts, the 3 strongest shown"), std::string::npos)
+        << r.out;
     EXPECT_NE(r.out.find("total ghost energy / direct energy"), std::string::npos);
-    EXPECT_EQ(run("ghosts lenses/cooke-triplet-50mm-f5.lens").code, 2);                  // --angle is required
+    EXPECT_EQ(run("ghosts lenses/cooke-triplet-50mm-f5.lens").code, 2); // --angle is required
     EXPECT_EQ(run("ghosts lenses/cooke-triplet-50mm-f5.lens --angle 5 --coating x").code, 2);
 }
 
@@ -76,12 +77,16 @@ TEST(CliRender, WritesAFluxExrWithProvenanceAndAPreview) {
 TEST(CliRender, LightPositionAndErrors) {
     ff::test::TempDir dir;
     const std::string exr = (dir / "l.exr").string();
-    const auto centre = run("render lenses/cooke-triplet-50mm-f5.lens --light 40,10 --size 80x60 --grid 8 -o '" + exr + "'");
+    const auto centre =
+        run("render lenses/cooke-triplet-50mm-f5.lens --light 40,10 --size 80x60 --grid 8 -o '" + exr + "'");
     EXPECT_EQ(centre.code, 0) << centre.err;
     EXPECT_NE(centre.err.find("traced 15 ghosts"), std::string::npos) << centre.err;
     EXPECT_EQ(run("render lenses/cooke-triplet-50mm-f5.lens --size 80x60 -o '" + exr + "'").code, 2); // no source
     EXPECT_EQ(run("render lenses/cooke-triplet-50mm-f5.lens --angle 5 --size 80 -o '" + exr + "'").code, 2);
-    EXPECT_EQ(run("render lenses/cooke-triplet-50mm-f5.lens --angle 5 --size 80x60 -o lenses/cooke-triplet-50mm-f5.lens").code, 2);
+    EXPECT_EQ(
+        run("render lenses/cooke-triplet-50mm-f5.lens --angle 5 --size 80x60 -o lenses/cooke-triplet-50mm-f5.lens")
+            .code,
+        2);
     // A light far outside the Cooke triplet's field (its chief ray cannot get there).
     const auto far = run("render lenses/cooke-triplet-50mm-f5.lens --light 100000,10 --size 80x60 -o '" + exr + "'");
     EXPECT_EQ(far.code, 2) << far.err;
@@ -99,9 +104,12 @@ TEST(CliTable, BuildsCachesAndExports) {
     const auto j = nlohmann::json::parse(ff::test::readFile(table));
     EXPECT_EQ(j["schema"], "fourierflare.ghost-table");
     EXPECT_EQ(j["ghosts"].size(), 15u);
-    const auto exported = run("export lenses/cooke-triplet-50mm-f5.lens --format unity --grid 8 --max-angle 10 --top 5 -o '" + asset + "'", env);
+    const auto exported = run(
+        "export lenses/cooke-triplet-50mm-f5.lens --format unity --grid 8 --max-angle 10 --top 5 -o '" + asset + "'",
+        env);
     ASSERT_EQ(exported.code, 0) << exported.err;
-    EXPECT_NE(exported.err.find("table from the cache"), std::string::npos) << exported.err; // same settings as the table command
+    EXPECT_NE(exported.err.find("table from the cache"), std::string::npos)
+        << exported.err; // same settings as the table command
     const std::string text = ff::test::readFile(asset);
     EXPECT_EQ(text.rfind("%YAML 1.1", 0), 0u);
     EXPECT_NE(text.find("m_Name: cooke"), std::string::npos);

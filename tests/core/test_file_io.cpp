@@ -1,8 +1,9 @@
 #include "core/error.h"
 #include "core/file_io.h"
-#include "test_support.h"
 
 #include <gtest/gtest.h>
+
+#include "test_support.h"
 
 using namespace ff;
 

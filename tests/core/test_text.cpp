@@ -45,7 +45,9 @@ TEST(Text, EditDistanceAndClosestNames) {
 }
 
 TEST(Text, QuotedEscapesControlCharactersAndShortens) {
-    EXPECT_EQ(ff::text::quoted("a\x01" "b"), "'a\\x01b'");
+    EXPECT_EQ(ff::text::quoted("a\x01"
+                               "b"),
+              "'a\\x01b'");
     EXPECT_EQ(ff::text::quoted(std::string(50, 'x')), "'" + std::string(40, 'x') + "...'");
 }
 

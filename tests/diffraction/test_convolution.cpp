@@ -1,12 +1,12 @@
 // The FFT convolution of the lights' image with the PSF against the direct sum (zero outside the
 // frame), and the diffraction layer's energy rule.
 
+#include "diffraction/convolution.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
-
-#include "diffraction/convolution.h"
 
 namespace ff::diffraction {
 namespace {

@@ -2,6 +2,7 @@
 // pupil (first dark ring, encircled energy, peak irradiance, pixel integrals by quadrature), the spikes
 // of an N-blade iris, and the energy and symmetry of the binned RGB kernel.
 
+#include "diffraction/psf.h"
 #include "optics/lens_loader.h"
 #include "optics/paraxial.h"
 
@@ -10,8 +11,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-
-#include "diffraction/psf.h"
 
 namespace ff::diffraction {
 namespace {
@@ -156,8 +155,8 @@ TEST(Psf, DefocusSpreadsTheLightOverTheGeometricBlurDisc) {
 TEST(Psf, RefusesSamplingsThatCannotHoldThePupil) {
     const Aperture a{0, 0.0, 4.0};
     const double lambdaN = 550e-6 * 4.0;
-    EXPECT_THROW(sampledPsf(a, 550.0, lambdaN * 0.6, 512), Error);  // 307 samples > 256: would alias
-    EXPECT_THROW(sampledPsf(a, 550.0, lambdaN / 32.0, 512), Error); // 16 samples across the pupil
+    EXPECT_THROW(sampledPsf(a, 550.0, lambdaN * 0.6, 512), Error);    // 307 samples > 256: would alias
+    EXPECT_THROW(sampledPsf(a, 550.0, lambdaN / 32.0, 512), Error);   // 16 samples across the pupil
     EXPECT_THROW(sampledPsf(a, 550.0, lambdaN / 4.0, 100000), Error); // too large a transform
 }
 

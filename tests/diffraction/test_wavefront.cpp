@@ -3,6 +3,7 @@
 // is symmetric about it, and the PSF made from an off-axis wavefront has the centroid of the
 // geometric spot (the Fraunhofer PSF's centroid is the mean of the rays' transverse aberrations).
 
+#include "diffraction/wavefront.h"
 #include "optics/lens_loader.h"
 #include "optics/paraxial.h"
 #include "trace/ghost_path.h"
@@ -14,8 +15,6 @@
 
 #include <cmath>
 #include <numbers>
-
-#include "diffraction/wavefront.h"
 
 namespace ff::diffraction {
 namespace {

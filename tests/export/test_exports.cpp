@@ -1,14 +1,15 @@
 #include "export/engine_exports.h"
 #include "optics/lens_loader.h"
-#include "test_support.h"
 
 #include <gtest/gtest.h>
-#include <yaml-cpp/yaml.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <yaml-cpp/yaml.h>
+
+#include "test_support.h"
 
 using namespace ff;
 using namespace ff::exporting;
@@ -35,9 +36,12 @@ std::vector<std::string> csvFields(const std::string& line) {
     std::string cur;
     bool quoted = false;
     for (char c : line) {
-        if (c == '"') quoted = !quoted;
-        else if (c == ',' && !quoted) f.push_back(cur), cur.clear();
-        else cur += c;
+        if (c == '"')
+            quoted = !quoted;
+        else if (c == ',' && !quoted)
+            f.push_back(cur), cur.clear();
+        else
+            cur += c;
     }
     f.push_back(cur);
     return f;
@@ -87,7 +91,8 @@ TEST(Exports, UnityAssetParsesAndMapsPositionScaleTintAndShape) {
             // position = 1 - m; uniformScale = 20 r / H; tint = colour with its largest channel 1.
             EXPECT_NEAR(el[i]["position"].as<double>(), 1.0 - ghosts[i].magnification, 1e-4);
             EXPECT_NEAR(el[i]["uniformScale"].as<double>(), 20.0 * ghosts[i].radiusMm / t.sensorSizeMm.second, 1e-4);
-            const double r = el[i]["tint"]["r"].as<double>(), g = el[i]["tint"]["g"].as<double>(), b = el[i]["tint"]["b"].as<double>();
+            const double r = el[i]["tint"]["r"].as<double>(), g = el[i]["tint"]["g"].as<double>(),
+                         b = el[i]["tint"]["b"].as<double>();
             EXPECT_NEAR(std::max({r, g, b}), 1.0, 1e-4);
             EXPECT_EQ(el[i]["flareType"].as<int>(), blades ? 2 : 1);
             if (blades) {
@@ -110,7 +115,8 @@ TEST(Exports, UnrealPresetMapsMagnificationToAlpha) {
         if (line.rfind("LensFlareTints[", 0) != 0) continue;
         unsigned i = 99;
         double r, g, b, a;
-        ASSERT_EQ(std::sscanf(line.c_str(), "LensFlareTints[%u]=(R=%lf,G=%lf,B=%lf,A=%lf)", &i, &r, &g, &b, &a), 5) << line;
+        ASSERT_EQ(std::sscanf(line.c_str(), "LensFlareTints[%u]=(R=%lf,G=%lf,B=%lf,A=%lf)", &i, &r, &g, &b, &a), 5)
+            << line;
         ASSERT_EQ(i, found++);
         if (i < ghosts.size()) {
             EXPECT_NEAR(a, (ghosts[i].magnification + 7.0) / 14.0, 1e-4);

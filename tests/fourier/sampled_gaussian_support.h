@@ -41,7 +41,8 @@ inline SampledGhost sampledGaussian(double cx, double cy, double sx, double sy, 
 // The continuous Gaussian's coefficient (1 / T) Int exp(-u^2 / 2 s^2) e^{i n w (u + c)} du, as
 // (cos part, sin part): s sqrt(2 pi) / T exp(-(n w s)^2 / 2) (cos, sin)(n w c).
 inline std::pair<double, double> gaussianTerm(int n, double s, double c, double T) {
-    const double w = 2.0 * std::numbers::pi / T, g = s * std::sqrt(2.0 * std::numbers::pi) / T * std::exp(-0.5 * (n * w * s) * (n * w * s));
+    const double w = 2.0 * std::numbers::pi / T,
+                 g = s * std::sqrt(2.0 * std::numbers::pi) / T * std::exp(-0.5 * (n * w * s) * (n * w * s));
     return {g * std::cos(n * w * c), g * std::sin(n * w * c)};
 }
 

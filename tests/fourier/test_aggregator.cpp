@@ -15,7 +15,8 @@ namespace {
 
 constexpr int kW = 160, kH = 96;
 
-std::vector<Ghost> randomGhosts(int count, Shape shape, double minSize, double maxSize, unsigned seed, double margin = 0.0) {
+std::vector<Ghost> randomGhosts(int count, Shape shape, double minSize, double maxSize, unsigned seed,
+                                double margin = 0.0) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     std::vector<Ghost> g(static_cast<std::size_t>(count));
@@ -89,7 +90,9 @@ TEST(FourierAggregator, SingleCentredGaussianHasTheAnalyticPixelValues) {
     g.flux = {1.0, 2.0, 3.0};
     const FourierRender f = renderFourier({g}, kW, kH, allFourier(1e-5));
     // Pixel [80, 81] x [48, 49]: flux x P(0 < X < 1) x P(0 < Y < 1) for the normal distributions.
-    auto mass = [](double a, double b, double s) { return 0.5 * (std::erf(b / (s * std::numbers::sqrt2)) - std::erf(a / (s * std::numbers::sqrt2))); };
+    auto mass = [](double a, double b, double s) {
+        return 0.5 * (std::erf(b / (s * std::numbers::sqrt2)) - std::erf(a / (s * std::numbers::sqrt2)));
+    };
     for (int c = 0; c < 3; ++c) {
         const double expected = g.flux[c] * mass(0, 1, 6.0) * mass(0, 1, 4.0);
         EXPECT_NEAR(f.image.channel[c][48 * kW + 80], expected, 1e-4 * expected);

@@ -1,9 +1,8 @@
 // The Fourier-Bessel variant: its Bessel values, its zeros, and the aggregated image against the
 // analytic sum of the same (isotropic Gaussian) ghosts at pixel centres.
 
-#include "fourier/bessel.h"
-
 #include "core/error.h"
+#include "fourier/bessel.h"
 
 #include <gtest/gtest.h>
 
@@ -18,7 +17,9 @@ TEST(FourierBessel, SeriesMatchesTheStandardLibrary) {
     std::vector<double> j(60);
     for (double x : {0.0, 1e-3, 0.5, 3.0, 17.3, 55.0, 240.0}) {
         besselSeries(x, 60, j.data());
-        for (int m = 0; m < 60; ++m) EXPECT_NEAR(j[static_cast<std::size_t>(m)], std::cyl_bessel_j(double(m), x), 1e-12) << "x " << x << " m " << m;
+        for (int m = 0; m < 60; ++m)
+            EXPECT_NEAR(j[static_cast<std::size_t>(m)], std::cyl_bessel_j(double(m), x), 1e-12)
+                << "x " << x << " m " << m;
     }
 }
 

@@ -22,7 +22,9 @@ constexpr double kPi = std::numbers::pi;
 // Gaussian: the transform of exp(-u^2 / 2 s^2) at n / T, over T: (s sqrt(2 pi) / T) exp(-(2 pi n s / T)^2 / 2).
 // cos^2(pi u / 2w) on |u| < w: (1/T) Int cos^2(pi u / 2w) cos(2 pi n u / T) du
 //   = (w/T) [S(t) + S(t - pi)/2 + S(t + pi)/2], S(u) = sin(u)/u, t = 2 pi n w / T.
-double S(double u) { return std::abs(u) < 1e-12 ? 1.0 : std::sin(u) / u; }
+double S(double u) {
+    return std::abs(u) < 1e-12 ? 1.0 : std::sin(u) / u;
+}
 double closedForm(Shape shape, int n, double width, double T) {
     if (shape == Shape::Gaussian) {
         const double b = 2.0 * kPi * n * width / T;
@@ -31,7 +33,9 @@ double closedForm(Shape shape, int n, double width, double T) {
     const double t = 2.0 * kPi * n * width / T;
     return width / T * (S(t) + 0.5 * S(t - kPi) + 0.5 * S(t + kPi));
 }
-double lineIntegral(Shape shape, double width) { return shape == Shape::Gaussian ? width * std::sqrt(2.0 * kPi) : width; }
+double lineIntegral(Shape shape, double width) {
+    return shape == Shape::Gaussian ? width * std::sqrt(2.0 * kPi) : width;
+}
 
 // Z of one ghost, channel c, over n < nb, m < mb, added into the plan-sized matrix z (2N x 2M):
 // A = a cos(n wx x) cos(m wy y), B = a cos sin, C = a sin cos, D = a sin sin, a = alpha p_n q_m.
@@ -92,7 +96,8 @@ TEST(GriddedAccumulation, MatchesTheClosedFormCoefficients) {
     for (Shape shape : {Shape::Gaussian, Shape::Cos2})
         for (double budget : {1e-2, 1e-3}) {
             SCOPED_TRACE(std::string(toString(shape)) + " budget " + std::to_string(budget));
-            const auto ghosts = randomGhosts(60, shape, shape == Shape::Gaussian ? 8.0 : 20.0, shape == Shape::Gaussian ? 60.0 : 150.0, W, H, 7);
+            const auto ghosts = randomGhosts(60, shape, shape == Shape::Gaussian ? 8.0 : 20.0,
+                                             shape == Shape::Gaussian ? 60.0 : 150.0, W, H, 7);
             const FourierSettings s = gridSettings(budget);
             const Plan plan = choosePlan(ghosts, W, H, s);
             ASSERT_GT(plan.fourier, 50u);
@@ -101,10 +106,13 @@ TEST(GriddedAccumulation, MatchesTheClosedFormCoefficients) {
             for (const AccumulationGroup& group : plan.groups) {
                 ASSERT_EQ(group.method, Accumulation::Grid);
                 for (std::size_t k : group.members)
-                    for (int c = 0; c < 3; ++c) addClosedForm(ghosts[k], c, group.n, group.m, plan.n, plan.m, plan.periodX, plan.periodY, expected[c]);
+                    for (int c = 0; c < 3; ++c)
+                        addClosedForm(ghosts[k], c, group.n, group.m, plan.n, plan.m, plan.periodX, plan.periodY,
+                                      expected[c]);
             }
             const double difference = relativeDifference(accumulate(ghosts, plan, s), expected);
-            RecordProperty(std::string("relative_difference_") + toString(shape) + "_" + std::to_string(budget), std::to_string(difference));
+            RecordProperty(std::string("relative_difference_") + toString(shape) + "_" + std::to_string(budget),
+                           std::to_string(difference));
             EXPECT_LT(difference, budget * s.trimFraction);
         }
 }
@@ -147,7 +155,8 @@ TEST(GriddedAccumulation, ImageMatchesTheDirectSumWithinTheBudget) {
     constexpr int W = 320, H = 180;
     for (Shape shape : {Shape::Gaussian, Shape::Cos2}) {
         SCOPED_TRACE(toString(shape));
-        const auto ghosts = randomGhosts(200, shape, shape == Shape::Gaussian ? 4.0 : 10.0, shape == Shape::Gaussian ? 40.0 : 100.0, W, H, 11);
+        const auto ghosts = randomGhosts(200, shape, shape == Shape::Gaussian ? 4.0 : 10.0,
+                                         shape == Shape::Gaussian ? 40.0 : 100.0, W, H, 11);
         const FourierSettings s = gridSettings(1e-3);
         const FourierRender r = renderFourier(ghosts, W, H, s);
         const FlareImage direct = renderDirect(ghosts, W, H);

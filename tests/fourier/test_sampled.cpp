@@ -2,10 +2,9 @@
 // written here (the continuous profile's series), and a non-separable profile reproduced by its
 // series.
 
+#include "core/error.h"
 #include "fourier/evaluate.h"
 #include "fourier/sampled.h"
-
-#include "core/error.h"
 #include "fourier/sampled_gaussian_support.h"
 
 #include <gtest/gtest.h>
@@ -38,8 +37,10 @@ TEST(SampledCoefficients, SampledGaussianMatchesTheClosedForm) {
                     const double norm = 1.0 / (2.0 * kPi * sx * sy) * rgb[c];
                     const auto [gc, gs] = gaussianTerm(n, sx, cx, z.periodX);
                     const auto [hc, hs] = gaussianTerm(m, sy, cy, z.periodY);
-                    worst = std::max({worst, std::abs(z.at(c, n, m) - norm * gc * hc), std::abs(z.at(c, n, z.m + m) - norm * gc * hs),
-                                      std::abs(z.at(c, z.n + n, m) - norm * gs * hc), std::abs(z.at(c, z.n + n, z.m + m) - norm * gs * hs)});
+                    worst = std::max({worst, std::abs(z.at(c, n, m) - norm * gc * hc),
+                                      std::abs(z.at(c, n, z.m + m) - norm * gc * hs),
+                                      std::abs(z.at(c, z.n + n, m) - norm * gs * hc),
+                                      std::abs(z.at(c, z.n + n, z.m + m) - norm * gs * hs)});
                 }
         // Float32 samples: each carries a relative rounding of 6e-8.
         EXPECT_LT(worst, 1e-6 * a00) << "step " << step;
@@ -82,7 +83,8 @@ TEST(SampledCoefficients, NonSeparableProfileIsReproducedByItsSeries) {
         for (int y = 0; y < H; ++y)
             for (int x = 0; x < W; ++x) {
                 const bool inside = x >= g.x0 && x < g.x0 + g.width && y >= g.y0 && y < g.y0 + g.height;
-                const double want = inside ? g.values[(static_cast<std::size_t>(y - 16) * g.width + (x - 30)) * 3 + c] : 0.0;
+                const double want =
+                    inside ? g.values[(static_cast<std::size_t>(y - 16) * g.width + (x - 30)) * 3 + c] : 0.0;
                 const double d = image.channel[c][static_cast<std::size_t>(y) * W + x] - want;
                 num += d * d;
                 den += want * want;

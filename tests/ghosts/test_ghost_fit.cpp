@@ -21,8 +21,8 @@ struct Synthetic {
 };
 
 // The grid's corner is at (x0, y0) of the pupil plane, by default where it centres the grid on (0, 0).
-Synthetic synthetic(int n, double h, double cx, double cy, const std::function<double(double, double)>& weight, double x0 = NAN,
-                    double y0 = NAN) {
+Synthetic synthetic(int n, double h, double cx, double cy, const std::function<double(double, double)>& weight,
+                    double x0 = NAN, double y0 = NAN) {
     Synthetic s;
     s.b.n = n;
     s.b.cell = h;
@@ -65,7 +65,9 @@ TEST(GhostFit, ProfilesIntegrateToTheirStatedAreas) {
 TEST(GhostFit, RecoversAKnownGaussian) {
     // sigma_x (tangential) = 0.30 mm, sigma_y (radial) = 0.45 mm, centred at (1.0, 6.0).
     const double sx = 0.30, sy = 0.45;
-    const Synthetic s = synthetic(120, 0.025, 1.0, 6.0, [&](double x, double y) { return std::exp(-0.5 * (x * x / (sx * sx) + y * y / (sy * sy))); });
+    const Synthetic s = synthetic(120, 0.025, 1.0, 6.0, [&](double x, double y) {
+        return std::exp(-0.5 * (x * x / (sx * sx) + y * y / (sy * sy)));
+    });
     const GhostFit f = fitGhost(s.b, s.c, s.k, 1.0);
     EXPECT_NEAR(f.flux, s.flux, 1e-12 * s.flux); // the fit keeps the traced flux
     EXPECT_NEAR(f.centroidX, 1.0, 1e-9);
@@ -74,7 +76,8 @@ TEST(GhostFit, RecoversAKnownGaussian) {
     EXPECT_NEAR(f.sigmaR, sy, 0.01 * sy);
     EXPECT_NEAR(f.gaussian.widthT, sx, 0.01 * sx);
     EXPECT_NEAR(f.gaussian.widthR, sy, 0.01 * sy);
-    EXPECT_NEAR(f.gaussian.peak * profileArea(Profile::Gaussian, f.gaussian.widthR, f.gaussian.widthT), s.flux, 1e-12 * s.flux);
+    EXPECT_NEAR(f.gaussian.peak * profileArea(Profile::Gaussian, f.gaussian.widthR, f.gaussian.widthT), s.flux,
+                1e-12 * s.flux);
     EXPECT_LT(f.gaussian.error, 0.01);
     EXPECT_GT(f.cos2.error, f.gaussian.error); // the other profile fits worse
     EXPECT_EQ(f.survivingFraction, 1.0);

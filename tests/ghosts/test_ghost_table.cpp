@@ -3,7 +3,6 @@
 #include "ghosts/table_cache.h"
 #include "ghosts/table_json.h"
 #include "optics/lens_loader.h"
-#include "test_support.h"
 #include "trace/bundle_moments.h"
 #include "trace/embree_tracer.h"
 #include "trace/ghost_analysis.h"
@@ -17,6 +16,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+
+#include "test_support.h"
 
 using namespace ff;
 using namespace ff::ghosts;
@@ -63,7 +64,8 @@ TEST(GhostTable, CoversEveryGhostAndInterpolatesThroughItsEntries) {
     EXPECT_GT(r.start.seconds, 0.0);
     // It names the worst interval: two neighbouring angles of that ghost.
     EXPECT_DOUBLE_EQ(r.worst.error, t.interpolationError);
-    const auto named = std::find_if(t.ghosts.begin(), t.ghosts.end(), [&](const TableGhost& g) { return g.pair.label() == r.worst.ghost; });
+    const auto named = std::find_if(t.ghosts.begin(), t.ghosts.end(),
+                                    [&](const TableGhost& g) { return g.pair.label() == r.worst.ghost; });
     ASSERT_NE(named, t.ghosts.end()) << r.worst.ghost;
     const auto from = std::find(named->anglesDeg.begin(), named->anglesDeg.end(), r.worst.fromDeg);
     ASSERT_NE(from, named->anglesDeg.end());
@@ -93,7 +95,8 @@ TEST(GhostTable, CoversEveryGhostAndInterpolatesThroughItsEntries) {
     for (const auto& g : t.ghosts)
         for (const auto& en : g.entries[0]) {
             if (en.flux <= 0.0) continue;
-            EXPECT_NEAR(en.gaussian.peak * profileArea(Profile::Gaussian, en.gaussian.widthR, en.gaussian.widthT), en.flux, 1e-9 * en.flux);
+            EXPECT_NEAR(en.gaussian.peak * profileArea(Profile::Gaussian, en.gaussian.widthR, en.gaussian.widthT),
+                        en.flux, 1e-9 * en.flux);
         }
 }
 
@@ -129,7 +132,8 @@ TEST(GhostTable, AGhostSwitchedOnWithinAnIntervalKeepsItsShape) {
     EXPECT_DOUBLE_EQ(e.flux, 0.25e-4);
     EXPECT_DOUBLE_EQ(e.surviving, 0.1); // 0.4 faded linearly too
     // The profile still carries exactly the ghost's (faded) flux.
-    EXPECT_NEAR(e.gaussian.peak * profileArea(Profile::Gaussian, e.gaussian.widthR, e.gaussian.widthT), e.flux, 1e-12 * e.flux);
+    EXPECT_NEAR(e.gaussian.peak * profileArea(Profile::Gaussian, e.gaussian.widthR, e.gaussian.widthT), e.flux,
+                1e-12 * e.flux);
     EXPECT_NEAR(e.cos2.peak * profileArea(Profile::Cos2, e.cos2.widthR, e.cos2.widthT), e.flux, 1e-12 * e.flux);
     EXPECT_DOUBLE_EQ(t.magnification(0, 0, 17.5), 12.0 / (8.8 + 0.75 * (18.2 - 8.8)));
     // Between two lit entries, plain linear interpolation.
@@ -208,7 +212,8 @@ TEST(GhostTable, InterpolatesWithinItsToleranceBetweenEntries) {
 
     std::vector<double> mids;
     for (const TableGhost& g : t.ghosts)
-        for (std::size_t a = 0; a + 1 < g.anglesDeg.size(); ++a) mids.push_back(0.5 * (g.anglesDeg[a] + g.anglesDeg[a + 1]));
+        for (std::size_t a = 0; a + 1 < g.anglesDeg.size(); ++a)
+            mids.push_back(0.5 * (g.anglesDeg[a] + g.anglesDeg[a + 1]));
     std::sort(mids.begin(), mids.end());
     mids.erase(std::unique(mids.begin(), mids.end()), mids.end());
     const auto direct = traceEntries(lens, s, mids);
@@ -220,22 +225,25 @@ TEST(GhostTable, InterpolatesWithinItsToleranceBetweenEntries) {
         const std::vector<double>& own = t.ghosts[g].anglesDeg;
         for (std::size_t a = 0; a + 1 < own.size(); ++a) {
             const double mid = 0.5 * (own[a] + own[a + 1]);
-            const std::size_t m = static_cast<std::size_t>(std::lower_bound(mids.begin(), mids.end(), mid) - mids.begin());
+            const std::size_t m =
+                static_cast<std::size_t>(std::lower_bound(mids.begin(), mids.end(), mid) - mids.begin());
             double strongest = 0.0;
             for (const auto& other : direct[m]) strongest = std::max(strongest, other[0].flux);
             const TableEntry& d = direct[m][g][0];
             if (d.flux < 0.01 * strongest || d.sigmaR <= 0.0 || d.sigmaT <= 0.0) continue;
             const TableEntry i = t.at(g, 0, mid);
-            const double e = std::max({std::abs(i.centroidY - d.centroidY) / std::max({std::abs(d.centroidY), d.sigmaR, floorMm}),
-                                       std::abs(i.sigmaR - d.sigmaR) / d.sigmaR, std::abs(i.sigmaT - d.sigmaT) / d.sigmaT});
+            const double e =
+                std::max({std::abs(i.centroidY - d.centroidY) / std::max({std::abs(d.centroidY), d.sigmaR, floorMm}),
+                          std::abs(i.sigmaR - d.sigmaR) / d.sigmaR, std::abs(i.sigmaT - d.sigmaT) / d.sigmaT});
             worst = std::max(worst, e);
             ++compared;
             EXPECT_LT(e, s.interpolationTolerance) << t.ghosts[g].pair.label() << " at " << mid << " deg";
         }
     }
     EXPECT_GT(compared, 100);
-    std::printf("Tessar, %zu entries (%.1f s): builder's worst %.2f %%; %d ghost entries at fresh mid-angles: worst %.2f %%\n",
-                t.entryCount(), t.buildSeconds, 100.0 * t.interpolationError, compared, 100.0 * worst);
+    std::printf(
+        "Tessar, %zu entries (%.1f s): builder's worst %.2f %%; %d ghost entries at fresh mid-angles: worst %.2f %%\n",
+        t.entryCount(), t.buildSeconds, 100.0 * t.interpolationError, compared, 100.0 * worst);
 }
 
 // The entries themselves against a brute-force pass: every ghost carrying at least 1 % of the
@@ -280,8 +288,10 @@ TEST(GhostTable, EntriesAgreeWithABruteForcePassOverTheWholePupil) {
             tracer.trace(L, steps, whole.rays, hits);
             double x0 = half, x1 = -half, y0 = half, y1 = -half;
             for (std::size_t r = 0; r < hits.size(); ++r)
-                if (whole.launched[r] && hits[r].status == optics::RayStatus::Ok && trace::landsWithin(hits[r], maxRadius)) {
-                    const double x = whole.x0 + (double(r % n) + 0.5) * whole.cell, y = whole.y0 + (double(r / n) + 0.5) * whole.cell;
+                if (whole.launched[r] && hits[r].status == optics::RayStatus::Ok &&
+                    trace::landsWithin(hits[r], maxRadius)) {
+                    const double x = whole.x0 + (double(r % n) + 0.5) * whole.cell,
+                                 y = whole.y0 + (double(r / n) + 0.5) * whole.cell;
                     x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
                 }
             ASSERT_LE(x0, x1) << pairs[g].label();
@@ -292,7 +302,8 @@ TEST(GhostTable, EntriesAgreeWithABruteForcePassOverTheWholePupil) {
             const trace::BundleMoments m = trace::measureBundle(lit, hits, 1.0, maxRadius);
             const double sigmaR = std::sqrt(m.myy), sigmaT = std::sqrt(m.mxx);
             ++compared;
-            worst = std::max({worst, std::abs(e.centroidY - m.centroidY) / std::max({std::abs(m.centroidY), sigmaR, floorMm}),
+            worst = std::max({worst,
+                              std::abs(e.centroidY - m.centroidY) / std::max({std::abs(m.centroidY), sigmaR, floorMm}),
                               std::abs(e.sigmaR / sigmaR - 1.0), std::abs(e.sigmaT / sigmaT - 1.0)});
             const std::string at = pairs[g].label() + " at " + std::to_string(angles[a]) + " deg";
             EXPECT_NEAR(e.centroidY, m.centroidY, 0.005 * std::max({std::abs(m.centroidY), sigmaR, floorMm})) << at;
@@ -313,8 +324,9 @@ using Entries = std::vector<std::vector<std::vector<TableEntry>>>; ///< traceEnt
 // the sensor half-height), the spreads relative to themselves, each checked against the tolerance;
 // the flux relative to itself too where withFlux. Every stride-th interior angle from the second is
 // checked. Returns the worst.
-double expectMidAnglesWithin(const Entries& e, const std::vector<double>& angles, std::size_t w, const optics::Lens& lens,
-                             const TableSettings& s, std::size_t stride, bool withFlux = false) {
+double expectMidAnglesWithin(const Entries& e, const std::vector<double>& angles, std::size_t w,
+                             const optics::Lens& lens, const TableSettings& s, std::size_t stride,
+                             bool withFlux = false) {
     const double floorMm = 0.01 * 0.5 * lens.sensorMm.value_or(s.sensorSizeMm).second;
     double worst = 0.0;
     for (std::size_t i = 1; i + 1 < angles.size(); i += stride) {
@@ -323,7 +335,8 @@ double expectMidAnglesWithin(const Entries& e, const std::vector<double>& angles
         const TableEntry& mid = e[i][0][w];
         EXPECT_GT(mid.flux, 0.0) << angles[i] << " deg";
         if (mid.flux <= 0.0) continue;
-        const double c = std::abs(0.5 * (lo.centroidY + hi.centroidY) - mid.centroidY) / std::max({std::abs(mid.centroidY), mid.sigmaR, floorMm});
+        const double c = std::abs(0.5 * (lo.centroidY + hi.centroidY) - mid.centroidY) /
+                         std::max({std::abs(mid.centroidY), mid.sigmaR, floorMm});
         const double r = std::abs(0.5 * (lo.sigmaR + hi.sigmaR) - mid.sigmaR) / mid.sigmaR;
         const double t = std::abs(0.5 * (lo.sigmaT + hi.sigmaT) - mid.sigmaT) / mid.sigmaT;
         const double f = withFlux ? std::abs(0.5 * (lo.flux + hi.flux) - mid.flux) / mid.flux : 0.0;
@@ -363,8 +376,8 @@ Sweep sweep(const char* lensFile, const char* label, double a0, double step, int
 void expectSweepWithin(const Sweep& w, bool withFlux = false) {
     if (w.e.size() != w.angles.size()) return; // reported by sweep
     const double worst = expectMidAnglesWithin(w.e, w.angles, w.w, w.lens, w.s, 1, withFlux);
-    std::printf("%s at %.6f-%.6f deg, %.0f nm: worst mid-angle error %.3f %%\n", w.label, w.angles.front(), w.angles.back(),
-                w.s.wavelengthsNm[w.w], 100.0 * worst);
+    std::printf("%s at %.6f-%.6f deg, %.0f nm: worst mid-angle error %.3f %%\n", w.label, w.angles.front(),
+                w.angles.back(), w.s.wavelengthsNm[w.w], 100.0 * worst);
 }
 
 } // namespace

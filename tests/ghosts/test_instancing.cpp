@@ -1,11 +1,12 @@
 #include "ghosts/instancing.h"
 #include "optics/lens_loader.h"
-#include "test_support.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
+
+#include "test_support.h"
 
 using namespace ff;
 using namespace ff::ghosts;

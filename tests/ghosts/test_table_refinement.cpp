@@ -1,11 +1,12 @@
 #include "ghosts/table_refinement.h"
 #include "optics/lens_loader.h"
-#include "test_support.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+
+#include "test_support.h"
 
 using namespace ff::ghosts;
 

@@ -12,8 +12,8 @@ namespace ff::gpu::testing {
 
 /// Ghosts of one shape at random positions in a W x H frame (some hanging over its edges), sizes
 /// log-uniform in [minSize, maxSize], per-axis and per-channel widths, random fluxes.
-inline std::vector<fourier::Ghost> randomGhosts(int count, fourier::Shape shape, int W, int H, unsigned seed, double minSize = 2.0,
-                                                double maxSize = 20.0) {
+inline std::vector<fourier::Ghost> randomGhosts(int count, fourier::Shape shape, int W, int H, unsigned seed,
+                                                double minSize = 2.0, double maxSize = 20.0) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     std::vector<fourier::Ghost> g(static_cast<std::size_t>(count));

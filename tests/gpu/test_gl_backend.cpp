@@ -3,13 +3,14 @@
 // level, for both profiles; then its composite against image::composite.
 
 #include "fourier/render.h"
-#include "gl_test_support.h"
 #include "gpu/gl_backend.h"
 #include "image/composite.h"
 
 #include <gtest/gtest.h>
 
 #include <cstring>
+
+#include "gl_test_support.h"
 
 namespace ff::gpu {
 namespace {
@@ -32,8 +33,10 @@ TEST(GlBackend, RendersWhatTheCpuRenders) {
         const fourier::FourierRender cpu = fourier::renderFourier(ghosts, W, H, s);
         s.backend = gl;
         const fourier::FourierRender gpu = fourier::renderFourier(ghosts, W, H, s);
-        std::printf("%s: %s; GL vs CPU relative L2 %.2e, largest difference %.2e of the peak\n", fourier::toString(shape), cpu.describe().c_str(),
-                    testing::difference(gpu.image, cpu.image).relativeL2, testing::difference(gpu.image, cpu.image).worst / testing::difference(gpu.image, cpu.image).peak);
+        std::printf("%s: %s; GL vs CPU relative L2 %.2e, largest difference %.2e of the peak\n",
+                    fourier::toString(shape), cpu.describe().c_str(),
+                    testing::difference(gpu.image, cpu.image).relativeL2,
+                    testing::difference(gpu.image, cpu.image).worst / testing::difference(gpu.image, cpu.image).peak);
         ASSERT_GT(cpu.plan.fourier, 0u);
         ASSERT_GT(cpu.plan.direct, 0u) << "the plan should split the ghosts (hybrid)";
         ASSERT_TRUE(cpu.coarse.has_value());
@@ -50,7 +53,8 @@ TEST(GlBackend, RendersWhatTheCpuRenders) {
         // Composited on the GPU from the frame it holds: the CPU's composite of the read-back flare.
         std::vector<float> plate(static_cast<std::size_t>(3) * W * H);
         for (std::size_t i = 0; i < plate.size(); ++i) plate[i] = 0.25f * float(i % 11);
-        const std::vector<float> flare = gpu.image.interleaved(), a = gl->composite(plate), b = image::composite(plate, flare);
+        const std::vector<float> flare = gpu.image.interleaved(), a = gl->composite(plate),
+                                 b = image::composite(plate, flare);
         EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(float)), 0);
     }
 }

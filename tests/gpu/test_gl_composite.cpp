@@ -24,8 +24,14 @@ TEST(GlComposite, IsBitIdenticalToTheCpuComposite) {
     const std::size_t n = static_cast<std::size_t>(3) * W * H;
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> u(-2.0f, 50.0f);
-    const float special[] = {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
-                             -0.0f, 1e-40f, -3e-39f, 3.4e38f, 65504.0f};
+    const float special[] = {std::numeric_limits<float>::quiet_NaN(),
+                             std::numeric_limits<float>::infinity(),
+                             -std::numeric_limits<float>::infinity(),
+                             -0.0f,
+                             1e-40f,
+                             -3e-39f,
+                             3.4e38f,
+                             65504.0f};
     std::vector<float> plate(n), flare(n);
     for (std::size_t i = 0; i < n; ++i) {
         plate[i] = i % 5 == 0 ? special[(i / 5) % std::size(special)] : u(rng);
@@ -42,7 +48,8 @@ TEST(GlComposite, IsBitIdenticalToTheCpuComposite) {
     int differing = 0;
     for (std::size_t i = 0; i < n; ++i)
         if (std::memcmp(&gpu[i], &cpu[i], sizeof(float)) != 0 && ++differing <= 5)
-            ADD_FAILURE() << "value " << i << ": plate " << plate[i] << " + flare " << flare[i] << ": gl " << gpu[i] << ", cpu " << cpu[i];
+            ADD_FAILURE() << "value " << i << ": plate " << plate[i] << " + flare " << flare[i] << ": gl " << gpu[i]
+                          << ", cpu " << cpu[i];
     EXPECT_EQ(differing, 0);
     // Where the flare is zero the composite is the plate, bits and all.
     for (std::size_t i = 0; i < n; i += 3) EXPECT_EQ(std::memcmp(&cpu[i], &plate[i], sizeof(float)), 0) << i;

@@ -3,11 +3,12 @@
 // drawn on top of an image that is not zero (the shaders add); in one batch and in many.
 
 #include "fourier/direct.h"
-#include "gl_test_support.h"
 #include "gpu/gl_context.h"
 #include "gpu/gl_direct.h"
 
 #include <gtest/gtest.h>
+
+#include "gl_test_support.h"
 
 namespace ff::gpu {
 namespace {
@@ -24,7 +25,8 @@ TEST(GlDirect, MatchesTheCpuDrawing) {
             const int W = 150, H = 90; // not multiples of the 16-pixel tile
             const auto ghosts = testing::randomGhosts(300, shape, W, H, 11, 0.3, 6.0);
             std::vector<std::size_t> which;
-            for (std::size_t k = 0; k < ghosts.size(); k += (k % 7 == 3 ? 2 : 1)) which.push_back(k); // a subset, in order
+            for (std::size_t k = 0; k < ghosts.size(); k += (k % 7 == 3 ? 2 : 1))
+                which.push_back(k); // a subset, in order
             fourier::FlareImage cpu(W, H);
             for (int c = 0; c < 3; ++c)
                 for (std::size_t p = 0; p < cpu.pixels(); ++p) cpu.channel[c][p] = 0.01f * float((p * 7 + c) % 13);

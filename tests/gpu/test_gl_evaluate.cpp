@@ -7,12 +7,13 @@
 #include "gpu/gl_accumulator.h"
 #include "gpu/gl_context.h"
 #include "gpu/gl_evaluator.h"
-#include "gl_test_support.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
+
+#include "gl_test_support.h"
 
 namespace ff::gpu {
 namespace {
@@ -23,7 +24,8 @@ TEST(GlEvaluate, MatchesTheCpuMatrixForm) {
     std::string why;
     const auto context = GlContext::create(why);
     if (!context) GTEST_SKIP() << "no OpenGL 4.5 context: " << why;
-    std::printf("renderer: %s (work groups up to %d invocations)\n", context->renderer().c_str(), context->maxWorkGroupInvocations());
+    std::printf("renderer: %s (work groups up to %d invocations)\n", context->renderer().c_str(),
+                context->maxWorkGroupInvocations());
     GlEvaluator gl(*context);
     const int W = 160, H = 96;
     for (auto shape : {fourier::Shape::Gaussian, fourier::Shape::Cos2}) {

@@ -1,6 +1,7 @@
 // fft_pass.comp + spectrum_product.comp (gpu::GlFft) against the DFT's definition summed here and
 // against the CPU's FFTW convolution of the diffraction stage.
 
+#include "diffraction/convolution.h"
 #include "gpu/gl_context.h"
 #include "gpu/gl_fft.h"
 
@@ -10,8 +11,6 @@
 #include <complex>
 #include <numbers>
 #include <random>
-
-#include "diffraction/convolution.h"
 
 namespace ff::gpu {
 namespace {

@@ -3,7 +3,6 @@
 // cell sizes (more ghosts than one slice chunk would need, to exercise the ordered sum).
 
 #include "fourier/sampled_gaussian_support.h"
-#include "gl_test_support.h"
 #include "gpu/gl_context.h"
 #include "gpu/gl_sampled.h"
 
@@ -11,6 +10,8 @@
 
 #include <cmath>
 #include <numbers>
+
+#include "gl_test_support.h"
 
 namespace ff::gpu {
 namespace {
@@ -43,8 +44,10 @@ TEST(GlSampled, SampledGaussianMatchesTheClosedForm) {
                     const double norm = rgb[c] / (2.0 * std::numbers::pi * sx * sy);
                     const auto [gc, gs] = fourier::testing::gaussianTerm(n, sx, cx, z.periodX);
                     const auto [hc, hs] = fourier::testing::gaussianTerm(m, sy, cy, z.periodY);
-                    worst = std::max({worst, std::abs(z.at(c, n, m) - norm * gc * hc), std::abs(z.at(c, n, z.m + m) - norm * gc * hs),
-                                      std::abs(z.at(c, z.n + n, m) - norm * gs * hc), std::abs(z.at(c, z.n + n, z.m + m) - norm * gs * hs)});
+                    worst = std::max({worst, std::abs(z.at(c, n, m) - norm * gc * hc),
+                                      std::abs(z.at(c, n, z.m + m) - norm * gc * hs),
+                                      std::abs(z.at(c, z.n + n, m) - norm * gs * hc),
+                                      std::abs(z.at(c, z.n + n, z.m + m) - norm * gs * hs)});
                 }
         // float32 sums over the cells and float phases 2 pi fract(n u): 1e-5 of the mean term.
         EXPECT_LT(worst, 1e-5 * a00) << "step " << step << ": worst " << worst / a00 << " of A00";
@@ -59,7 +62,8 @@ TEST(GlSampled, MatchesTheCpuOnSeveralGhosts) {
     std::vector<fourier::SampledGhost> ghosts;
     for (int k = 0; k < 12; ++k) {
         const double rgb[3] = {1.0 + 0.1 * k, 0.5, 0.2 * k};
-        ghosts.push_back(fourier::testing::sampledGaussian(20.0 + 13.7 * k, 15.0 + 7.3 * k, 1.5 + 0.2 * k, 2.0 + 0.1 * k, k % 3 ? 1.0 : 0.5, rgb));
+        ghosts.push_back(fourier::testing::sampledGaussian(20.0 + 13.7 * k, 15.0 + 7.3 * k, 1.5 + 0.2 * k,
+                                                           2.0 + 0.1 * k, k % 3 ? 1.0 : 0.5, rgb));
     }
     fourier::Coefficients cpu = zeros(24, 16, 200.0, 128.0), gpu = cpu;
     cpu.at(1, 2, 3) = gpu.at(1, 2, 3) = 1e-4; // the sums add to what z holds

@@ -30,11 +30,12 @@ TEST(CoatingSpec, RejectsMalformedSpecsWithColumns) {
         {"stack(MgF2)", "c.lens:4:16: expected MATERIAL:WAVES in the coating stack, got 'MgF2'"},
         {"stack(Mgf3:0.25)", "c.lens:4:16: unknown glass 'Mgf3'; did you mean MgF2? "
                              "(the catalogue is data/glass/; give 'nd Vd' instead for other glasses)"},
-        {"stack(MgF2:0.25, Unobtainium:0.5)", "c.lens:4:27: unknown glass 'Unobtainium'; valid names: N-BK7, N-SF11, F2, N-F2, "
-                                              "N-SK16, N-SSK2, N-SK2, F5, N-SK15, K10, N-BASF2, N-ZK7, N-LAF33, SF1, N-SF1, N-SK4, "
-                                              "N-BAK1, N-BALF4, SF5, N-SF5, N-LAK9, N-SF6, N-LASF9, N-FK5, N-BAF10, SF2, LF5, N-SF10, "
-                                              "N-BAK4, N-SK14, N-LAK22, N-SF2, SF4, N-SF4, N-KF9, N-K5, MgF2, ZrO2, Al2O3, SK16 "
-                                              "(the catalogue is data/glass/; give 'nd Vd' instead for other glasses)"},
+        {"stack(MgF2:0.25, Unobtainium:0.5)",
+         "c.lens:4:27: unknown glass 'Unobtainium'; valid names: N-BK7, N-SF11, F2, N-F2, "
+         "N-SK16, N-SSK2, N-SK2, F5, N-SK15, K10, N-BASF2, N-ZK7, N-LAF33, SF1, N-SF1, N-SK4, "
+         "N-BAK1, N-BALF4, SF5, N-SF5, N-LAK9, N-SF6, N-LASF9, N-FK5, N-BAF10, SF2, LF5, N-SF10, "
+         "N-BAK4, N-SK14, N-LAK22, N-SF2, SF4, N-SF4, N-KF9, N-K5, MgF2, ZrO2, Al2O3, SK16 "
+         "(the catalogue is data/glass/; give 'nd Vd' instead for other glasses)"},
         {"stack(MgF2:-1)", "c.lens:4:21: expected a layer thickness in waves (0 < t <= 100), got '-1'"},
         {"none 550", "c.lens:4:15: a bare surface ('none') takes no wavelength"},
     };

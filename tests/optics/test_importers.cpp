@@ -7,11 +7,12 @@
 #include "optics/lens_loader.h"
 #include "optics/paraxial.h"
 #include "optics/zmx_importer.h"
-#include "test_support.h"
 
 #include <gtest/gtest.h>
 
 #include <cstdio>
+
+#include "test_support.h"
 
 using namespace ff;
 using namespace ff::optics;
@@ -19,10 +20,10 @@ using namespace ff::optics;
 namespace {
 
 // lenses.md table 2 (double Gauss 50 mm): radius, thickness, nd, semi-aperture.
-const double kTable2[][4] = {{29.475, 3.76, 1.670, 12.6},   {84.83, 0.12, 1, 12.6},    {19.275, 4.025, 1.670, 11.5},
-                             {40.77, 3.275, 1.699, 11.5},   {12.75, 5.705, 1, 9.0},    {0, 4.5, 1, 8.55},
-                             {-14.495, 1.18, 1.603, 8.5},   {40.77, 6.065, 1.658, 10.0}, {-20.385, 0.19, 1, 10.0},
-                             {437.065, 3.22, 1.717, 10.0},  {-39.73, 36.114, 1, 10.0}};
+const double kTable2[][4] = {{29.475, 3.76, 1.670, 12.6},  {84.83, 0.12, 1, 12.6},      {19.275, 4.025, 1.670, 11.5},
+                             {40.77, 3.275, 1.699, 11.5},  {12.75, 5.705, 1, 9.0},      {0, 4.5, 1, 8.55},
+                             {-14.495, 1.18, 1.603, 8.5},  {40.77, 6.065, 1.658, 10.0}, {-20.385, 0.19, 1, 10.0},
+                             {437.065, 3.22, 1.717, 10.0}, {-39.73, 36.114, 1, 10.0}};
 
 std::string datFromTable2(bool positions) {
     std::string s = "# D-GAUSS F/2 22deg HFOV\n# radius thickness eta aperture-diameter\n";
@@ -44,11 +45,16 @@ struct Row4 {
     double nd, vd, semi;
     bool stop;
 };
-const Row4 kTable4[] = {{56.20238, 8.75, "N-SSK2", 1.62229, 53.27, 39.44, false}, {152.2858, 0.5, "", 0, 0, 35.74, false},
-                        {37.68262, 12.5, "N-SK2", 1.60738, 56.65, 35.47, false},  {0, 3.8, "F5", 1.60342, 38.03, 26.82, false},
-                        {24.2313, 16.369445, "", 0, 0, 24.19, false},            {0, 13.747957, "", 0, 0, 15.85, true},
-                        {-28.37731, 3.8, "F5", 1.60342, 38.03, 19.66, false},    {0, 11, "N-SK16", 1.62041, 60.32, 21.31, false},
-                        {-37.92546, 0.5, "", 0, 0, 26.03, false},                {177.41176, 7, "N-SK16", 1.62041, 60.32, 26.16, false},
+const Row4 kTable4[] = {{56.20238, 8.75, "N-SSK2", 1.62229, 53.27, 39.44, false},
+                        {152.2858, 0.5, "", 0, 0, 35.74, false},
+                        {37.68262, 12.5, "N-SK2", 1.60738, 56.65, 35.47, false},
+                        {0, 3.8, "F5", 1.60342, 38.03, 26.82, false},
+                        {24.2313, 16.369445, "", 0, 0, 24.19, false},
+                        {0, 13.747957, "", 0, 0, 15.85, true},
+                        {-28.37731, 3.8, "F5", 1.60342, 38.03, 19.66, false},
+                        {0, 11, "N-SK16", 1.62041, 60.32, 21.31, false},
+                        {-37.92546, 0.5, "", 0, 0, 26.03, false},
+                        {177.41176, 7, "N-SK16", 1.62041, 60.32, 26.16, false},
                         {-79.41143, 61.487536, "", 0, 0, 26.93, false}};
 
 std::string zmxFromTable4(double unitMm = 1.0, const char* unit = "MM") {
@@ -65,7 +71,8 @@ std::string zmxFromTable4(double unitMm = 1.0, const char* unit = "MM") {
             std::snprintf(buf, sizeof buf, "  GLAS %s 0 0 %.5f %.2f 0 0 0 0 0 0\n", r.glass, r.nd, r.vd);
             s += buf;
         }
-        std::snprintf(buf, sizeof buf, "  DIAM %.17g 1 0 0 1 \"\"\n  POPS 0 0 0 0 0 0 0 0 1 1 1 1 0 0 0 0\n", r.semi / unitMm);
+        std::snprintf(buf, sizeof buf, "  DIAM %.17g 1 0 0 1 \"\"\n  POPS 0 0 0 0 0 0 0 0 1 1 1 1 0 0 0 0\n",
+                      r.semi / unitMm);
         s += buf;
     }
     std::snprintf(buf, sizeof buf, "SURF %d\n  TYPE STANDARD\n  CURV 0.0 0 0 0 0 \"\"\n  DISZ 0\n", n);
@@ -81,7 +88,9 @@ std::string utf16le(const std::string& ascii, bool bom) {
     return out;
 }
 
-double efl(const Lens& lens) { return paraxialEfl(lens, lines::d); }
+double efl(const Lens& lens) {
+    return paraxialEfl(lens, lines::d);
+}
 
 } // namespace
 
@@ -121,7 +130,8 @@ TEST(DatImporter, RejectsMalformedRows) {
         importDat("# x\n10 2 1.5\n", "bad.dat");
         FAIL();
     } catch (const Error& e) {
-        EXPECT_EQ(std::string(e.what()), "bad.dat:2:10: expected 4 values per row (radius thickness eta aperture-diameter), found 3");
+        EXPECT_EQ(std::string(e.what()),
+                  "bad.dat:2:10: expected 4 values per row (radius thickness eta aperture-diameter), found 3");
     }
     try {
         importDat("10 2 1.5 x\n", "bad.dat");
@@ -143,7 +153,8 @@ TEST(ZmxImporter, Table4ImportsToEfl100004) {
     EXPECT_NEAR(zmx.surfaces[5].semiAperture, 15.85, 1e-12);
     // POPS, VERS, MODE are not part of the prescription: ignored and counted.
     bool counted = false;
-    for (const auto& d : rep.diagnostics) counted = counted || d.message.find("ignored 13 directive(s)") != std::string::npos;
+    for (const auto& d : rep.diagnostics)
+        counted = counted || d.message.find("ignored 13 directive(s)") != std::string::npos;
     EXPECT_TRUE(counted);
 }
 
@@ -161,8 +172,9 @@ TEST(ZmxImporter, LensUnitsAreConvertedToMillimetres) {
 
 TEST(ZmxImporter, EvenAsphereTermsAreScaledWithTheUnit) {
     // In inches, sag(r) = A4 r^4 with A4 = 1e-3 in^-3; in mm the coefficient is A4 / 25.4^3.
-    const std::string text = "UNIT IN\nSURF 0\n DISZ INFINITY\nSURF 1\n TYPE EVENASPH\n STOP\n CURV 0.02\n DISZ 0.2\n"
-                             " GLAS N-BK7 0 0 1.5168 64.17\n PARM 2 1e-3\n DIAM 0.5\nSURF 2\n CURV 0\n DISZ 3\nSURF 3\n";
+    const std::string text =
+        "UNIT IN\nSURF 0\n DISZ INFINITY\nSURF 1\n TYPE EVENASPH\n STOP\n CURV 0.02\n DISZ 0.2\n"
+        " GLAS N-BK7 0 0 1.5168 64.17\n PARM 2 1e-3\n DIAM 0.5\nSURF 2\n CURV 0\n DISZ 3\nSURF 3\n";
     const Lens lens = importZmx(text, "asph.zmx");
     ASSERT_EQ(lens.surfaces[0].asphere.size(), 1u);
     EXPECT_NEAR(lens.surfaces[0].asphere[0], 1e-3 / (25.4 * 25.4 * 25.4), 1e-18);
@@ -172,16 +184,20 @@ TEST(ZmxImporter, EvenAsphereTermsAreScaledWithTheUnit) {
 TEST(ZmxImporter, RefusesWhatItCannotRepresent) {
     const std::pair<std::string, const char*> cases[] = {
         {"SURF 0\n DISZ INFINITY\nSURF 1\n  TYPE COORDBRK\nSURF 2\nSURF 3\n",
-         "c.zmx:4:8: unsupported surface type 'COORDBRK'; supported: STANDARD, EVENASPH (rotationally symmetric sequential lenses)"},
-        {"SURF 0\nSURF 1\n  GLAS MIRROR\nSURF 2\n", "c.zmx:3:8: MIRROR surfaces (catadioptric systems) are not supported"},
-        {"SURF 0\nSURF 1\n", "c.zmx:3: expected at least an object surface (SURF 0), one lens surface and an image surface, found 2 SURF block(s)"},
+         "c.zmx:4:8: unsupported surface type 'COORDBRK'; supported: STANDARD, EVENASPH (rotationally symmetric "
+         "sequential lenses)"},
+        {"SURF 0\nSURF 1\n  GLAS MIRROR\nSURF 2\n",
+         "c.zmx:3:8: MIRROR surfaces (catadioptric systems) are not supported"},
+        {"SURF 0\nSURF 1\n", "c.zmx:3: expected at least an object surface (SURF 0), one lens surface and an image "
+                             "surface, found 2 SURF block(s)"},
         {"SURF 0\nSURF 2\n", "c.zmx:2:6: expected SURF 1 (surfaces in order), got SURF 2"},
         {"UNIT FT\n", "c.zmx:1:6: unknown lens unit 'FT'; valid units: MM, CM, IN, METER"},
         {"SURF 0\nSURF 1\n CURV 1/50\n", "c.zmx:3:7: expected a curvature after CURV, got '1/50'"},
         {"CURV 0.1\n", "c.zmx:1:1: CURV outside a SURF block"},
         {"SURF 0\nSURF 1\n PARM 1e120 0\n", "c.zmx:3:7: expected a parameter number 0..99 after PARM"},
         {"SURF 0\nSURF 1\n GLAS SF-11\nSURF 2\nSURF 3\n",
-         "c.zmx:3:7: unknown glass 'SF-11'; did you mean N-SF11, SF1 or N-SF1? (the catalogue is data/glass/; give 'nd Vd' instead for other glasses)"},
+         "c.zmx:3:7: unknown glass 'SF-11'; did you mean N-SF11, SF1 or N-SF1? (the catalogue is data/glass/; give 'nd "
+         "Vd' instead for other glasses)"},
     };
     for (const auto& [text, expected] : cases) {
         try {
@@ -194,14 +210,16 @@ TEST(ZmxImporter, RefusesWhatItCannotRepresent) {
 }
 
 TEST(ZmxImporter, UnknownGlassWithInlineDataFallsBackWithANote) {
-    const std::string text = "SURF 0\n DISZ INFINITY\nSURF 1\n STOP\n CURV 0.02\n DISZ 4\n GLAS ___BLANK 1 0 1.6 40\n DIAM 8\n"
-                             "SURF 2\n CURV -0.01\n DISZ 40\n DIAM 8\nSURF 3\n";
+    const std::string text =
+        "SURF 0\n DISZ INFINITY\nSURF 1\n STOP\n CURV 0.02\n DISZ 4\n GLAS ___BLANK 1 0 1.6 40\n DIAM 8\n"
+        "SURF 2\n CURV -0.01\n DISZ 40\n DIAM 8\nSURF 3\n";
     CollectingReporter rep;
     const Lens lens = importZmx(text, "blank.zmx", &rep);
     EXPECT_EQ(lens.surfaces[0].medium.nd, 1.6);
     EXPECT_EQ(lens.surfaces[0].medium.vd, 40.0);
     ASSERT_FALSE(rep.diagnostics.empty());
-    EXPECT_EQ(rep.diagnostics[0].str(), "blank.zmx:7:7: glass '___BLANK' is not in the catalogue; using its inline nd 1.6, Vd 40 (Cauchy)");
+    EXPECT_EQ(rep.diagnostics[0].str(),
+              "blank.zmx:7:7: glass '___BLANK' is not in the catalogue; using its inline nd 1.6, Vd 40 (Cauchy)");
 }
 
 TEST(ZmxImporter, GlasAirIsAir) {

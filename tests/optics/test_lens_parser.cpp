@@ -89,14 +89,15 @@ surfaces:
     EXPECT_EQ(atZoom(lens, 1).surfaces[1].thickness, 8.0);
     EXPECT_TRUE(lens.surfaces[2].stop);
     EXPECT_FALSE(lens.surfaces[2].flatStopRow);
-    EXPECT_EQ(lens.coatingOf(0), *lens.defaultCoating);       // column 1 -> lens-wide coating
-    EXPECT_EQ(lens.coatingOf(3), CoatingSpec::mgf2(600.0));   // explicit per-surface spec wins
+    EXPECT_EQ(lens.coatingOf(0), *lens.defaultCoating);     // column 1 -> lens-wide coating
+    EXPECT_EQ(lens.coatingOf(3), CoatingSpec::mgf2(600.0)); // explicit per-surface spec wins
     EXPECT_EQ(lens.surfaces[4].shape, SurfaceShape::Toric);
     EXPECT_EQ(lens.surfaces[4].radiusY, 25.0);
     EXPECT_FALSE(lens.rotationallySymmetric());
     // Two notes: the unclipped surface 5 (semi_ap 0) and its anamorphic shape.
     ASSERT_EQ(rep.diagnostics.size(), 2u);
-    EXPECT_EQ(rep.diagnostics[0].str(), "x.lens:16:3: surface 5 has semi-aperture 0 (not given): it is treated as unclipped");
+    EXPECT_EQ(rep.diagnostics[0].str(),
+              "x.lens:16:3: surface 5 has semi-aperture 0 (not given): it is treated as unclipped");
 }
 
 TEST(LensParser, AutoImageDistanceIsTheParaxialFocus) {
@@ -107,7 +108,8 @@ TEST(LensParser, AutoImageDistanceIsTheParaxialFocus) {
 
 TEST(LensParser, GlassRowsMayOmitTheCoatingColumn) {
     // Without a coating column a glass-air interface is coated (lens-wide default), others are not.
-    const Lens lens = parseLensText("surfaces:\n  stop 2 air 5\n  50 4 N-BK7 10\n  -50 1 N-SF11 10\n  -80 40 air 10\n", "g.lens");
+    const Lens lens =
+        parseLensText("surfaces:\n  stop 2 air 5\n  50 4 N-BK7 10\n  -50 1 N-SF11 10\n  -80 40 air 10\n", "g.lens");
     EXPECT_EQ(lens.surfaces[0].coatingLayers, 0);
     EXPECT_EQ(lens.surfaces[1].coatingLayers, 1);
     EXPECT_EQ(lens.surfaces[2].coatingLayers, 0);
@@ -116,7 +118,8 @@ TEST(LensParser, GlassRowsMayOmitTheCoatingColumn) {
 }
 
 TEST(LensParser, ToleratesCrLfAndBom) {
-    const Lens lens = parseLensText("\xEF\xBB\xBFname: w\r\nsurfaces:\r\n  stop 1 1 0 5\r\n  50 40 1 0 10\r\n", "w.lens");
+    const Lens lens =
+        parseLensText("\xEF\xBB\xBFname: w\r\nsurfaces:\r\n  stop 1 1 0 5\r\n  50 40 1 0 10\r\n", "w.lens");
     EXPECT_EQ(lens.name, "w");
     EXPECT_EQ(lens.surfaces.size(), 2u);
 }

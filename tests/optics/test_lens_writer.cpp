@@ -3,9 +3,10 @@
 #include "optics/lens_parser.h"
 #include "optics/lens_writer.h"
 #include "optics/paraxial.h"
-#include "test_support.h"
 
 #include <gtest/gtest.h>
+
+#include "test_support.h"
 
 using namespace ff;
 using namespace ff::optics;

@@ -42,7 +42,10 @@ TEST(Medium, CauchyFromAbbeHitsNdAndVdExactly) {
 
 TEST(Medium, CauchyErrorAgainstSellmeierMatchesReference) {
     // optics.md: Cauchy(nd, Vd) minus Sellmeier at 400 nm: N-BK7 +0.9e-4, F2 -21.7e-4, N-SF11 -70.4e-4.
-    const struct { const char* name; double diff; } cases[] = {{"N-BK7", 0.9e-4}, {"F2", -21.7e-4}, {"N-SF11", -70.4e-4}};
+    const struct {
+        const char* name;
+        double diff;
+    } cases[] = {{"N-BK7", 0.9e-4}, {"F2", -21.7e-4}, {"N-SF11", -70.4e-4}};
     for (const auto& c : cases) {
         const GlassEntry* g = GlassCatalog::builtin().find(c.name);
         ASSERT_NE(g, nullptr);

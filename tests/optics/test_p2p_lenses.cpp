@@ -6,13 +6,14 @@
 #include "core/units.h"
 #include "optics/lens_loader.h"
 #include "optics/paraxial.h"
-#include "test_support.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+
+#include "test_support.h"
 
 using namespace ff;
 using namespace ff::optics;
@@ -36,8 +37,8 @@ TEST(P2pLenses, EveryFileParsesOrFailsPrecisely) {
             if (lens.nominalFocalLength) {
                 const double diff = (efl - *lens.nominalFocalLength) / *lens.nominalFocalLength;
                 beyond2 += std::abs(diff) > 0.02;
-                std::printf("%-80s %10.2f %10.3f %+7.2f%%%s\n", f.filename().c_str(), *lens.nominalFocalLength, efl, 100.0 * diff,
-                            std::abs(diff) > 0.02 ? "  (> 2 %)" : "");
+                std::printf("%-80s %10.2f %10.3f %+7.2f%%%s\n", f.filename().c_str(), *lens.nominalFocalLength, efl,
+                            100.0 * diff, std::abs(diff) > 0.02 ? "  (> 2 %)" : "");
             } else {
                 std::printf("%-80s %10s %10.3f\n", f.filename().c_str(), "-", efl);
             }

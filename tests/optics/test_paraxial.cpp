@@ -3,11 +3,12 @@
 #include "optics/lens_parser.h"
 #include "optics/paraxial.h"
 #include "optics/real_ray.h"
-#include "test_support.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+
+#include "test_support.h"
 
 using namespace ff;
 using namespace ff::optics;
@@ -23,16 +24,11 @@ struct Oracle {
 // Paraxial values at the d line from ../shared/reference/lenses.md, computed there independently
 // from the same tables. EFL to 0.01 %, BFD to 0.01 mm.
 const Oracle kOracles[] = {
-    {"cooke-triplet-50mm-f5.lens", 0, 50.0213, 42.4364},
-    {"double-gauss-50mm-f2.lens", 0, 50.3582, 36.1059},
-    {"tessar-100mm-f3.5.lens", 0, 100.0000, 85.2440},
-    {"double-gauss-100mm-f2.lens", 0, 100.004, 61.488},
-    {"telephoto-127mm-f5.6.lens", 0, 127.016, 63.406},
-    {"wide-angle-16.7mm-f4.lens", 0, 16.669, 39.761},
-    {"zoom-70-200mm-f2.8.lens", 0, 72.12, 52.446},
-    {"zoom-70-200mm-f2.8.lens", 1, 134.95, 52.429},
-    {"zoom-70-200mm-f2.8.lens", 2, 193.91, 52.421},
-    {"nikon-28-75mm-at-28mm.lens", 0, 28.90, 39.68},
+    {"cooke-triplet-50mm-f5.lens", 0, 50.0213, 42.4364}, {"double-gauss-50mm-f2.lens", 0, 50.3582, 36.1059},
+    {"tessar-100mm-f3.5.lens", 0, 100.0000, 85.2440},    {"double-gauss-100mm-f2.lens", 0, 100.004, 61.488},
+    {"telephoto-127mm-f5.6.lens", 0, 127.016, 63.406},   {"wide-angle-16.7mm-f4.lens", 0, 16.669, 39.761},
+    {"zoom-70-200mm-f2.8.lens", 0, 72.12, 52.446},       {"zoom-70-200mm-f2.8.lens", 1, 134.95, 52.429},
+    {"zoom-70-200mm-f2.8.lens", 2, 193.91, 52.421},      {"nikon-28-75mm-at-28mm.lens", 0, 28.90, 39.68},
 };
 
 } // namespace
@@ -79,7 +75,8 @@ TEST(Paraxial, RealRayFocalLengthAgreesForEveryBundledLens) {
             for (double lambda : {lines::F, lines::d, lines::C}) {
                 const FirstOrder f = analyzeFirstOrder(lens, lambda);
                 const double real = realRayEfl(lens, lambda, 1e-4 * 0.5 * f.entrancePupilDiameter);
-                EXPECT_NEAR(real / f.efl, 1.0, 1e-6) << entry.path().filename() << " zoom " << k << " at " << lambda << " nm";
+                EXPECT_NEAR(real / f.efl, 1.0, 1e-6)
+                    << entry.path().filename() << " zoom " << k << " at " << lambda << " nm";
             }
         }
     }
@@ -88,8 +85,8 @@ TEST(Paraxial, RealRayFocalLengthAgreesForEveryBundledLens) {
 namespace {
 
 Lens singlet(double r1, double r2, double n, double thickness) {
-    const std::string text = "surfaces:\n  stop 0 1 0 5\n  " + std::to_string(r1) + " " + std::to_string(thickness) + " " +
-                             std::to_string(n) + " 0 10\n  " + std::to_string(r2) + " auto 1 0 10\n";
+    const std::string text = "surfaces:\n  stop 0 1 0 5\n  " + std::to_string(r1) + " " + std::to_string(thickness) +
+                             " " + std::to_string(n) + " 0 10\n  " + std::to_string(r2) + " auto 1 0 10\n";
     return parseLensText(text, "singlet.lens");
 }
 
@@ -168,6 +165,6 @@ TEST(Paraxial, FNumberHeaderSetsTheStopAndIsClampedByIt) {
     EXPECT_NEAR(analyzeFirstOrder(clamped, lines::d).stopSemiAperture, 10.0, 1e-12);
     ASSERT_FALSE(rep.diagnostics.empty());
     EXPECT_EQ(rep.diagnostics.back().severity, Severity::Warning);
-    EXPECT_EQ(rep.diagnostics.back().str(),
-              "f.lens:3:3: f_number 4 needs a larger opening than the stop's semi-aperture 10 mm; clamping the aperture to the stop");
+    EXPECT_EQ(rep.diagnostics.back().str(), "f.lens:3:3: f_number 4 needs a larger opening than the stop's "
+                                            "semi-aperture 10 mm; clamping the aperture to the stop");
 }

@@ -2,13 +2,14 @@
 #include "optics/lens_loader.h"
 #include "optics/lens_parser.h"
 #include "optics/real_ray.h"
-#include "test_support.h"
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
+
+#include "test_support.h"
 
 using namespace ff;
 using namespace ff::optics;

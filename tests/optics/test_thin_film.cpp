@@ -12,7 +12,9 @@ using namespace ff::optics;
 
 namespace {
 
-double nOf(const char* glass, double lambdaNm) { return GlassCatalog::builtin().find(glass)->dispersion.index(lambdaNm); }
+double nOf(const char* glass, double lambdaNm) {
+    return GlassCatalog::builtin().find(glass)->dispersion.index(lambdaNm);
+}
 
 } // namespace
 
@@ -25,7 +27,8 @@ TEST(Fresnel, NormalIncidenceIsTheSquaredIndexRatio) {
 }
 
 TEST(Fresnel, BrewsterAngleLeavesOnlyTheSPart) {
-    // At tan(theta_B) = n2/n1, Rp = 0, so R = Rs/2 with rs = (cos_i - n cos_t)/(cos_i + n cos_t), theta_t = 90 - theta_B.
+    // At tan(theta_B) = n2/n1, Rp = 0, so R = Rs/2 with rs = (cos_i - n cos_t)/(cos_i + n cos_t), theta_t = 90 -
+    // theta_B.
     const double n = 1.5, thetaB = std::atan(n);
     const double cosI = std::cos(thetaB), cosT = std::sin(thetaB);
     const double rs = (cosI - n * cosT) / (cosI + n * cosT);
@@ -77,8 +80,10 @@ TEST(ThinFilm, MatchesTheReferenceTable) {
 TEST(ThinFilm, BroadbandStackHasTheWShapedCurve) {
     // optics.md: MgF2 l/4 / ZrO2 l/2 / Al2O3 l/4 at 550 nm (n 1.38 / 2.05 / 1.63) on N-BK7:
     // R = 4.0 (400), 0.21 (450), 0.09 (500), 0.18 (550), 0.11 (600), 0.03 (650), 0.16 (700) percent.
-    const std::vector<FilmLayer> stack = {{1.38, 550.0 / (4 * 1.38)}, {2.05, 550.0 / (2 * 2.05)}, {1.63, 550.0 / (4 * 1.63)}};
-    const std::pair<double, double> expected[] = {{400, 4.0}, {450, 0.21}, {500, 0.09}, {550, 0.18}, {600, 0.11}, {650, 0.03}, {700, 0.16}};
+    const std::vector<FilmLayer> stack = {
+        {1.38, 550.0 / (4 * 1.38)}, {2.05, 550.0 / (2 * 2.05)}, {1.63, 550.0 / (4 * 1.63)}};
+    const std::pair<double, double> expected[] = {{400, 4.0},  {450, 0.21}, {500, 0.09}, {550, 0.18},
+                                                  {600, 0.11}, {650, 0.03}, {700, 0.16}};
     for (const auto& [lambda, percent] : expected) {
         const double tol = lambda == 400 ? 0.06 : 0.006; // printed to 1 or 2 decimals
         EXPECT_NEAR(100.0 * filmReflectance(1.0, stack, nOf("N-BK7", lambda), 1.0, lambda), percent, tol) << lambda;
@@ -124,7 +129,8 @@ TEST(ThinFilm, SingleLayerMatchesAirysFormulaAndConservesEnergy) {
     // The matrix code must give R = |r|^2 (averaged), and R + T = 1.
     using cplx = std::complex<double>;
     std::mt19937 rng(11);
-    std::uniform_real_distribution<double> sub(1.45, 1.95), film(1.3, 2.3), thick(20.0, 400.0), cosd(0.5, 1.0), lam(400.0, 700.0);
+    std::uniform_real_distribution<double> sub(1.45, 1.95), film(1.3, 2.3), thick(20.0, 400.0), cosd(0.5, 1.0),
+        lam(400.0, 700.0);
     for (int k = 0; k < 500; ++k) {
         const double n0 = 1.0, n1 = film(rng), n2 = sub(rng), d = thick(rng), ci = cosd(rng), l = lam(rng);
         const double s0 = std::sqrt(1.0 - ci * ci);

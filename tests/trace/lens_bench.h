@@ -3,10 +3,11 @@
 // pupil-region tests.
 
 #include "optics/lens_loader.h"
-#include "test_support.h"
 #include "trace/bundle_moments.h"
 #include "trace/flare_raster.h"
 #include "trace/ghost_analysis.h"
+
+#include "test_support.h"
 
 namespace ff::test {
 
@@ -26,8 +27,8 @@ struct LensBench {
 
     /// A path's moments on an n x n grid over region r: plain, or with its edges resolved on
     /// subdivisions x subdivisions sub-grids.
-    trace::BundleMoments grid(const std::vector<trace::PathStep>& steps, const trace::Field& f, const trace::PupilRegion& r, int n,
-                              int subdivisions) const {
+    trace::BundleMoments grid(const std::vector<trace::PathStep>& steps, const trace::Field& f,
+                              const trace::PupilRegion& r, int n, int subdivisions) const {
         const trace::Bundle b = trace::regionBundle(pupil, f, r, n);
         std::vector<trace::RayResult> c(b.rays.size());
         tracer.trace(L, steps, b.rays, c);

@@ -2,7 +2,6 @@
 // 512 x 512 pupil grid (each vignetting edge then moves the moments by steps of 1/512 of a cell row).
 
 #include "core/units.h"
-#include "lens_bench.h"
 #include "trace/ghost_path.h"
 
 #include <gtest/gtest.h>
@@ -10,10 +9,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "lens_bench.h"
+
 using namespace ff;
 using namespace ff::trace;
-using test::LensBench;
 using test::kMaxRadius;
+using test::LensBench;
 
 namespace {
 
@@ -52,8 +53,9 @@ TEST(BundleMoments, ResolvedEdgesMatchAFineGrid) {
         }
     }
     ASSERT_GE(checked, 3);
-    std::printf("%d vignetted ghosts at 14 deg, grids 29/32/37: worst moment error %.2e resolved, %.2e on the plain grid\n", checked,
-                worstResolved, worstPlain);
+    std::printf(
+        "%d vignetted ghosts at 14 deg, grids 29/32/37: worst moment error %.2e resolved, %.2e on the plain grid\n",
+        checked, worstResolved, worstPlain);
     EXPECT_LT(worstResolved, 0.25 * worstPlain);
 }
 
@@ -78,16 +80,19 @@ TEST(BundleMoments, ResolvedSliverAtTheCountingRadiusMatchesAFineGrid) {
         const PupilRegion counted = pupilRegion(s.pupil, field, Sampling::Reaim, s.L, steps, test::kMaxRadius);
         const BundleMoments ref = s.grid(steps, field, all, 1024, 0);
         ASSERT_GT(ref.energy, 0.0);
-        const auto error = [&](const BundleMoments& m) { return std::max(momentError(m, ref), std::abs(m.energy - ref.energy) / ref.energy); };
+        const auto error = [&](const BundleMoments& m) {
+            return std::max(momentError(m, ref), std::abs(m.energy - ref.energy) / ref.energy);
+        };
         const BundleMoments mAll = s.grid(steps, field, all, 32, 8), m32 = s.grid(steps, field, counted, 32, 8),
                             m64 = s.grid(steps, field, counted, 64, 8);
         worstAll = std::max(worstAll, error(mAll));
         worst32 = std::max(worst32, error(m32));
         worst64 = std::max(worst64, error(m64));
-        std::printf("%.3f deg: sigma x %.3f mm (1024); 32 over all the light %.3f, error %.2e; over the counted light 32 %.3f, %.2e; "
+        std::printf("%.3f deg: sigma x %.3f mm (1024); 32 over all the light %.3f, error %.2e; over the counted light "
+                    "32 %.3f, %.2e; "
                     "64 %.3f, %.2e\n",
-                    angle, std::sqrt(ref.mxx), std::sqrt(mAll.mxx), error(mAll), std::sqrt(m32.mxx), error(m32), std::sqrt(m64.mxx),
-                    error(m64));
+                    angle, std::sqrt(ref.mxx), std::sqrt(mAll.mxx), error(mAll), std::sqrt(m32.mxx), error(m32),
+                    std::sqrt(m64.mxx), error(m64));
     }
     EXPECT_LT(worstAll, 0.035);
     EXPECT_LT(worst32, 0.01);

@@ -1,7 +1,6 @@
 #include "core/units.h"
 #include "optics/lens_loader.h"
 #include "optics/paraxial.h"
-#include "test_support.h"
 #include "trace/embree_tracer.h"
 #include "trace/pupil_sampling.h"
 
@@ -10,6 +9,8 @@
 #include <tbb/task_arena.h>
 
 #include <cmath>
+
+#include "test_support.h"
 
 using namespace ff;
 using namespace ff::trace;
@@ -39,7 +40,8 @@ TEST(EmbreeTracer, AgreesWithTheAnalyticTracerOnEveryGhostOfEveryBundledLens) {
                     for (std::size_t i = 0; i < b.rays.size(); ++i) {
                         if (e[i].status == RayStatus::Ok) {
                             ASSERT_EQ(a[i].status, RayStatus::Ok) << entry.path().filename() << " ray " << i;
-                            EXPECT_LT(glm::length(e[i].sensorPoint - a[i].sensorPoint), 1e-9) << entry.path().filename();
+                            EXPECT_LT(glm::length(e[i].sensorPoint - a[i].sensorPoint), 1e-9)
+                                << entry.path().filename();
                             EXPECT_EQ(e[i].weight, a[i].weight);
                             ++compared;
                         } else if (a[i].status == RayStatus::Ok) {
@@ -76,7 +78,8 @@ TEST(EmbreeTracer, ACurvedStopIsItsSurfaceNotAPlaneThroughTheGlass) {
             traceAnalytic(L, steps, b.rays, a);
             for (std::size_t i = 0; i < b.rays.size(); ++i)
                 if (a[i].status == RayStatus::Ok) {
-                    EXPECT_EQ(e[i].status, RayStatus::Ok) << g.label() << " at " << deg << " deg, ray " << i << ": blocked at step " << e[i].lostAtStep;
+                    EXPECT_EQ(e[i].status, RayStatus::Ok)
+                        << g.label() << " at " << deg << " deg, ray " << i << ": blocked at step " << e[i].lostAtStep;
                     ++passed;
                 }
         }

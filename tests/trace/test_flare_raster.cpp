@@ -41,7 +41,9 @@ Synthetic affine(int n, double cell, double a11, double a12, double a21, double 
     return s;
 }
 
-double sum(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0); }
+double sum(const std::vector<double>& v) {
+    return std::accumulate(v.begin(), v.end(), 0.0);
+}
 
 } // namespace
 

@@ -1,12 +1,13 @@
 #include "core/units.h"
 #include "optics/lens_loader.h"
 #include "optics/paraxial.h"
-#include "test_support.h"
 #include "trace/ghost_analysis.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+
+#include "test_support.h"
 
 using namespace ff;
 using namespace ff::trace;
@@ -36,9 +37,11 @@ TEST(GhostAnalysis, UncoatedGhostEnergyIsInsideTheReferenceRanges) {
         EXPECT_GT(total, 0.015) << name;
         EXPECT_LT(total, 0.06) << name;
     }
-    const GhostReport cooke = analyzeGhosts(optics::loadLens(test::lensPath("cooke-triplet-50mm-f5.lens")), onAxisUncoated());
+    const GhostReport cooke =
+        analyzeGhosts(optics::loadLens(test::lensPath("cooke-triplet-50mm-f5.lens")), onAxisUncoated());
     EXPECT_NEAR(cooke.wavelengths[0].totalGhostRelative, 0.023, 0.0015);
-    const GhostReport dg = analyzeGhosts(optics::loadLens(test::lensPath("double-gauss-50mm-f2.lens")), onAxisUncoated());
+    const GhostReport dg =
+        analyzeGhosts(optics::loadLens(test::lensPath("double-gauss-50mm-f2.lens")), onAxisUncoated());
     EXPECT_NEAR(dg.wavelengths[0].totalGhostRelative, 0.05, 0.006);
 }
 

@@ -2,7 +2,6 @@
 // of a cell from its margins, against the analytic tracer and against areas computed by hand.
 
 #include "core/units.h"
-#include "lens_bench.h"
 #include "trace/aperture.h"
 #include "trace/ghost_path.h"
 #include "trace/open_trace.h"
@@ -11,6 +10,8 @@
 
 #include <cmath>
 #include <numbers>
+
+#include "lens_bench.h"
 
 using namespace ff;
 using namespace ff::trace;
@@ -73,11 +74,13 @@ TEST(OpenTrace, AgreesWithTheAnalyticTracerAndItsClipping) {
                 EXPECT_NEAR(open.hits[i].sensorPoint.x, ref.ray.origin.x, 1e-9);
                 EXPECT_NEAR(open.hits[i].sensorPoint.y, ref.ray.origin.y, 1e-9);
                 EXPECT_NEAR(open.hits[i].weight, ref.weight, 1e-15);
-                for (std::size_t k = 0; k < steps.size(); ++k) EXPECT_GE(open.margin(i, k), 0.0) << g.label() << " step " << k;
+                for (std::size_t k = 0; k < steps.size(); ++k)
+                    EXPECT_GE(open.margin(i, k), 0.0) << g.label() << " step " << k;
             } else if (ref.status == optics::RayStatus::Clipped) {
                 ++clipped;
                 EXPECT_LT(open.margin(i, ref.lostAtStep), 0.0) << g.label() << " ray " << i;
-                for (std::size_t k = 0; k < ref.lostAtStep; ++k) EXPECT_GE(open.margin(i, k), 0.0) << g.label() << " step " << k;
+                for (std::size_t k = 0; k < ref.lostAtStep; ++k)
+                    EXPECT_GE(open.margin(i, k), 0.0) << g.label() << " step " << k;
             }
         }
     }
@@ -117,7 +120,8 @@ TEST(OpenTrace, SubCellSharesAddUpToTheLitArea) {
     const OpenTrace tilted = syntheticGrid(8, [](double u, double v) { return 3.3 + 0.3 * (v - 4.0) - u; });
     EXPECT_NEAR(sum(subCellShares(tilted, 0, 8, 0.0)), 26.4, 1e-9);
     // A band 0.05 sub-cells thick at v = 3.62-3.67 between two edges, passing between every centre.
-    const OpenTrace band = syntheticGrid(8, [](double, double v) { return v - 3.62; }, [](double, double v) { return 3.67 - v; });
+    const OpenTrace band = syntheticGrid(
+        8, [](double, double v) { return v - 3.62; }, [](double, double v) { return 3.67 - v; });
     const std::vector<double> shares = subCellShares(band, 0, 8, 0.0);
     EXPECT_NEAR(sum(shares), 8 * 0.05, 1e-9);
     for (int i = 0; i < 8; ++i) EXPECT_NEAR(shares[3 * 8 + i], 0.05, 1e-9);
@@ -125,7 +129,8 @@ TEST(OpenTrace, SubCellSharesAddUpToTheLitArea) {
     // (a chord of the grid: lit where |u - 4| <= 2.5 along every row).
     OpenTrace landing = syntheticGrid(8, [](double, double) { return 1.0; });
     for (int j = 0; j < 8; ++j)
-        for (int i = 0; i < 8; ++i) landing.hits[static_cast<std::size_t>(j) * 8 + i].sensorPoint = glm::dvec3(i + 0.5 - 4.0, 0.0, 0.0);
+        for (int i = 0; i < 8; ++i)
+            landing.hits[static_cast<std::size_t>(j) * 8 + i].sensorPoint = glm::dvec3(i + 0.5 - 4.0, 0.0, 0.0);
     EXPECT_NEAR(sum(subCellShares(landing, 0, 8, 2.5)), 8 * 5.0, 1e-9);
 }
 
@@ -142,7 +147,8 @@ TEST(OpenTrace, ACellMayHoldABandBetweenItsRays) {
         return t;
     };
     const OpenTrace inside = five(0.1, 0.15), beyond = five(0.7, 0.75);
-    for (std::size_t r = 0; r < 5; ++r) EXPECT_LT(std::min(inside.margin(r, 0), inside.margin(r, 1)), 0.0) << "ray " << r << " is dark";
+    for (std::size_t r = 0; r < 5; ++r)
+        EXPECT_LT(std::min(inside.margin(r, 0), inside.margin(r, 1)), 0.0) << "ray " << r << " is dark";
     EXPECT_TRUE(mayHoldLight(inside, 0, 0.0));
     EXPECT_FALSE(mayHoldLight(beyond, 0, 0.0));
 }

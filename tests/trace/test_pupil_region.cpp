@@ -3,7 +3,6 @@
 // its square that is lit, and the share of the light too thin for the search's points.
 
 #include "core/units.h"
-#include "lens_bench.h"
 #include "trace/ghost_path.h"
 
 #include <gtest/gtest.h>
@@ -14,6 +13,8 @@
 #include <numeric>
 #include <string>
 #include <tuple>
+
+#include "lens_bench.h"
 
 using namespace ff;
 using namespace ff::trace;
@@ -39,7 +40,9 @@ Coverage coverage(const LensBench& s, const LensAtWavelength& L, const std::vect
     for (int j = 0; j < b.n; ++j)
         for (int i = 0; i < b.n; ++i) {
             const RayResult& r = hits[static_cast<std::size_t>(j) * b.n + i];
-            if (r.status != optics::RayStatus::Ok || (maxRadius > 0.0 && std::hypot(r.sensorPoint.x, r.sensorPoint.y) > maxRadius)) continue;
+            if (r.status != optics::RayStatus::Ok ||
+                (maxRadius > 0.0 && std::hypot(r.sensorPoint.x, r.sensorPoint.y) > maxRadius))
+                continue;
             const double x = b.x0 + (i + 0.5) * b.cell, y = b.y0 + (j + 0.5) * b.cell;
             ++c.lit;
             std::size_t k = 0;
@@ -76,7 +79,8 @@ TEST(PupilRegion, LitFractionIsTheShareOfItsSquareThatArrives) {
             std::vector<RayResult> hits(b.rays.size());
             traceAnalytic(s.L, steps, b.rays, hits);
             const double arriving =
-                double(std::count_if(hits.begin(), hits.end(), [](const RayResult& r) { return r.status == optics::RayStatus::Ok; })) /
+                double(std::count_if(hits.begin(), hits.end(),
+                                     [](const RayResult& r) { return r.status == optics::RayStatus::Ok; })) /
                 double(hits.size());
             if (arriving == 0.0) continue;
             // 64 points per side, over a square about as wide as the region: a shape of perimeter P is
@@ -89,7 +93,8 @@ TEST(PupilRegion, LitFractionIsTheShareOfItsSquareThatArrives) {
     }
     EXPECT_GE(checked, 60);
     EXPECT_LT(lowest, 0.1);
-    std::printf("%d regions checked; the thinnest passes %.3f of its square; worst difference %.4f\n", checked, lowest, worst);
+    std::printf("%d regions checked; the thinnest passes %.3f of its square; worst difference %.4f\n", checked, lowest,
+                worst);
 }
 
 // The region holds every point of the pupil plane whose ray arrives, found here by a 768 x 768
@@ -109,7 +114,8 @@ TEST(PupilRegion, HoldsEveryPointWhoseRayArrives) {
             const Field field{degToRad(angle), 0.0};
             const PupilRegion region = pupilRegion(s.pupil, field, Sampling::Reaim, s.L, steps);
             const Coverage c = coverage(s, s.L, steps, field, {region});
-            EXPECT_EQ(c.outside[0], 0) << label << " at " << angle << " deg: " << c.outside[0] << " of " << c.lit << " arriving points outside";
+            EXPECT_EQ(c.outside[0], 0) << label << " at " << angle << " deg: " << c.outside[0] << " of " << c.lit
+                                       << " arriving points outside";
             checked += c.lit > 0;
         }
     EXPECT_GE(checked, 20);
@@ -132,14 +138,16 @@ TEST(PupilRegion, WithACountingRadiusHoldsTheLightLandingWithinIt) {
         const PupilRegion region = pupilRegion(s.pupil, field, Sampling::Reaim, s.L, steps, test::kMaxRadius);
         const Coverage c = coverage(s, s.L, steps, field, {region}, test::kMaxRadius);
         ASSERT_GT(c.lit, 0);
-        EXPECT_EQ(c.outside[0], 0) << angle << " deg: " << c.outside[0] << " of " << c.lit << " points landing within the radius outside";
+        EXPECT_EQ(c.outside[0], 0) << angle << " deg: " << c.outside[0] << " of " << c.lit
+                                   << " points landing within the radius outside";
         const Bundle b = regionBundle(s.pupil, field, region, 256);
         std::vector<RayResult> own(b.rays.size());
         traceAnalytic(s.L, steps, b.rays, own);
         const double share = double(std::count_if(own.begin(), own.end(), within)) / double(own.size());
         EXPECT_NEAR(region.litFraction, share, 0.01) << angle << " deg";
         EXPECT_LT(share, 0.25 * all.litFraction) << angle << " deg";
-        std::printf("%.2f deg: %.3f of the region lands within the radius (the search says %.3f); %.3f of the region without the "
+        std::printf("%.2f deg: %.3f of the region lands within the radius (the search says %.3f); %.3f of the region "
+                    "without the "
                     "radius arrives\n",
                     angle, share, region.litFraction, all.litFraction);
     }
@@ -160,10 +168,11 @@ TEST(PupilRegion, SearchedAtItsOwnWavelengthHoldsLightThatOthersLack) {
         const PupilRegion own = pupilRegion(s.pupil, field, Sampling::Reaim, red, steps, test::kMaxRadius);
         const PupilRegion atD = pupilRegion(s.pupil, field, Sampling::Reaim, d, steps, test::kMaxRadius);
         const Coverage c = coverage(s, red, steps, field, {own, atD}, test::kMaxRadius);
-        EXPECT_EQ(c.outside[0], 0) << angle << " deg: " << c.outside[0] << " of " << c.lit << " points lit at 650 nm outside its region";
+        EXPECT_EQ(c.outside[0], 0) << angle << " deg: " << c.outside[0] << " of " << c.lit
+                                   << " points lit at 650 nm outside its region";
         EXPECT_GT(c.outside[1], c.lit / 50) << angle << " deg: the d line's region should miss the 650 nm patch";
-        std::printf("%.2f deg: %d points lit at 650 nm; outside the 650 nm region %d, outside the d line's %d\n", angle, c.lit,
-                    c.outside[0], c.outside[1]);
+        std::printf("%.2f deg: %d points lit at 650 nm; outside the 650 nm region %d, outside the d line's %d\n", angle,
+                    c.lit, c.outside[0], c.outside[1]);
     }
 }
 
@@ -172,7 +181,8 @@ TEST(PupilRegion, SearchedAtItsOwnWavelengthHoldsLightThatOthersLack) {
 // 450 and 650 nm holds every point lit at 450, 550 and 650 nm.
 TEST(PupilRegion, BandRegionHoldsTheLightOfEveryWavelengthInTheBand) {
     const LensBench s("double-gauss-50mm-f2.lens");
-    const LensAtWavelength ends[] = {LensAtWavelength(s.lens, 450.0, s.sensorZ), LensAtWavelength(s.lens, 650.0, s.sensorZ)};
+    const LensAtWavelength ends[] = {LensAtWavelength(s.lens, 450.0, s.sensorZ),
+                                     LensAtWavelength(s.lens, 650.0, s.sensorZ)};
     const std::vector<PathStep> steps = stepsOf(s.lens, "R3\u2192R1");
     ASSERT_FALSE(steps.empty());
     for (double angle : {22.28, 22.33, 22.38}) {
@@ -181,7 +191,8 @@ TEST(PupilRegion, BandRegionHoldsTheLightOfEveryWavelengthInTheBand) {
         for (const LensAtWavelength* L : {&ends[0], &s.L, &ends[1]}) {
             const Coverage c = coverage(s, *L, steps, field, {band});
             ASSERT_GT(c.lit, 0);
-            EXPECT_EQ(c.outside[0], 0) << angle << " deg, " << L->lambdaNm << " nm: " << c.outside[0] << " of " << c.lit << " lit points outside";
+            EXPECT_EQ(c.outside[0], 0) << angle << " deg, " << L->lambdaNm << " nm: " << c.outside[0] << " of " << c.lit
+                                       << " lit points outside";
         }
     }
 }
@@ -193,12 +204,13 @@ constexpr int kScanPoints = 200000;
 // The hits of kScanPoints parallel rays through the line y = 0 (alongX) or x = 0 of the pupil plane,
 // spread evenly across [-half, half]: point i at -half + (i + 0.5) x 2 half / kScanPoints; at the bench's
 // wavelength, or at `at`'s.
-std::vector<RayResult> scanLine(const LensBench& s, const std::vector<PathStep>& steps, const Field& field, double half, bool alongX,
-                                const LensAtWavelength* at = nullptr) {
+std::vector<RayResult> scanLine(const LensBench& s, const std::vector<PathStep>& steps, const Field& field, double half,
+                                bool alongX, const LensAtWavelength* at = nullptr) {
     const optics::Ray centre = gridBundle(s.pupil, field, 1, 0.0, 0.0, half, false).rays[0]; // through (0, 0)
     const double step = 2.0 * half / kScanPoints;
     std::vector<optics::Ray> line(kScanPoints, centre);
-    for (int i = 0; i < kScanPoints; ++i) (alongX ? line[i].origin.x : line[i].origin.y) += -half + (i + 0.5) * step; // parallel rays
+    for (int i = 0; i < kScanPoints; ++i)
+        (alongX ? line[i].origin.x : line[i].origin.y) += -half + (i + 0.5) * step; // parallel rays
     std::vector<RayResult> hits(kScanPoints);
     traceAnalytic(at ? *at : s.L, steps, line, hits);
     return hits;
@@ -206,12 +218,14 @@ std::vector<RayResult> scanLine(const LensBench& s, const std::vector<PathStep>&
 
 // Where rays through (x, 0) of the pupil plane start arriving or stop, scanning x across [-half, half]
 // (0.1 um apart at the widest region here).
-std::vector<double> edgesAlongX(const LensBench& s, const std::vector<PathStep>& steps, const Field& field, double half) {
+std::vector<double> edgesAlongX(const LensBench& s, const std::vector<PathStep>& steps, const Field& field,
+                                double half) {
     const std::vector<RayResult> hits = scanLine(s, steps, field, half, true);
     const double step = 2.0 * half / kScanPoints;
     std::vector<double> edges;
     for (int i = 1; i < kScanPoints; ++i)
-        if ((hits[i].status == optics::RayStatus::Ok) != (hits[i - 1].status == optics::RayStatus::Ok)) edges.push_back(-half + i * step);
+        if ((hits[i].status == optics::RayStatus::Ok) != (hits[i - 1].status == optics::RayStatus::Ok))
+            edges.push_back(-half + i * step);
     return edges;
 }
 
@@ -235,8 +249,9 @@ TEST(PupilRegion, ThinShareIsTheShareOfLightNarrowerThanItsPoints) {
     ASSERT_EQ(e.size(), 6u);
     const double r0 = 0.5 * (e[3] - e[2]), r1 = 0.5 * (e[4] - e[1]), r2 = 0.5 * (e[5] - e[0]);
     const double ringShare = (r2 * r2 - r1 * r1) / (r0 * r0 + r2 * r2 - r1 * r1);
-    std::printf("R4->R2 on the axis: disc %.3f mm, ring %.3f-%.3f mm: ring's share %.3f, thin share %.3f; direct image %.4f\n", r0, r1,
-                r2, ringShare, region.thinShare, disc.thinShare);
+    std::printf(
+        "R4->R2 on the axis: disc %.3f mm, ring %.3f-%.3f mm: ring's share %.3f, thin share %.3f; direct image %.4f\n",
+        r0, r1, r2, ringShare, region.thinShare, disc.thinShare);
     EXPECT_LT(region.thinShare, ringShare + 0.01);
     EXPECT_GT(region.thinShare, 0.5 * ringShare);
 }
@@ -246,25 +261,30 @@ namespace {
 // The stretches of the line x = 0 of the pupil plane whose rays arrive within the counting radius,
 // found by a scan across [-half, half] (under half a micron apart here): (start, end). At the bench's
 // wavelength, or at `at`'s.
-std::vector<std::pair<double, double>> litAlongY(const LensBench& s, const std::vector<PathStep>& steps, const Field& field, double half,
+std::vector<std::pair<double, double>> litAlongY(const LensBench& s, const std::vector<PathStep>& steps,
+                                                 const Field& field, double half,
                                                  const LensAtWavelength* at = nullptr) {
     const std::vector<RayResult> hits = scanLine(s, steps, field, half, false, at);
     const double step = 2.0 * half / kScanPoints;
     std::vector<std::pair<double, double>> lit;
     for (int i = 0; i < kScanPoints; ++i) {
-        const bool on = hits[i].status == optics::RayStatus::Ok && std::hypot(hits[i].sensorPoint.x, hits[i].sensorPoint.y) <= test::kMaxRadius;
+        const bool on = hits[i].status == optics::RayStatus::Ok &&
+                        std::hypot(hits[i].sensorPoint.x, hits[i].sensorPoint.y) <= test::kMaxRadius;
         const double y = -half + (i + 0.5) * step;
         if (!on) continue;
-        if (!lit.empty() && lit.back().second >= y - 1.5 * step) lit.back().second = y;
-        else lit.push_back({y, y});
+        if (!lit.empty() && lit.back().second >= y - 1.5 * step)
+            lit.back().second = y;
+        else
+            lit.push_back({y, y});
     }
     return lit;
 }
 
 // Whether the stretch [start, end] of the line x = 0 lies within one of the parts.
 bool holdsStretch(const std::vector<PupilRegion>& parts, double start, double end) {
-    return std::any_of(parts.begin(), parts.end(),
-                       [&](const PupilRegion& p) { return std::abs(p.cx) <= p.half && start >= p.cy - p.half && end <= p.cy + p.half; });
+    return std::any_of(parts.begin(), parts.end(), [&](const PupilRegion& p) {
+        return std::abs(p.cx) <= p.half && start >= p.cy - p.half && end <= p.cy + p.half;
+    });
 }
 
 // The ghost table's wavelengths: 650, 550 and 450 nm.
@@ -293,16 +313,19 @@ TEST(PupilRegion, PartsHoldLightFallingInPiecesFarApart) {
         const auto [bandStart, bandEnd] = lit.back();
         EXPECT_LT(bandEnd - bandStart, 0.1) << angle << " deg: the band";
         EXPECT_GT(bandStart - lit.front().second, 15.0) << angle << " deg: the band lies far from the disc";
-        const std::vector<PupilRegion> parts = pupilParts(s.pupil, field, Sampling::Reaim, s.L, steps, test::kMaxRadius);
+        const std::vector<PupilRegion> parts =
+            pupilParts(s.pupil, field, Sampling::Reaim, s.L, steps, test::kMaxRadius);
         ASSERT_EQ(parts.size(), 2u) << angle << " deg";
         const PupilRegion& a = parts[0];
         const PupilRegion& b = parts[1];
-        EXPECT_TRUE(std::abs(a.cx - b.cx) >= a.half + b.half || std::abs(a.cy - b.cy) >= a.half + b.half) << angle << " deg: parts overlap";
+        EXPECT_TRUE(std::abs(a.cx - b.cx) >= a.half + b.half || std::abs(a.cy - b.cy) >= a.half + b.half)
+            << angle << " deg: parts overlap";
         for (const auto& [start, end] : lit) {
-            EXPECT_TRUE(holdsStretch(parts, start, end)) << angle << " deg: light at y " << start << " to " << end << " mm outside the parts";
+            EXPECT_TRUE(holdsStretch(parts, start, end))
+                << angle << " deg: light at y " << start << " to " << end << " mm outside the parts";
         }
-        std::printf("%.2f deg: disc %.3f..%.3f mm, band %.4f..%.4f mm; parts' half sides %.2f and %.2f mm\n", angle, lit.front().first,
-                    lit.front().second, bandStart, bandEnd, a.half, b.half);
+        std::printf("%.2f deg: disc %.3f..%.3f mm, band %.4f..%.4f mm; parts' half sides %.2f and %.2f mm\n", angle,
+                    lit.front().first, lit.front().second, bandStart, bandEnd, a.half, b.half);
     }
 }
 
@@ -346,10 +369,11 @@ TEST(PupilRegion, PartsHoldTheLightBetweenThem) {
         const auto lit = litAlongY(s, steps, field, searchHalfSize(s.pupil, field), &Ls[0]);
         ASSERT_FALSE(lit.empty()) << angle << " deg";
         const auto byWavelength = pupilPartsByWavelength(s.pupil, field, Sampling::Reaim, Ls, steps, test::kMaxRadius);
-        for (const auto& parts : {pupilParts(s.pupil, field, Sampling::Reaim, Ls[0], steps, test::kMaxRadius), byWavelength[0]})
+        for (const auto& parts :
+             {pupilParts(s.pupil, field, Sampling::Reaim, Ls[0], steps, test::kMaxRadius), byWavelength[0]})
             for (const auto& [start, end] : lit) {
-                EXPECT_TRUE(holdsStretch(parts, start, end))
-                    << angle << " deg: light at y " << start << " to " << end << " mm outside the " << parts.size() << " part(s)";
+                EXPECT_TRUE(holdsStretch(parts, start, end)) << angle << " deg: light at y " << start << " to " << end
+                                                             << " mm outside the " << parts.size() << " part(s)";
             }
     }
 }
@@ -375,10 +399,12 @@ TEST(PupilRegion, PartsSlideApartWhereASquareWouldReachOverTheOtherPiece) {
         ASSERT_EQ(parts.size(), 2u) << angle << " deg";
         const PupilRegion& a = parts[0];
         const PupilRegion& b = parts[1];
-        EXPECT_TRUE(std::abs(a.cx - b.cx) >= a.half + b.half || std::abs(a.cy - b.cy) >= a.half + b.half) << angle << " deg: parts overlap";
+        EXPECT_TRUE(std::abs(a.cx - b.cx) >= a.half + b.half || std::abs(a.cy - b.cy) >= a.half + b.half)
+            << angle << " deg: parts overlap";
         EXPECT_LT(std::min(a.half, b.half), 2.0) << angle << " deg: the patch's square";
         for (const auto& [start, end] : lit) {
-            EXPECT_TRUE(holdsStretch(parts, start, end)) << angle << " deg: light at y " << start << " to " << end << " mm outside the parts";
+            EXPECT_TRUE(holdsStretch(parts, start, end))
+                << angle << " deg: light at y " << start << " to " << end << " mm outside the parts";
         }
     }
 }
@@ -401,7 +427,8 @@ TEST(PupilRegion, PartsCarryLitPointsOfTheirOwnSquare) {
             ASSERT_GT(part.litPoints.size(), 10u) << lens << ": the part at (" << part.cx << ", " << part.cy << ")";
             std::vector<optics::Ray> rays;
             for (const glm::dvec2& p : part.litPoints) {
-                EXPECT_LE(std::max(std::abs(p.x - part.cx), std::abs(p.y - part.cy)), part.half) << lens << ": (" << p.x << ", " << p.y << ")";
+                EXPECT_LE(std::max(std::abs(p.x - part.cx), std::abs(p.y - part.cy)), part.half)
+                    << lens << ": (" << p.x << ", " << p.y << ")";
                 rays.push_back(gridBundle(s.pupil, field, 1, p.x, p.y, 0.0, false).rays.front());
             }
             std::vector<RayResult> hits(rays.size());
@@ -409,7 +436,8 @@ TEST(PupilRegion, PartsCarryLitPointsOfTheirOwnSquare) {
             for (std::size_t k = 0; k < hits.size(); ++k) {
                 const bool arrives = hits[k].status == optics::RayStatus::Ok &&
                                      std::hypot(hits[k].sensorPoint.x, hits[k].sensorPoint.y) <= test::kMaxRadius;
-                EXPECT_TRUE(arrives) << lens << ": the lit point (" << part.litPoints[k].x << ", " << part.litPoints[k].y << ")";
+                EXPECT_TRUE(arrives) << lens << ": the lit point (" << part.litPoints[k].x << ", "
+                                     << part.litPoints[k].y << ")";
             }
         }
     }
@@ -420,10 +448,12 @@ namespace {
 // Whether every part has a mirror image across x = 0 among the parts (within 5 % of their summed
 // half sides).
 void expectMirrored(const std::vector<PupilRegion>& parts, double angle) {
-    const double width = std::accumulate(parts.begin(), parts.end(), 0.0, [](double w, const PupilRegion& p) { return w + p.half; });
+    const double width =
+        std::accumulate(parts.begin(), parts.end(), 0.0, [](double w, const PupilRegion& p) { return w + p.half; });
     for (const PupilRegion& p : parts) {
         const bool mirrored = std::any_of(parts.begin(), parts.end(), [&](const PupilRegion& q) {
-            return std::abs(q.cx + p.cx) < 0.05 * width && std::abs(q.cy - p.cy) < 0.05 * width && std::abs(q.half - p.half) < 0.05 * width;
+            return std::abs(q.cx + p.cx) < 0.05 * width && std::abs(q.cy - p.cy) < 0.05 * width &&
+                   std::abs(q.half - p.half) < 0.05 * width;
         });
         EXPECT_TRUE(mirrored) << angle << " deg: the part at x " << p.cx << " mm has no mirror image";
     }
@@ -443,12 +473,15 @@ PassOverParts passOverParts(const Bundle& b, const LensAtWavelength& L, const st
     PassOverParts out;
     for (std::size_t k = 0; k < hits.size(); ++k) {
         const RayResult& r = hits[k];
-        if (r.status != optics::RayStatus::Ok || std::hypot(r.sensorPoint.x, r.sensorPoint.y) > test::kMaxRadius) continue;
-        const double x = b.x0 + (static_cast<double>(k % b.n) + 0.5) * b.cell, y = b.y0 + (static_cast<double>(k / b.n) + 0.5) * b.cell;
+        if (r.status != optics::RayStatus::Ok || std::hypot(r.sensorPoint.x, r.sensorPoint.y) > test::kMaxRadius)
+            continue;
+        const double x = b.x0 + (static_cast<double>(k % b.n) + 0.5) * b.cell,
+                     y = b.y0 + (static_cast<double>(k / b.n) + 0.5) * b.cell;
         ++out.lit;
         out.xMin = std::min(out.xMin, x), out.xMax = std::max(out.xMax, x);
-        out.outside += std::none_of(parts.begin(), parts.end(),
-                                    [&](const PupilRegion& p) { return std::abs(x - p.cx) <= p.half && std::abs(y - p.cy) <= p.half; });
+        out.outside += std::none_of(parts.begin(), parts.end(), [&](const PupilRegion& p) {
+            return std::abs(x - p.cx) <= p.half && std::abs(y - p.cy) <= p.half;
+        });
     }
     return out;
 }
@@ -469,8 +502,9 @@ TEST(PupilRegion, KeepsTheMirrorSymmetryOfTheLight) {
     for (double angle = 24.681; angle <= 24.6905; angle += 0.003) {
         const Field field{degToRad(angle), 0.0};
         expectMirrored(pupilParts(s.pupil, field, Sampling::Reaim, red, steps, test::kMaxRadius), angle);
-        const Coverage c = coverage(s, red, steps, field, {pupilRegion(s.pupil, field, Sampling::Reaim, red, steps, test::kMaxRadius)},
-                                    test::kMaxRadius);
+        const Coverage c =
+            coverage(s, red, steps, field, {pupilRegion(s.pupil, field, Sampling::Reaim, red, steps, test::kMaxRadius)},
+                     test::kMaxRadius);
         EXPECT_EQ(c.outside[0], 0) << angle << " deg";
     }
     // Light that a search finds only where another wavelength's search led it is completed too: R9->R7
@@ -510,7 +544,8 @@ TEST(PupilRegion, PartsHoldBothEndsOfABandAcrossTheMirrorLine) {
         const auto parts = pupilPartsByWavelength(s.pupil, field, Sampling::Reaim, Ls, steps, test::kMaxRadius);
         expectMirrored(parts[1], angle);
         // 1024 x 1024 points 8 um apart over [-4, 4] x [13.5, 21.5] mm: the band and none of the rest.
-        const PassOverParts band = passOverParts(gridBundle(s.pupil, field, 1024, 0.0, 17.5, 4.0, false), Ls[1], steps, parts[1]);
+        const PassOverParts band =
+            passOverParts(gridBundle(s.pupil, field, 1024, 0.0, 17.5, 4.0, false), Ls[1], steps, parts[1]);
         EXPECT_GT(band.lit, 0) << angle << " deg";
         EXPECT_LT(band.xMin, -2.9) << angle << " deg: the band";
         EXPECT_GT(band.xMax, 2.9) << angle << " deg: the band";
@@ -528,7 +563,8 @@ struct WideR6R1 {
     std::vector<LensAtWavelength> Ls = tableWavelengths(s);
 
     PupilSearch search(double angleDeg, const PupilHints& hints = {}, bool lookCloser = false) const {
-        return searchPupil(s.pupil, Field{degToRad(angleDeg), 0.0}, Sampling::Reaim, Ls, steps, test::kMaxRadius, hints, lookCloser);
+        return searchPupil(s.pupil, Field{degToRad(angleDeg), 0.0}, Sampling::Reaim, Ls, steps, test::kMaxRadius, hints,
+                           lookCloser);
     }
 };
 
@@ -564,9 +600,11 @@ TEST(PupilRegion, LooksWhereANeighbouringAngleFoundLight) {
         const PupilHints away = piecesAwayFrom(neighbour, alone);
         const bool missed = !holdsStretch(alone.parts[2], lit.back().first, lit.back().second);
         if (missed) {
-            EXPECT_TRUE(hintsFindLight(s.pupil, field, Sampling::Reaim, Ls, steps, test::kMaxRadius, alone, away)) << angle << " deg";
+            EXPECT_TRUE(hintsFindLight(s.pupil, field, Sampling::Reaim, Ls, steps, test::kMaxRadius, alone, away))
+                << angle << " deg";
         }
-        std::printf("%.4f deg: patch %.4f..%.4f mm, %s alone\n", angle, lit.back().first, lit.back().second, missed ? "missed" : "found");
+        std::printf("%.4f deg: patch %.4f..%.4f mm, %s alone\n", angle, lit.back().first, lit.back().second,
+                    missed ? "missed" : "found");
     }
 }
 
@@ -588,7 +626,8 @@ TEST(PupilRegion, LooksCloserAtAPieceShrinkingToNothing) {
         EXPECT_GT(start - lit.front().second, 10.0) << angle << " deg: the patch lies far from the rest";
         EXPECT_LT(end - start, 0.09) << angle << " deg: the patch";
         const PupilSearch closer = r.search(angle, neighbour.pieces, /*lookCloser=*/true);
-        EXPECT_TRUE(holdsStretch(closer.parts[2], start, end)) << angle << " deg: the patch at y " << start << " to " << end << " mm";
+        EXPECT_TRUE(holdsStretch(closer.parts[2], start, end))
+            << angle << " deg: the patch at y " << start << " to " << end << " mm";
         const PupilSearch plain = r.search(angle, neighbour.pieces);
         plainMissed += !holdsStretch(plain.parts[2], start, end);
     }

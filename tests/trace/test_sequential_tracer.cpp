@@ -4,7 +4,6 @@
 #include "optics/lens_parser.h"
 #include "optics/paraxial.h"
 #include "optics/thin_film.h"
-#include "test_support.h"
 #include "trace/ghost_path.h"
 #include "trace/sequential_tracer.h"
 
@@ -15,6 +14,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "test_support.h"
+
 using namespace ff;
 using namespace ff::trace;
 using optics::Ray;
@@ -24,8 +25,8 @@ namespace {
 
 // A plane-parallel plate, thickness t, index n, between a stop and the sensor.
 optics::Lens plate(double n, double t, int coating) {
-    const std::string text = "surfaces:\n  stop 5 1 0 20\n  0 " + std::to_string(t) + " " + std::to_string(n) + " 0 20 " +
-                             std::to_string(coating) + "\n  0 50 1 0 20 " + std::to_string(coating) + "\n";
+    const std::string text = "surfaces:\n  stop 5 1 0 20\n  0 " + std::to_string(t) + " " + std::to_string(n) +
+                             " 0 20 " + std::to_string(coating) + "\n  0 50 1 0 20 " + std::to_string(coating) + "\n";
     return optics::parseLensText(text, "plate.lens");
 }
 
@@ -33,7 +34,8 @@ optics::Lens plate(double n, double t, int coating) {
 
 TEST(GhostPaths, CountIsPairsOfReflectingInterfaces) {
     for (const auto& entry : std::filesystem::directory_iterator(test::sourceDir() / "lenses")) {
-        const optics::Lens lens = optics::loadLens(entry.path().extension() == ".lens" ? entry.path() : test::lensPath("cooke-triplet-50mm-f5.lens"));
+        const optics::Lens lens = optics::loadLens(
+            entry.path().extension() == ".lens" ? entry.path() : test::lensPath("cooke-triplet-50mm-f5.lens"));
         const std::size_t m = lens.reflectingInterfaces(lines::d).size();
         const auto ghosts = enumerateGhosts(lens);
         EXPECT_EQ(ghosts.size(), m * (m - 1) / 2) << entry.path();
@@ -45,7 +47,7 @@ TEST(GhostPaths, StepsGoForwardBackAndForward) {
     const optics::Lens lens = optics::loadLens(test::lensPath("cooke-triplet-50mm-f5.lens"));
     const GhostPair g{3, 1};
     EXPECT_EQ(g.label(), "R4\u2192R2");
-    const std::vector<PathStep> expected = {{0, false}, {1, false}, {2, false}, {3, true}, {2, false},
+    const std::vector<PathStep> expected = {{0, false}, {1, false}, {2, false}, {3, true},  {2, false},
                                             {1, true},  {2, false}, {3, false}, {4, false}, {5, false}};
     EXPECT_EQ(pathSteps(lens, g), expected);
     EXPECT_EQ(pathSteps(lens, std::nullopt).size(), 6u);
@@ -95,9 +97,11 @@ TEST(SequentialTracer, CoatedPlateUsesTheQuarterWaveReflectance) {
     const auto& cat = optics::GlassCatalog::builtin();
     const double n1 = cat.find("MgF2")->dispersion.index(550.0), n2 = cat.find("N-BK7")->dispersion.index(550.0);
     const double R = std::pow((n2 - n1 * n1) / (n2 + n1 * n1), 2);
-    const optics::Lens lens = optics::parseLensText("surfaces:\n  stop 5 1 0 20\n  0 4 N-BK7 20 1\n  0 50 air 20 1\n", "c.lens");
+    const optics::Lens lens =
+        optics::parseLensText("surfaces:\n  stop 5 1 0 20\n  0 4 N-BK7 20 1\n  0 50 air 20 1\n", "c.lens");
     const LensAtWavelength L(lens, 550.0);
-    const auto ghost = traceSequential(L, pathSteps(lens, enumerateGhosts(lens)[0]), {{0.0, 1.0, -1.0}, {0.0, 0.0, 1.0}});
+    const auto ghost =
+        traceSequential(L, pathSteps(lens, enumerateGhosts(lens)[0]), {{0.0, 1.0, -1.0}, {0.0, 0.0, 1.0}});
     ASSERT_EQ(ghost.status, RayStatus::Ok);
     EXPECT_NEAR(ghost.weight, (1 - R) * (1 - R) * R * R, 1e-14);
 }
@@ -197,11 +201,14 @@ TEST(Iris, MirrorSymmetryLinesAreThoseOfThePolygon) {
                         const double d = x * cx + y * cy; // image: 2 (p . e) e - p
                         mirrored = iris.contains(x, y) == iris.contains(2.0 * d * cx - x, 2.0 * d * cy - y);
                     }
-                EXPECT_EQ(iris.mirrorSymmetricAbout(line), mirrored) << blades << " blades, rotation " << rotation << ", line " << line;
+                EXPECT_EQ(iris.mirrorSymmetricAbout(line), mirrored)
+                    << blades << " blades, rotation " << rotation << ", line " << line;
                 symmetricLines += mirrored;
                 ++lines;
             }
-            if (blades >= 3) EXPECT_EQ(symmetricLines, blades) << blades << " blades: symmetry lines in half a turn";
-            else EXPECT_EQ(symmetricLines, lines);
+            if (blades >= 3)
+                EXPECT_EQ(symmetricLines, blades) << blades << " blades: symmetry lines in half a turn";
+            else
+                EXPECT_EQ(symmetricLines, lines);
         }
 }
