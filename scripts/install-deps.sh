@@ -4,7 +4,7 @@
 set -euo pipefail
 
 packages=(
-  g++ cmake ninja-build pkg-config git clang-format
+  g++ cmake ninja-build pkg-config git clang-format python3
   libembree-dev libglm-dev libtbb-dev
   libopenimageio-dev openimageio-tools libopenexr-dev
   libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Quick start, second command (and what CI runs): install what is missing, then
-#   stage 0: the C++ sources formatted as .clang-format says (scripts/check-format.sh);
+#   stage 0: the C++ sources formatted as .clang-format says (scripts/check-format.sh), and
+#            docs/layering.md what the includes give (scripts/layering.py --check);
 #   stage 1: Release build, whole test suite through CTest;
 #   stage 2: AddressSanitizer + UndefinedBehaviorSanitizer build, whole test suite again.
 # Exits non-zero if any stage fails.
@@ -9,8 +10,9 @@ cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 jobs="$(nproc 2>/dev/null || echo 2)"
 
-echo "== stage 0: formatting"
+echo "== stage 0: formatting and layering"
 scripts/check-format.sh
+python3 scripts/layering.py --check
 
 echo "== stage 1: Release build and tests"
 scripts/build.sh release
