@@ -3,6 +3,7 @@
 // number of terms and timings (docs/compare.md).
 
 #include "cli/commands.h"
+#include "cli/conventions.h"
 #include "cli/flare_scene.h"
 #include "cli/fourier_choices.h"
 #include "cli/option_parsing.h"
@@ -38,8 +39,9 @@ struct CompareOptions {
     std::string size;
     std::string ns = "16,32,64,128,256";
     std::string output;
-    int grid = 32, tableGrid = 32;
-    std::string sensorSize, zoom;
+    int grid = 32;
+    std::string sensorSize;
+    TableOptions table; ///< the ghost table's; its sampling, sensor plane and coatings serve the traced reference too
     std::string diffraction = "off"; ///< off, physical or traced (then the aberration-free one too)
     FourierOptions fourier;
 };
@@ -200,7 +202,8 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     for (auto p : text::split(o.ns, ',')) {
         const auto v = text::parseNumber(p);
         if (!v || *v < 1 || *v > 2048 || *v != std::floor(*v))
-            throw Error(ErrorKind::Usage, "expected --n as whole numbers 1..2048, got " + text::quoted(o.ns));
+            throw Error(ErrorKind::Usage,
+                        "expected --fourier-n-sweep as whole numbers 1..2048, got " + text::quoted(o.ns));
         ns.push_back(static_cast<int>(*v));
     }
     std::sort(ns.begin(), ns.end());
@@ -213,7 +216,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     if (ec) throw Error(ErrorKind::Runtime, "cannot create the report folder '" + o.output + "': " + ec.message());
 
     ConsoleReporter reporter(g);
-    const optics::Lens lens = loadTraceableLens(o.lens, o.zoom, reporter);
+    const optics::Lens lens = loadTraceableLens(o.lens, o.table.zoom, reporter);
     std::pair<double, double> sensorMm = lens.sensorMm.value_or(std::make_pair(36.0, 24.0));
     if (!o.sensorSize.empty()) sensorMm = parseSensorSize(o.sensorSize, "--sensor-size");
     std::vector<ghosts::Light> lights = o.lightsFile.empty() ? plateLights : readLightsJson(o.lightsFile);
@@ -231,6 +234,9 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     trace::TracedFlareOptions to;
     to.frame = {W, H, sensorMm.first / W};
     to.grid = o.grid;
+    to.sampling = samplingFrom(o.table.sampling);
+    to.sensor = sensorFrom(o.table.sensor);
+    to.coating = coatingFrom(o.table.coating);
     const TracedScene tracedScene = renderTracedScene(lens, lights, to);
     const fourier::FlareImage& traced = tracedScene.image;
     const double tracedSeconds = seconds(t0);
@@ -243,10 +249,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     const double checkSeconds = seconds(t0);
 
     t0 = Clock::now();
-    TableOptions table;
-    table.grid = o.tableGrid;
-    table.zoom = o.zoom;
-    const ghosts::GhostTable tab = loadTable(lens, table, g, reporter);
+    const ghosts::GhostTable tab = loadTable(lens, o.table, g, reporter);
     const double tableSeconds = seconds(t0);
     const ghosts::Camera cam{W, H, sensorMm.first};
     const fourier::FourierSettings base = o.fourier.settings(g);
@@ -306,6 +309,8 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
         t0 = Clock::now();
         ghosts::ShapedSettings ss;
         ss.sensorSizeMm = sensorMm;
+        ss.sensor = to.sensor;
+        ss.coating = to.coating;
         const ghosts::ShapedTable shapedTable = loadShapedTable(lens, ss, g, reporter);
         const double buildSeconds = seconds(t0);
         t0 = Clock::now();
@@ -468,7 +473,7 @@ void addCompareCommand(CLI::App& app, GlobalOptions& global) {
     auto o = std::make_shared<CompareOptions>();
     CLI::App* cmd = app.add_subcommand(
         "compare", "Compare the traced flare of a scene with the fitted and the Fourier-aggregated ones");
-    cmd->add_option("lens", o->lens, "Lens file (.lens, .zmx or .dat)")->required()->check(CLI::ExistingFile);
+    addLensArgument(*cmd, o->lens);
     cmd->add_option("--light", o->lights,
                     "A light at X,Y pixels, optionally with its RGB flux: X,Y[,R,G,B] (repeatable)");
     cmd->add_option("--lights", o->lightsFile, "Lights from a JSON file")->check(CLI::ExistingFile);
@@ -480,16 +485,15 @@ void addCompareCommand(CLI::App& app, GlobalOptions& global) {
     cmd->add_option(
         "--size", o->size,
         "Frame size in pixels, WIDTHxHEIGHT (default: the plate's, else 1920x1080); the frame spans the sensor width");
-    cmd->add_option("--n", o->ns, "Numbers of terms for the error-against-N table, comma-separated");
+    cmd->add_option("--fourier-n-sweep", o->ns, "Numbers of terms N for the error-against-N table, comma-separated");
+    addDeprecated(*cmd, "--n", o->ns, "--fourier-n-sweep");
     cmd->add_option("-o,--output", o->output, "Report folder (created if missing)")->required();
     cmd->add_option("--grid", o->grid,
                     "Cells per side of each ghost's starting pupil grid for the traced reference (refined adaptively)")
         ->check(CLI::Range(4, 1024));
-    cmd->add_option("--table-grid", o->tableGrid, "Rays per side of each ghost's pupil grid for the ghost table")
-        ->check(CLI::Range(4, 512));
+    o->table.addTo(*cmd);
     cmd->add_option("--sensor-size", o->sensorSize,
                     "Sensor size in mm, WIDTHxHEIGHT (default: the lens file's, else 36x24)");
-    cmd->add_option("--zoom", o->zoom, "Zoom position (label or 1-based index)");
     cmd->add_option(
            "--diffraction", o->diffraction,
            "Also show the lights' diffraction: physical (the iris's aberration-free PSF), traced (that and the "
@@ -498,7 +502,10 @@ void addCompareCommand(CLI::App& app, GlobalOptions& global) {
     o->fourier.addTo(*cmd);
     cmd->footer("Example: fourierflare compare lenses/double-gauss-50mm-f2.lens --light 1400,300 --light 600,700 "
                 "--size 1920x1080 -o cmp/");
-    cmd->callback([o, &global] { runCompare(*o, global); });
+    cmd->callback([o, &global] {
+        requireLens(o->lens);
+        runCompare(*o, global);
+    });
 }
 
 } // namespace ff::cli

@@ -1,6 +1,7 @@
 // `fourierflare export`: a lens's ghost table for game engines (json, csv, unity, unreal).
 
 #include "cli/commands.h"
+#include "cli/conventions.h"
 #include "cli/trace_choices.h"
 #include "core/error.h"
 #include "core/file_io.h"
@@ -60,20 +61,24 @@ void runExport(const ExportOptions& o, const GlobalOptions& g) {
 void addExportCommand(CLI::App& app, GlobalOptions& global) {
     auto o = std::make_shared<ExportOptions>();
     CLI::App* cmd = app.add_subcommand("export", "Export a lens's ghosts for game engines (json, csv, unity, unreal)");
-    cmd->add_option("lens", o->lens, "Lens file (.lens, .zmx or .dat)")->required()->check(CLI::ExistingFile);
+    addLensArgument(*cmd, o->lens);
     cmd->add_option("--format", o->format,
                     "json (the full table), csv (Unreal DataTable), unity (LensFlareDataSRP .asset), unreal "
                     "(LensFlareTints preset)")
         ->check(CLI::IsMember({"json", "csv", "unity", "unreal"}));
     cmd->add_option("-o,--output", o->output, "File to write")->required();
-    cmd->add_option("--field-angle", o->fieldAngle,
+    cmd->add_option("--angle", o->fieldAngle,
                     "Reference field angle in degrees for csv/unity/unreal (default: half the table's range)");
+    addDeprecated(*cmd, "--field-angle", o->fieldAngle, "--angle");
     cmd->add_option("--top", o->top, "Only the K strongest ghosts (csv, unity; 0 = all; unreal always takes 8)")
         ->check(CLI::Range(0, 100000));
-    o->table.addTo(*cmd);
+    o->table.addTo(*cmd, true);
     cmd->footer("The ghost table comes from the cache when it is there (see 'fourierflare table').\n"
                 "Example: fourierflare export lenses/double-gauss-50mm-f2.lens --format unity -o dg.asset");
-    cmd->callback([o, &global] { runExport(*o, global); });
+    cmd->callback([o, &global] {
+        requireLens(o->lens);
+        runExport(*o, global);
+    });
 }
 
 } // namespace ff::cli

@@ -1,6 +1,8 @@
 // `fourierflare ghosts`: the ghost report of a lens at one field angle.
 
 #include "cli/commands.h"
+#include "cli/conventions.h"
+#include "cli/option_parsing.h"
 #include "cli/trace_choices.h"
 #include "core/error.h"
 #include "core/text.h"
@@ -15,6 +17,8 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
+#include <tuple>
 
 namespace ff::cli {
 
@@ -22,8 +26,10 @@ namespace {
 
 struct GhostsOptions {
     std::string file;
-    double angleDeg = 0.0;
-    double azimuthDeg = 0.0;
+    std::string angle;                ///< "DEG[,AZ]"
+    double angleDeg = 0.0;            ///< from angle
+    double azimuthDeg = 0.0;          ///< from angle, or the deprecated --azimuth
+    std::optional<double> oldAzimuth; ///< --azimuth (deprecated)
     std::vector<double> wavelengths = {550.0};
     std::string coating = "file";
     std::string sampling = "reaim";
@@ -141,12 +147,12 @@ void addGhostsCommand(CLI::App& app, GlobalOptions& global) {
     auto o = std::make_shared<GhostsOptions>();
     CLI::App* cmd = app.add_subcommand(
         "ghosts", "Trace the direct image and every two-bounce ghost at one field angle and report them");
-    cmd->add_option("lens", o->file, "Lens file (.lens, .zmx or .dat)")->required()->check(CLI::ExistingFile);
-    cmd->add_option("--angle", o->angleDeg, "Field angle of the source in degrees")
-        ->required()
-        ->check(CLI::Range(0.0, 89.0));
-    cmd->add_option("--azimuth", o->azimuthDeg,
-                    "Azimuth of the source in degrees (0: direct image at +y; counter-clockwise)");
+    addLensArgument(*cmd, o->file);
+    cmd->add_option("--angle", o->angle,
+                    "Field angle of the source in degrees, optionally with its azimuth: DEG[,AZ] (0: the direct "
+                    "image at +y; counter-clockwise)")
+        ->required();
+    addDeprecated(*cmd, "--azimuth", o->oldAzimuth, "--angle DEG,AZ");
     cmd->add_option("--wavelength", o->wavelengths, "Wavelength(s) in nm (repeat the option for several)")
         ->check(CLI::Range(300.0, 2000.0));
     cmd->add_option("--coating", o->coating,
@@ -164,7 +170,16 @@ void addGhostsCommand(CLI::App& app, GlobalOptions& global) {
     cmd->footer(
         "Example: fourierflare ghosts lenses/double-gauss-50mm-f2.lens --angle 10 --wavelength 550 --coating none "
         "--sampling paraxial-grid --grid 64 --sensor paraxial --json");
-    cmd->callback([o, &global] { runGhosts(*o, global); });
+    cmd->callback([o, &global] {
+        requireLens(o->file);
+        std::tie(o->angleDeg, o->azimuthDeg) = parseAngle(o->angle, "--angle");
+        if (o->oldAzimuth) {
+            if (o->angle.find(',') != std::string::npos)
+                throw Error(ErrorKind::Usage, "give the azimuth once: --angle DEG,AZ (--azimuth is its old spelling)");
+            o->azimuthDeg = *o->oldAzimuth;
+        }
+        runGhosts(*o, global);
+    });
 }
 
 } // namespace ff::cli

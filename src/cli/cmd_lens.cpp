@@ -1,6 +1,7 @@
 // `fourierflare lens info` and `fourierflare lens convert`.
 
 #include "cli/commands.h"
+#include "cli/conventions.h"
 #include "cli/lens_report.h"
 #include "core/error.h"
 #include "core/file_io.h"
@@ -87,7 +88,7 @@ void addLensCommand(CLI::App& app, GlobalOptions& global) {
     auto info = std::make_shared<InfoOptions>();
     CLI::App* infoCmd = lens->add_subcommand(
         "info", "Print a lens's surfaces and first-order optics (EFL, BFD, pupils, f-number, ghosts)");
-    infoCmd->add_option("file", info->file, "Lens file (.lens, .zmx or .dat)")->required()->check(CLI::ExistingFile);
+    addLensArgument(*infoCmd, info->file);
     infoCmd
         ->add_option("-w,--wavelength", info->lambdaNm, "Wavelength in nm for the first-order data (default: d line)")
         ->capture_default_str()
@@ -95,15 +96,21 @@ void addLensCommand(CLI::App& app, GlobalOptions& global) {
     infoCmd->add_flag("--json", info->json, "Print JSON instead of text");
     infoCmd->add_option("--zoom", info->zoom, "Only this zoom position (label or 1-based index; default: all)");
     infoCmd->footer("Example: fourierflare lens info lenses/double-gauss-50mm-f2.lens --wavelength 550");
-    infoCmd->callback([info, &global] { runInfo(*info, global); });
+    infoCmd->callback([info, &global] {
+        requireLens(info->file);
+        runInfo(*info, global);
+    });
 
     auto conv = std::make_shared<ConvertOptions>();
     CLI::App* convCmd =
         lens->add_subcommand("convert", "Convert a lens file (.zmx, .dat, .lens) to the native .lens format");
-    convCmd->add_option("input", conv->input, "Lens file to read")->required()->check(CLI::ExistingFile);
+    addLensArgument(*convCmd, conv->input, "Lens file to read (.zmx, .dat or .lens)");
     convCmd->add_option("-o,--output", conv->output, "Native .lens file to write (never the input)")->required();
     convCmd->footer("Example: fourierflare lens convert dgauss.50mm.dat -o dgauss.lens");
-    convCmd->callback([conv, &global] { runConvert(*conv, global); });
+    convCmd->callback([conv, &global] {
+        requireLens(conv->input);
+        runConvert(*conv, global);
+    });
 }
 
 } // namespace ff::cli

@@ -1,6 +1,7 @@
 // `fourierflare render`: the flare of light sources as an image, traced, fitted or Fourier-aggregated.
 
 #include "cli/commands.h"
+#include "cli/conventions.h"
 #include "cli/flare_scene.h"
 #include "cli/fourier_choices.h"
 #include "cli/option_parsing.h"
@@ -38,13 +39,11 @@ struct RenderOptions {
     std::string output, preview;
     std::vector<std::string> probes;
     int spectral = 0;
-    std::string sampling = "reaim";
-    int grid = 32, tableGrid = 32;
+    int grid = 32;
     double refine = 1.0;
-    std::string sensor = "file";
-    std::string coating = "file";
+    TableOptions
+        table; ///< the ghost table's options; its sampling, sensor plane and coatings serve the traced mode too
     std::string sensorSize;
-    std::string zoom;
     double exposure = std::numeric_limits<double>::quiet_NaN();
     FourierOptions fourier;
 };
@@ -118,7 +117,7 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
         }
         meta.push_back({"fourierflare:units", "flux per pixel, in the ghost list's units"});
     } else {
-        const optics::Lens lens = loadTraceableLens(o.lens, o.zoom, reporter);
+        const optics::Lens lens = loadTraceableLens(o.lens, o.table.zoom, reporter);
         std::pair<double, double> sensorMm = lens.sensorMm.value_or(std::make_pair(36.0, 24.0));
         if (!o.sensorSize.empty()) sensorMm = parseSensorSize(o.sensorSize, "--sensor-size");
         meta.push_back({"fourierflare:lens", lens.file});
@@ -131,29 +130,24 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
         trace::TracedFlareOptions t;
         t.frame = {W, H, sensorMm.first / W};
         t.spectralSamples = o.spectral;
-        t.sampling = samplingFrom(o.sampling);
+        t.sampling = samplingFrom(o.table.sampling);
         t.grid = o.grid;
         t.refinement = o.refine;
-        t.sensor = sensorFrom(o.sensor);
-        t.coating = coatingFrom(o.coating);
+        t.sensor = sensorFrom(o.table.sensor);
+        t.coating = coatingFrom(o.table.coating);
         if (o.mode == "traced") {
             TracedScene traced;
             if (!o.angle.empty()) {
-                const auto parts = text::split(o.angle, ',');
-                auto deg = parts.size() <= 2 ? text::parseNumber(parts[0]) : std::nullopt;
-                auto az = parts.size() == 2 ? text::parseNumber(parts[1]) : std::optional<double>(0.0);
-                if (!deg || !az || *deg < 0.0 || *deg >= 89.0)
-                    throw Error(ErrorKind::Usage,
-                                "expected --angle DEG[,AZ] with 0 <= DEG < 89, got " + text::quoted(o.angle));
-                t.field = {degToRad(*deg), degToRad(*az)};
+                const auto [deg, az] = parseAngle(o.angle, "--angle");
+                t.field = {degToRad(deg), degToRad(az)};
                 traced = renderTracedField(lens, t);
-                meta.push_back({"fourierflare:fieldAngleDeg", text::fixed(*deg, 6)});
-                meta.push_back({"fourierflare:azimuthDeg", text::fixed(*az, 6)});
+                meta.push_back({"fourierflare:fieldAngleDeg", text::fixed(deg, 6)});
+                meta.push_back({"fourierflare:azimuthDeg", text::fixed(az, 6)});
             } else {
                 traced = renderTracedScene(lens, lights, t);
             }
             image = std::move(traced.image);
-            meta.push_back({"fourierflare:grid", std::to_string(o.grid) + " " + o.sampling});
+            meta.push_back({"fourierflare:grid", std::to_string(o.grid) + " " + o.table.sampling});
             meta.push_back({"fourierflare:refine", text::fixed(o.refine, 3)});
             meta.push_back({"fourierflare:refinement", traced.describeRefinement()});
             summary = "traced " + std::to_string(traced.ghostCount) + " ghosts at " +
@@ -189,13 +183,7 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
                       std::to_string(r.triangles) + " triangles), culled " + std::to_string(r.culled) + " holding " +
                       text::scientific(r.culledShare, 2) + " of a light's ghost flux";
         } else {
-            TableOptions table;
-            table.grid = o.tableGrid;
-            table.sampling = o.sampling;
-            table.sensor = o.sensor;
-            table.coating = o.coating;
-            table.zoom = o.zoom;
-            const ghosts::GhostTable tab = loadTable(lens, table, g, reporter);
+            const ghosts::GhostTable tab = loadTable(lens, o.table, g, reporter);
             const ghosts::Camera cam{W, H, sensorMm.first};
             const auto profile = o.ghostModel == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
             const auto ghosts = fourierGhosts(ghosts::instantiate(tab, lights, cam, profile));
@@ -243,8 +231,7 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
 void addRenderCommand(CLI::App& app, GlobalOptions& global) {
     auto o = std::make_shared<RenderOptions>();
     CLI::App* cmd = app.add_subcommand("render", "Render the flare of light sources through a lens into an EXR image");
-    cmd->add_option("lens", o->lens, "Lens file (.lens, .zmx or .dat); not needed with --ghosts")
-        ->check(CLI::ExistingFile);
+    addLensArgument(*cmd, o->lens, "Lens file (.lens, .zmx or .dat); not needed with --ghosts");
     cmd->add_option("--angle", o->angle,
                     "Field angle of one source in degrees, optionally with its azimuth: DEG[,AZ] (traced mode)");
     cmd->add_option("--light", o->lights,
@@ -278,8 +265,6 @@ void addRenderCommand(CLI::App& app, GlobalOptions& global) {
            "--spectral", o->spectral,
            "Trace N wavelengths over 400-700 nm through the CIE 1931 matching functions (8-16); 0 = 450/550/650 nm")
         ->check(CLI::IsMember({0, 8, 9, 10, 11, 12, 13, 14, 15, 16}));
-    cmd->add_option("--sampling", o->sampling, "Pupil sampling: reaim or paraxial-grid")
-        ->check(CLI::IsMember({"reaim", "paraxial-grid"}));
     cmd->add_option("--grid", o->grid,
                     "Cells per side of each ghost's starting pupil grid, refined adaptively (traced mode)")
         ->check(CLI::Range(2, 1024));
@@ -287,16 +272,9 @@ void addRenderCommand(CLI::App& app, GlobalOptions& global) {
            "--refine", o->refine,
            "Refinement factor R of the traced mode: starting grid x R, every refinement tolerance / R (1, 2, 4...)")
         ->check(CLI::Range(1.0, 16.0));
-    cmd->add_option("--table-grid", o->tableGrid,
-                    "Rays per side of each ghost's pupil grid for the ghost table (fitted, fourier)")
-        ->check(CLI::Range(4, 512));
-    cmd->add_option("--sensor", o->sensor, "Sensor plane: file (the last thickness) or paraxial")
-        ->check(CLI::IsMember({"file", "paraxial"}));
-    cmd->add_option("--coating", o->coating, "Coatings: file, none or mgf2")
-        ->check(CLI::IsMember({"file", "none", "mgf2"}));
+    o->table.addTo(*cmd);
     cmd->add_option("--sensor-size", o->sensorSize,
                     "Sensor size in mm, WIDTHxHEIGHT (default: the lens file's, else 36x24)");
-    cmd->add_option("--zoom", o->zoom, "Zoom position (label or 1-based index)");
     o->fourier.addTo(*cmd);
     cmd->footer("Examples:\n"
                 "  fourierflare render lenses/double-gauss-50mm-f2.lens --angle 10 --size 1280x720 -o flare.exr "

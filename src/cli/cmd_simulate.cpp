@@ -4,6 +4,7 @@
 // composite.* (docs/simulate.md).
 
 #include "cli/commands.h"
+#include "cli/conventions.h"
 #include "cli/flare_scene.h"
 #include "cli/fourier_choices.h"
 #include "cli/option_parsing.h"
@@ -42,7 +43,8 @@ namespace {
 
 struct SimulateOptions {
     std::string lens, plate, output, preview, previewFlare, lightsOut, lightsFile;
-    std::string sensor;
+    std::string sensor = "file"; ///< the sensor plane (or, deprecated, a WxH size)
+    std::string sensorSize;
     double fov = 0.0;
     std::string threshold = "2";
     int block = 32;
@@ -52,8 +54,8 @@ struct SimulateOptions {
     std::string ghostModel = "shaped";
     std::string diffraction = "physical";
     double diffractionGain = 1.0;
-    int tableGrid = 32;
-    std::string zoom;
+    TableOptions
+        table; ///< the ghost table's (gaussian, cos2); its sensor plane and coatings serve the shaped model too
     double maxPixels = 8192.0 * 8192.0;
     std::string frames;
     FourierOptions fourier;
@@ -100,20 +102,35 @@ class Simulation {
             throw Error(ErrorKind::Usage, "--flare-gain must be a finite number >= 0");
         if (o.diffractionGain < 0.0 || !std::isfinite(o.diffractionGain))
             throw Error(ErrorKind::Usage, "--diffraction-gain must be a finite number >= 0");
-        if (!o.sensor.empty() && o.fov > 0.0)
-            throw Error(ErrorKind::Usage, "give either --sensor WxH or --fov DEG, not both");
+        // --sensor is the sensor plane, as in every command; a WxH size there is its old meaning
+        // (now --sensor-size), accepted for one release.
+        std::string sizeGiven = o.sensorSize;
+        table_o_ = o.table;
+        if (o.sensor != "file" && o.sensor != "paraxial") {
+            if (!o.sensorSize.empty())
+                throw Error(ErrorKind::Usage,
+                            "--sensor is the sensor plane: file or paraxial (the size is --sensor-size)");
+            parseSensorSize(o.sensor, "--sensor");
+            note("--sensor WxH is deprecated: use --sensor-size WxH (--sensor is the sensor plane: file or paraxial; "
+                 "the old spelling goes in the next release)");
+            sizeGiven = o.sensor;
+        } else {
+            table_o_.sensor = o.sensor;
+        }
+        if (!sizeGiven.empty() && o.fov > 0.0)
+            throw Error(ErrorKind::Usage, "give either --sensor-size WxH or --fov DEG, not both");
         detection_ = image::parseThreshold(o.threshold);
         detection_.blockSize = o.block;
-        lens_ = loadTraceableLens(o.lens, o.zoom, reporter_);
+        lens_ = loadTraceableLens(o.lens, o.table.zoom, reporter_);
         for (const std::string& l : o.lights) manualLights_.push_back(parseLight(l));
         if (!o.lightsFile.empty()) {
             const auto more = readLightsJson(o.lightsFile);
             manualLights_.insert(manualLights_.end(), more.begin(), more.end());
         }
-        // Sensor width: --sensor, else from --fov through the EFL, else the lens file's, else 36 mm.
+        // Sensor width: --sensor-size, else from --fov through the EFL, else the lens file's, else 36 mm.
         sensorWidthMm_ = lens_.sensorMm ? lens_.sensorMm->first : 36.0;
-        if (!o.sensor.empty()) {
-            sensorWidthMm_ = parseSensorSize(o.sensor, "--sensor").first;
+        if (!sizeGiven.empty()) {
+            sensorWidthMm_ = parseSensorSize(sizeGiven, sizeGiven == o.sensor ? "--sensor" : "--sensor-size").first;
         } else if (o.fov > 0.0) {
             sensorWidthMm_ =
                 2.0 * std::abs(optics::paraxialEfl(lens_, lines::d)) * std::tan(0.5 * o.fov * std::numbers::pi / 180.0);
@@ -180,6 +197,8 @@ class Simulation {
                 shapedFor_ = {plate.displayWidth, plate.displayHeight};
                 ghosts::ShapedSettings ss;
                 ss.sensorSizeMm = {sensorWidthMm_, pitch * plate.displayHeight};
+                ss.sensor = sensorFrom(table_o_.sensor);
+                ss.coating = coatingFrom(table_o_.coating);
                 shaped_ = std::make_unique<ghosts::ShapedTable>(loadShapedTable(lens_, ss, g_, reporter_));
             }
             tTable = since(t);
@@ -196,8 +215,8 @@ class Simulation {
             }
             ghosts::ShapedRender stats;
             std::size_t outside = 0;
-            const fourier::FlareImage flare = renderShapedScene(
-                lens_, *shaped_, shifted, frame, ghosts::ShapedSettings{}.sensor, &stats, &outside, raster_);
+            const fourier::FlareImage flare = renderShapedScene(lens_, *shaped_, shifted, frame,
+                                                                sensorFrom(table_o_.sensor), &stats, &outside, raster_);
             if (outside)
                 note(job.plate + ": " + std::to_string(outside) + " of " + std::to_string(lights.size()) +
                      " lights lie where no field angle of the lens images a source (outside its image circle on a " +
@@ -213,10 +232,7 @@ class Simulation {
                                                      " of a light's ghost flux"}};
         } else {
             if (!table_) {
-                TableOptions table;
-                table.grid = o_.tableGrid;
-                table.zoom = o_.zoom;
-                table_ = std::make_unique<ghosts::GhostTable>(loadTable(lens_, table, g_, reporter_));
+                table_ = std::make_unique<ghosts::GhostTable>(loadTable(lens_, table_o_, g_, reporter_));
             }
             tTable = since(t);
             const ghosts::Camera cam{plate.displayWidth, plate.displayHeight, sensorWidthMm_};
@@ -279,7 +295,8 @@ class Simulation {
                     diffraction::PsfSettings ps;
                     ps.pitchMm = pitch;
                     try {
-                        ps.pupil = diffraction::tracedPupil(lens_, xMm, yMm);
+                        ps.pupil = diffraction::tracedPupil(lens_, xMm, yMm,
+                                                            trace::sensorPlaneZ(lens_, sensorFrom(table_o_.sensor)));
                         diffraction::Psf p = diffraction::pixelPsf(*aperture_, ps);
                         zones_.push_back(text::fixed(x, 0) + "," + text::fixed(y, 0) + ": to " +
                                          std::to_string(p.radius) + " px");
@@ -394,6 +411,7 @@ class Simulation {
     ghosts::PolygonRaster* raster_ = nullptr;       ///< the GL backend's, drawing the shaped model
     diffraction::Convolver* convolver_ = nullptr;   ///< the GL backend's FFT, convolving the lights
     std::optional<diffraction::Aperture> aperture_; ///< with --diffraction physical
+    TableOptions table_o_;                          ///< o_.table with the sensor plane --sensor gave
     std::unique_ptr<diffraction::Psf> psf_;         ///< aberration-free (the traced PSFs' fallback)
     std::vector<std::string> zones_;                ///< --diffraction traced: each tile's PSF, for the header
     static constexpr int kZones = 3;                ///< --diffraction traced: tiles per side of the frame
@@ -463,7 +481,7 @@ void addSimulateCommand(CLI::App& app, GlobalOptions& global) {
     auto o = std::make_shared<SimulateOptions>();
     CLI::App* cmd = app.add_subcommand(
         "simulate", "Add a lens's physically based flare to an HDR plate (EXR with flare layers + PNG preview)");
-    cmd->add_option("--lens", o->lens, "Lens file (.lens, .zmx or .dat)")->required()->check(CLI::ExistingFile);
+    addLensArgument(*cmd, o->lens);
     cmd->add_option("--plate", o->plate,
                     "Plate: any image OpenImageIO reads (EXR, HDR, TIFF, PNG, ...); with --frames a %04d pattern")
         ->required();
@@ -474,10 +492,13 @@ void addSimulateCommand(CLI::App& app, GlobalOptions& global) {
     cmd->add_option("--preview", o->preview, "Also write the composite as a tonemapped PNG");
     cmd->add_option("--preview-flare", o->previewFlare, "Also write the flare alone as a PNG (automatic exposure)");
     cmd->add_option(
-        "--sensor", o->sensor,
+        "--sensor-size", o->sensorSize,
         "Sensor size in mm, WIDTHxHEIGHT; the plate spans its width (default: the lens file's, else 36x24)");
+    cmd->add_option("--sensor", o->sensor,
+                    "Sensor plane: file (the last thickness) or paraxial (the d line's focus); a WxH size here is the "
+                    "deprecated spelling of --sensor-size");
     cmd->add_option("--fov", o->fov,
-                    "Horizontal field of view in degrees instead of --sensor (sensor width = 2 EFL tan(fov/2))")
+                    "Horizontal field of view in degrees instead of --sensor-size (sensor width = 2 EFL tan(fov/2))")
         ->check(CLI::Range(0.1, 170.0));
     cmd->add_option(
         "--threshold", o->threshold,
@@ -503,9 +524,7 @@ void addSimulateCommand(CLI::App& app, GlobalOptions& global) {
                     "Ghost model: shaped (each ghost's traced mesh), gaussian or cos2 (the ghost table's fits, "
                     "aggregated through Fourier)")
         ->check(CLI::IsMember({"shaped", "gaussian", "cos2"}));
-    cmd->add_option("--table-grid", o->tableGrid, "Rays per side of each ghost's pupil grid for the ghost table")
-        ->check(CLI::Range(4, 512));
-    cmd->add_option("--zoom", o->zoom, "Zoom position (label or 1-based index)");
+    o->table.addTo(*cmd, false, false);
     cmd->add_option("--max-pixels", o->maxPixels,
                     "Refuse plates with more pixels than this (checked before reading them)")
         ->check(CLI::Range(1.0, 1e10));
@@ -516,7 +535,10 @@ void addSimulateCommand(CLI::App& app, GlobalOptions& global) {
                 "  fourierflare simulate --lens lenses/double-gauss-50mm-f2.lens --plate data/night-street.exr -o "
                 "out/night-street.exr --preview out/night-street.png\n"
                 "  fourierflare simulate --lens L.lens --plate shot.%04d.exr --frames 1001-1100 -o out/shot.%04d.exr");
-    cmd->callback([o, &global] { runSimulate(*o, global); });
+    cmd->callback([o, &global] {
+        requireLens(o->lens);
+        runSimulate(*o, global);
+    });
 }
 
 } // namespace ff::cli

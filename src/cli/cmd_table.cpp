@@ -1,6 +1,7 @@
 // `fourierflare table`: build (or fetch from the cache) a lens's ghost table and write it as JSON.
 
 #include "cli/commands.h"
+#include "cli/conventions.h"
 #include "cli/trace_choices.h"
 #include "core/error.h"
 #include "core/file_io.h"
@@ -89,14 +90,17 @@ void addTableCommand(CLI::App& app, GlobalOptions& global) {
     auto o = std::make_shared<TableCommandOptions>();
     CLI::App* cmd =
         app.add_subcommand("table", "Build a lens's ghost table (fitted ghosts over field angle) and write it as JSON");
-    cmd->add_option("lens", o->lens, "Lens file (.lens, .zmx or .dat)")->required()->check(CLI::ExistingFile);
+    addLensArgument(*cmd, o->lens);
     cmd->add_option("-o,--output", o->output, "JSON file to write (the canonical table, docs/ghost-table.md)")
         ->required();
-    o->table.addTo(*cmd);
+    o->table.addTo(*cmd, true);
     cmd->add_flag("--no-cache", o->noCache, "Build the table even if a cached one exists, and do not store it");
     cmd->footer("The table is cached under $FF_CACHE_DIR, $XDG_CACHE_HOME/fourierflare or ~/.cache/fourierflare.\n"
                 "Example: fourierflare table lenses/double-gauss-50mm-f2.lens -o dg.ghosts.json");
-    cmd->callback([o, &global] { runTable(*o, global); });
+    cmd->callback([o, &global] {
+        requireLens(o->lens);
+        runTable(*o, global);
+    });
 }
 
 } // namespace ff::cli

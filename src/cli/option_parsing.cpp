@@ -4,6 +4,7 @@
 #include "core/text.h"
 
 #include <cmath>
+#include <optional>
 
 namespace ff::cli {
 
@@ -30,6 +31,16 @@ std::pair<double, double> parseSensorSize(const std::string& s, const char* opti
         throw Error(ErrorKind::Usage,
                     std::string(option) + " must be positive and at most 1000 mm, got " + text::quoted(s));
     return {w, h};
+}
+
+std::pair<double, double> parseAngle(const std::string& s, const char* option) {
+    const auto parts = text::split(s, ',');
+    const auto deg = parts.size() <= 2 ? text::parseNumber(parts[0]) : std::nullopt;
+    const auto az = parts.size() == 2 ? text::parseNumber(parts[1]) : std::optional<double>(0.0);
+    if (!deg || !az || *deg < 0.0 || *deg >= 89.0)
+        throw Error(ErrorKind::Usage,
+                    std::string("expected ") + option + " DEG[,AZ] with 0 <= DEG < 89, got " + text::quoted(s));
+    return {*deg, *az};
 }
 
 } // namespace ff::cli

@@ -1,5 +1,6 @@
 #include "cli/trace_choices.h"
 
+#include "cli/conventions.h"
 #include "core/error.h"
 #include "ghosts/shaped_cache.h"
 #include "ghosts/table_cache.h"
@@ -36,22 +37,27 @@ trace::CoatingChoice coatingFrom(const std::string& s) {
     return trace::CoatingChoice::File;
 }
 
-void TableOptions::addTo(CLI::App& cmd) {
-    cmd.add_option("--grid", grid, "Rays per side of each ghost's pupil grid for the table")->check(CLI::Range(4, 512));
+void TableOptions::addTo(CLI::App& cmd, bool legacyGrid, bool withSensor) {
+    cmd.add_option("--table-grid", grid, "Rays per side of each ghost's pupil grid for the ghost table")
+        ->check(CLI::Range(4, 512));
+    if (legacyGrid) addDeprecated(cmd, "--grid", grid, "--table-grid")->check(CLI::Range(4, 512));
     cmd.add_option("--sampling", sampling, "Pupil sampling: reaim or paraxial-grid")
         ->check(CLI::IsMember({"reaim", "paraxial-grid"}));
-    cmd.add_option("--sensor", sensor, "Sensor plane: file or paraxial")->check(CLI::IsMember({"file", "paraxial"}));
+    if (withSensor)
+        cmd.add_option("--sensor", sensor, "Sensor plane: file (the last thickness) or paraxial (the d line's focus)")
+            ->check(CLI::IsMember({"file", "paraxial"}));
     cmd.add_option("--coating", coating, "Coatings: file, none or mgf2")
         ->check(CLI::IsMember({"file", "none", "mgf2"}));
     cmd.add_option("--max-angle", maxAngle,
-                   "Largest field angle of the table in degrees (0: the sensor's half-diagonal plus 5 %)")
+                   "Largest field angle of the ghost table in degrees (0: the sensor's half-diagonal plus 5 %)")
         ->check(CLI::Range(0.0, 85.0));
-    cmd.add_option("--max-angles", maxAngles,
-                   "Field angles the table's refinement may trace per ghost, on average (more: finer steps where "
-                   "ghosts change fast)")
+    cmd.add_option("--table-angles", maxAngles,
+                   "Field angles the ghost table's refinement may trace per ghost, on average (more: finer steps "
+                   "where ghosts change fast)")
         ->check(CLI::Range(9, 513));
+    addDeprecated(cmd, "--max-angles", maxAngles, "--table-angles")->check(CLI::Range(9, 513));
     cmd.add_option("--tolerance", tolerance,
-                   "Interpolation error of centroid and spreads the refinement aims at (relative)")
+                   "Interpolation error of centroid and spreads the ghost table's refinement aims at (relative)")
         ->check(CLI::Range(1e-6, 1.0));
     cmd.add_option("--zoom", zoom, "Zoom position (label or 1-based index)");
 }

@@ -23,8 +23,8 @@ trace::Sampling samplingFrom(const std::string& s);     ///< reaim | paraxial-gr
 trace::SensorPlane sensorFrom(const std::string& s);    ///< file | paraxial
 trace::CoatingChoice coatingFrom(const std::string& s); ///< file | none | mgf2
 
-/// The options that decide a ghost table, shared by `table` and `export` so that the same values
-/// find the same cache entry.
+/// The options that decide a ghost table, shared by every command that builds one (table, export,
+/// render, compare, simulate), so that the same values find the same cache entry.
 struct TableOptions {
     int grid = 32;
     std::string sampling = "reaim", sensor = "file", coating = "file";
@@ -33,7 +33,10 @@ struct TableOptions {
     double tolerance = ghosts::TableSettings{}.interpolationTolerance;
     std::string zoom;
 
-    void addTo(CLI::App& cmd);
+    /// --table-grid, --sampling, --sensor (the plane; unless !withSensor), --coating, --max-angle,
+    /// --table-angles, --tolerance, --zoom. legacyGrid: also --grid for the table's grid (table and
+    /// export, which have no traced grid), deprecated; --max-angles is the deprecated --table-angles.
+    void addTo(CLI::App& cmd, bool legacyGrid = false, bool withSensor = true);
     ghosts::TableSettings settings() const;
 };
 

@@ -121,3 +121,50 @@ TEST(Cli, ErrorsPrintRawBytesEscaped) {
     for (char c : r.err) EXPECT_TRUE(static_cast<unsigned char>(c) < 0x80 && (c >= 0x20 || c == '\n')) << int(c);
     EXPECT_FALSE(std::filesystem::exists(dir / "o.exr"));
 }
+
+// One convention (docs/cli.md): the lens is the first argument or --lens in every command; the old
+// spellings of renamed options still work for one release, with a note, and do what the new ones do.
+TEST(CliConvention, TheLensIsAnArgumentOrAnOptionEverywhere) {
+    const std::string lens = "lenses/cooke-triplet-50mm-f5.lens";
+    const RunResult a = run("lens info " + lens), b = run("lens info --lens " + lens);
+    ASSERT_EQ(a.code, 0) << a.err;
+    EXPECT_EQ(a.out, b.out);
+    const RunResult g1 = run("ghosts " + lens + " --angle 5 --top 3"),
+                    g2 = run("ghosts --lens " + lens + " --angle 5 --top 3");
+    ASSERT_EQ(g1.code, 0) << g1.err;
+    EXPECT_EQ(g1.out, g2.out);
+    for (const std::string cmd :
+         {"lens info", "ghosts --angle 5", "table -o x.json", "export -o x.json", "compare --light 1,1 -o x"}) {
+        const RunResult none = run(cmd);
+        EXPECT_EQ(none.code, 2) << cmd;
+        EXPECT_TRUE(contains(none.err, "a lens is required")) << cmd << ": " << none.err;
+    }
+    const RunResult both = run("lens info " + lens + " --lens " + lens);
+    EXPECT_EQ(both.code, 2); // one or the other
+}
+
+TEST(CliConvention, OldSpellingsStillWorkWithANote) {
+    ff::test::TempDir dir;
+    const std::string lens = "lenses/cooke-triplet-50mm-f5.lens";
+    const std::string env = "FF_CACHE_DIR='" + (dir / "cache").string() + "' ";
+    // ghosts --azimuth: --angle DEG,AZ.
+    const RunResult now = run("ghosts " + lens + " --angle 5,30 --top 3"),
+                    old = run("ghosts " + lens + " --angle 5 --azimuth 30 --top 3");
+    ASSERT_EQ(now.code, 0) << now.err;
+    ASSERT_EQ(old.code, 0) << old.err;
+    EXPECT_EQ(now.out, old.out);
+    EXPECT_TRUE(contains(old.err, "--azimuth is deprecated: use --angle DEG,AZ")) << old.err;
+    EXPECT_EQ(run("ghosts " + lens + " --angle 5,30 --azimuth 30").code, 2); // the azimuth twice
+    // table --grid and --max-angles: --table-grid and --table-angles; the same table.
+    const RunResult t1 =
+        run("table " + lens + " --table-grid 8 --table-angles 20 --max-angle 8 -o '" + (dir / "a.json").string() + "'",
+            env);
+    const RunResult t2 =
+        run("table " + lens + " --grid 8 --max-angles 20 --max-angle 8 -o '" + (dir / "b.json").string() + "'", env);
+    ASSERT_EQ(t1.code, 0) << t1.err;
+    ASSERT_EQ(t2.code, 0) << t2.err;
+    EXPECT_TRUE(contains(t2.err, "--grid is deprecated: use --table-grid")) << t2.err;
+    EXPECT_TRUE(contains(t2.err, "--max-angles is deprecated: use --table-angles")) << t2.err;
+    EXPECT_FALSE(contains(t1.err, "deprecated")) << t1.err;
+    EXPECT_EQ(ff::test::readFile(dir / "a.json"), ff::test::readFile(dir / "b.json"));
+}

@@ -186,11 +186,11 @@ TEST(CliCompare, WritesTheReport) {
     ff::test::TempDir dir;
     const std::string env = "FF_CACHE_DIR='" + (dir / "cache").string() + "' ";
     const auto out = dir / "cmp";
-    const auto r = run(
-        "compare lenses/cooke-triplet-50mm-f5.lens --light 150,40 --size 192x108 --grid 8 --table-grid 8 --n 8,16,32 "
-        "--diffraction traced -o '" +
-            out.string() + "'",
-        env);
+    const auto r = run("compare lenses/cooke-triplet-50mm-f5.lens --light 150,40 --size 192x108 --grid 8 --table-grid "
+                       "8 --fourier-n-sweep 8,16,32 "
+                       "--diffraction traced -o '" +
+                           out.string() + "'",
+                       env);
     ASSERT_EQ(r.code, 0) << r.err;
     for (const char* f :
          {"report.md", "report.json", "error-vs-n.svg", "traced.exr", "traced.png", "fitted-gaussian.exr",

@@ -160,7 +160,7 @@ TEST(CliSimulate, ShapedFlareIsTheTracedFlareOfTheLightFound) {
     ff::test::TempDir dir;
     constexpr int ox = 20, oy = 12, W = kW + ox + 4, H = kH + oy + 2;
     writePlate(dir / "plate.exr", 61, 17, 800.0f, ox, oy, 4, 2);
-    const auto r = run(simulate(dir / "plate.exr", dir / "out.exr", "--sensor 36x24"), kEnv);
+    const auto r = run(simulate(dir / "plate.exr", dir / "out.exr", "--sensor-size 36x24"), kEnv);
     ASSERT_EQ(r.code, 0) << r.err;
     // The light: the 2 x 2 block's centre, in the display window, with 4 x 800 per channel.
     const std::string light = std::to_string(61 + 1 + ox) + "," + std::to_string(17 + 1 + oy) + ",3200,3200,3200";
@@ -193,7 +193,7 @@ TEST(CliSimulate, ShapedFlareIsTheTracedFlareOfTheLightFound) {
 TEST(CliSimulate, LightsBeyondTheImageCircleGetNoFlareAndANote) {
     ff::test::TempDir dir;
     writePlate(dir / "plate.exr", 1, 1, 800.0f);
-    const auto r = run(simulate(dir / "plate.exr", dir / "out.exr", "--sensor 200x133"), kEnv);
+    const auto r = run(simulate(dir / "plate.exr", dir / "out.exr", "--sensor-size 200x133"), kEnv);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("1 of 1 lights lie where no field angle of the lens images a source"), std::string::npos)
         << r.err;
@@ -210,9 +210,10 @@ TEST(CliSimulate, LightsBeyondTheImageCircleGetNoFlareAndANote) {
 TEST(CliSimulate, CentredLightFluxAndSymmetryFollowTheTable) {
     ff::test::TempDir dir;
     writePlate(dir / "plate.exr", kW / 2 - 1, kH / 2 - 1, 500.0f);
-    const auto r = run(simulate(dir / "plate.exr", dir / "out.exr", "--sensor 36x24 --ghost-model gaussian"), kEnv);
+    const auto r =
+        run(simulate(dir / "plate.exr", dir / "out.exr", "--sensor-size 36x24 --ghost-model gaussian"), kEnv);
     ASSERT_EQ(r.code, 0) << r.err;
-    const auto t = run("table " + kLens + " --grid 8 -o '" + (dir / "t.json").string() + "'", kEnv);
+    const auto t = run("table " + kLens + " --table-grid 8 -o '" + (dir / "t.json").string() + "'", kEnv);
     ASSERT_EQ(t.code, 0) << t.err;
     const auto table = nlohmann::json::parse(ff::test::readFile(dir / "t.json"));
     const Exr e = readExr(dir / "out.exr");
@@ -365,9 +366,9 @@ TEST(CliSimulate, DiffractionTracedUsesTheLensWavefrontPerTile) {
     ff::test::TempDir dir;
     writePlate(dir / "plate.exr", -1, -1, 0.0f);
     const std::string lights = " --light 48.5,32.5,5000,5000,5000 --light 90.5,5.5,5000,5000,5000";
-    ASSERT_EQ(run(simulate(dir / "plate.exr", dir / "ideal.exr", "--sensor 36x24" + lights), kEnv).code, 0);
+    ASSERT_EQ(run(simulate(dir / "plate.exr", dir / "ideal.exr", "--sensor-size 36x24" + lights), kEnv).code, 0);
     const auto r =
-        run(simulate(dir / "plate.exr", dir / "traced.exr", "--sensor 36x24 --diffraction traced" + lights), kEnv);
+        run(simulate(dir / "plate.exr", dir / "traced.exr", "--sensor-size 36x24 --diffraction traced" + lights), kEnv);
     ASSERT_EQ(r.code, 0) << r.err;
     const Exr ideal = readExr(dir / "ideal.exr"), traced = readExr(dir / "traced.exr");
     const std::string meta = traced.spec.get_string_attribute("fourierflare:diffraction");
@@ -383,6 +384,24 @@ TEST(CliSimulate, DiffractionTracedUsesTheLensWavefrontPerTile) {
     EXPECT_NEAR(sum, 0.0, 1e-4 * 10000.0);
     const std::size_t corner = static_cast<std::size_t>(5) * kW + 90;
     EXPECT_LT(traced.at(corner, d), ideal.at(corner, d)); // more of the light leaves its pixel
+}
+
+// --sensor is the sensor plane in simulate as everywhere; its old meaning, the sensor's size, still
+// works for one release with a note and gives the same image as --sensor-size.
+TEST(CliSimulate, TheOldSensorSizeSpellingGivesTheSameImage) {
+    ff::test::TempDir dir;
+    writePlate(dir / "plate.exr", 20, 12, 400.0f);
+    const auto now = run(simulate(dir / "plate.exr", dir / "now.exr", "--sensor-size 30x20"), kEnv);
+    const auto old = run(simulate(dir / "plate.exr", dir / "old.exr", "--sensor 30x20"), kEnv);
+    ASSERT_EQ(now.code, 0) << now.err;
+    ASSERT_EQ(old.code, 0) << old.err;
+    EXPECT_NE(old.err.find("--sensor WxH is deprecated: use --sensor-size WxH"), std::string::npos) << old.err;
+    const Exr a = readExr(dir / "now.exr"), b = readExr(dir / "old.exr");
+    ASSERT_EQ(a.pixels.size(), b.pixels.size());
+    EXPECT_TRUE(a.pixels == b.pixels);
+    EXPECT_EQ(run(simulate(dir / "plate.exr", dir / "bad.exr", "--sensor 30x20 --sensor-size 30x20"), kEnv).code, 2);
+    EXPECT_EQ(run(simulate(dir / "plate.exr", dir / "bad.exr", "--sensor focus"), kEnv).code, 2);
+    EXPECT_FALSE(std::filesystem::exists(dir / "bad.exr"));
 }
 
 TEST(CliSimulate, SequencesRenderEveryFrame) {

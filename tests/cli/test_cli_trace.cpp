@@ -97,16 +97,18 @@ TEST(CliTable, BuildsCachesAndExports) {
     ff::test::TempDir dir;
     const std::string env = "FF_CACHE_DIR='" + (dir / "cache").string() + "' ";
     const std::string table = (dir / "t.json").string(), asset = (dir / "cooke.asset").string();
-    const auto built = run("table lenses/cooke-triplet-50mm-f5.lens --grid 8 --max-angle 10 -o '" + table + "'", env);
+    const auto built =
+        run("table lenses/cooke-triplet-50mm-f5.lens --table-grid 8 --max-angle 10 -o '" + table + "'", env);
     ASSERT_EQ(built.code, 0) << built.err;
     EXPECT_NE(built.err.find("built ghost table: 15 ghosts x 3 wavelengths"), std::string::npos) << built.err;
     EXPECT_NE(built.err.find("fit error (relative L2)"), std::string::npos) << built.err;
     const auto j = nlohmann::json::parse(ff::test::readFile(table));
     EXPECT_EQ(j["schema"], "fourierflare.ghost-table");
     EXPECT_EQ(j["ghosts"].size(), 15u);
-    const auto exported = run(
-        "export lenses/cooke-triplet-50mm-f5.lens --format unity --grid 8 --max-angle 10 --top 5 -o '" + asset + "'",
-        env);
+    const auto exported =
+        run("export lenses/cooke-triplet-50mm-f5.lens --format unity --table-grid 8 --max-angle 10 --top 5 -o '" +
+                asset + "'",
+            env);
     ASSERT_EQ(exported.code, 0) << exported.err;
     EXPECT_NE(exported.err.find("table from the cache"), std::string::npos)
         << exported.err; // same settings as the table command

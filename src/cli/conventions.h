@@ -1,0 +1,30 @@
+#pragma once
+// The command line's one convention (docs/cli.md, "Convention"): the same option name means the same
+// thing in every command. These helpers add the spellings every command shares.
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <string>
+
+namespace ff::cli {
+
+/// The lens a command works on: the first positional argument LENS, or --lens FILE (the same; give
+/// one). Commands check it with requireLens before they run.
+void addLensArgument(CLI::App& cmd, std::string& lens, const std::string& help = "Lens file (.lens, .zmx or .dat)");
+
+/// Throws ff::Error (Usage) when no lens was given.
+void requireLens(const std::string& lens);
+
+/// An option's old spelling, accepted for one release: it sets `target` as `now` does and prints a
+/// note naming `now`. Hidden from the help.
+template <class T>
+CLI::Option* addDeprecated(CLI::App& cmd, const std::string& old, T& target, const std::string& now) {
+    return cmd.add_option(old, target)->group("")->each([old, now](const std::string&) {
+        std::fprintf(stderr,
+                     "fourierflare: note: %s is deprecated: use %s (the old spelling goes in the next release)\n",
+                     old.c_str(), now.c_str());
+    });
+}
+
+} // namespace ff::cli
