@@ -5,7 +5,6 @@
 // own costs: building them (BM_SimulateUncached, BM_ShapedTableBuild) and loading the shaped one
 // from its cache entry (BM_ShapedTableLoad).
 
-#include "cli/flare_scene.h"
 #include "fourier/render.h"
 #include "ghosts/ghost_table.h"
 #include "ghosts/instancing.h"
@@ -17,6 +16,7 @@
 #include "image/light_detection.h"
 #include "image/plate.h"
 #include "optics/lens_loader.h"
+#include "scene/scene.h"
 
 #include <OpenImageIO/imageio.h>
 #include <benchmark/benchmark.h>
@@ -120,7 +120,7 @@ void BM_SimulateCached(benchmark::State& state) {
     const ghosts::GhostTable& table = cachedTable();
     std::size_t ghostCount = 0;
     frame(state, plateWith(static_cast<int>(state.range(0))), [&](const std::vector<ghosts::Light>& lights) {
-        const auto ghosts = cli::fourierGhosts(ghosts::instantiate(table, lights, {kW, kH, 36.0}));
+        const auto ghosts = scene::fourierGhosts(ghosts::instantiate(table, lights, {kW, kH, 36.0}));
         ghostCount = ghosts.size();
         return fourier::renderFourier(ghosts, kW, kH, {}).image;
     });
@@ -134,8 +134,8 @@ void shapedFrames(benchmark::State& state, ghosts::PolygonRaster* raster) {
     const trace::ImageFrame sensorFrame{kW, kH, 36.0 / kW};
     ghosts::ShapedRender stats;
     frame(state, plateWith(static_cast<int>(state.range(0))), [&](const std::vector<ghosts::Light>& lights) {
-        return cli::renderShapedScene(lens(), table, lights, sensorFrame, trace::SensorPlane::File, &stats, nullptr,
-                                      raster);
+        return scene::renderShapedScene(lens(), table, lights, sensorFrame, trace::SensorPlane::File, &stats, nullptr,
+                                        raster);
     });
     state.counters["instances"] = double(stats.drawn);
     state.counters["triangles"] = double(stats.triangles);

@@ -5,11 +5,11 @@
 // all at the refined render's exposure. Run by hand for docs/tracing.md:
 //   build/release/tools/traced-convergence lenses/tessar-100mm-f3.5.lens --light 700,150 --size 960x540 --refine 4
 
-#include "cli/flare_scene.h"
 #include "cli/trace_choices.h"
 #include "core/error.h"
 #include "image/image_output.h"
 #include "image/metrics.h"
+#include "scene/scene.h"
 #include "trace/traced_flare.h"
 
 #include <CLI/CLI.hpp>
@@ -23,14 +23,14 @@ using namespace ff;
 namespace {
 
 struct Run {
-    cli::TracedScene scene;
+    scene::TracedScene scene;
     double seconds = 0.0;
 };
 
 Run render(const optics::Lens& lens, const ghosts::Light& light, trace::TracedFlareOptions o) {
     const auto t0 = std::chrono::steady_clock::now();
     Run r;
-    r.scene = cli::renderTracedScene(lens, {light}, o);
+    r.scene = scene::renderTracedScene(lens, {light}, o);
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return r;
 }
@@ -57,7 +57,7 @@ int main(int argc, char** argv) {
         const optics::Lens lens = cli::loadTraceableLens(lensFile, zoom, quiet);
         int W = 0, H = 0;
         if (std::sscanf(size.c_str(), "%dx%d", &W, &H) != 2) throw Error(ErrorKind::Usage, "--size WIDTHxHEIGHT");
-        const ghosts::Light l = cli::parseLight(light);
+        const ghosts::Light l = scene::parseLight(light);
         trace::TracedFlareOptions o;
         const auto sensor = lens.sensorMm.value_or(std::make_pair(36.0, 24.0));
         o.frame = {W, H, sensor.first / W};

@@ -4,7 +4,6 @@
 
 #include "cli/commands.h"
 #include "cli/conventions.h"
-#include "cli/flare_scene.h"
 #include "cli/fourier_choices.h"
 #include "cli/option_parsing.h"
 #include "core/error.h"
@@ -16,6 +15,7 @@
 #include "image/light_detection.h"
 #include "image/metrics.h"
 #include "image/plate.h"
+#include "scene/scene.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -135,7 +135,7 @@ std::string compareDiffraction(const CompareOptions& o, const optics::Lens& lens
         const auto t0 = Clock::now();
         double off = 0.0;
         std::string text;
-        images.push_back(renderDiffraction(lens, lights, to.frame, z, mode, diffractionDevice(fs), &off, &text));
+        images.push_back(scene::renderDiffraction(lens, lights, to.frame, z, mode, diffractionDevice(fs), &off, &text));
         const double s = seconds(t0);
         double flux = 0.0;
         for (float v : images.back()) flux += v;
@@ -219,8 +219,8 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     const optics::Lens lens = loadTraceableLens(o.lens, o.table.zoom, reporter);
     std::pair<double, double> sensorMm = lens.sensorMm.value_or(std::make_pair(36.0, 24.0));
     if (!o.sensorSize.empty()) sensorMm = parseSensorSize(o.sensorSize, "--sensor-size");
-    std::vector<ghosts::Light> lights = o.lightsFile.empty() ? plateLights : readLightsJson(o.lightsFile);
-    for (const std::string& l : o.lights) lights.push_back(parseLight(l));
+    std::vector<ghosts::Light> lights = o.lightsFile.empty() ? plateLights : scene::readLightsJson(o.lightsFile);
+    for (const std::string& l : o.lights) lights.push_back(scene::parseLight(l));
     const image::Metadata meta = {{"Software", std::string("fourierflare ") + kVersion},
                                   {"fourierflare:commandLine", g.commandLine},
                                   {"fourierflare:lens", lens.file},
@@ -237,7 +237,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     to.sampling = samplingFrom(o.table.sampling);
     to.sensor = sensorFrom(o.table.sensor);
     to.coating = coatingFrom(o.table.coating);
-    const TracedScene tracedScene = renderTracedScene(lens, lights, to);
+    const scene::TracedScene tracedScene = scene::renderTracedScene(lens, lights, to);
     const fourier::FlareImage& traced = tracedScene.image;
     const double tracedSeconds = seconds(t0);
     say("traced " + std::to_string(lights.size()) + " light(s) in " + text::fixed(tracedSeconds, 2) + " s (" +
@@ -245,7 +245,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     // The reference's own error: the traced render against one with the refinement doubled.
     t0 = Clock::now();
     to.refinement = 2.0;
-    const std::vector<float> checkRgb = renderTracedScene(lens, lights, to).image.interleaved();
+    const std::vector<float> checkRgb = scene::renderTracedScene(lens, lights, to).image.interleaved();
     const double checkSeconds = seconds(t0);
 
     t0 = Clock::now();
@@ -316,7 +316,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
         t0 = Clock::now();
         ghosts::ShapedRender sr;
         const std::vector<float> shapedRgb =
-            renderShapedScene(lens, shapedTable, lights, to.frame, to.sensor, &sr, nullptr, polygonRaster(base))
+            scene::renderShapedScene(lens, shapedTable, lights, to.frame, to.sensor, &sr, nullptr, polygonRaster(base))
                 .interleaved();
         const double drawSeconds = seconds(t0);
         save("shaped", shapedRgb);
@@ -341,7 +341,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     if (base.basis == fourier::Basis::Separable) profiles.push_back(ghosts::Profile::Cos2);
     for (const auto profile : profiles) {
         const std::string name = ghosts::toString(profile);
-        const auto ghosts = fourierGhosts(ghosts::instantiate(tab, lights, cam, profile));
+        const auto ghosts = scene::fourierGhosts(ghosts::instantiate(tab, lights, cam, profile));
         t0 = Clock::now();
         const fourier::FlareImage fitted = fourier::renderDirect(ghosts, W, H);
         const double fittedSeconds = seconds(t0);

@@ -2,7 +2,6 @@
 
 #include "cli/commands.h"
 #include "cli/conventions.h"
-#include "cli/flare_scene.h"
 #include "cli/fourier_choices.h"
 #include "cli/option_parsing.h"
 #include "cli/trace_choices.h"
@@ -14,6 +13,7 @@
 #include "ff/version.h"
 #include "fourier/render.h"
 #include "image/image_output.h"
+#include "scene/scene.h"
 #include "trace/ghost_analysis.h"
 #include "trace/traced_flare.h"
 
@@ -102,7 +102,7 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
     fourier::FlareImage image;
     std::string summary;
     if (explicitGhosts) {
-        const auto ghosts = readGhostsJson(o.ghostsFile);
+        const auto ghosts = scene::readGhostsJson(o.ghostsFile);
         meta.push_back({"fourierflare:ghosts", o.ghostsFile});
         if (o.mode == "fitted") {
             image = fourier::renderDirect(ghosts, W, H);
@@ -125,8 +125,8 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
         meta.push_back(
             {"fourierflare:units", "flux per pixel relative to the direct image of a unit light (= 1 per channel)"});
         std::vector<ghosts::Light> lights =
-            o.lightsFile.empty() ? std::vector<ghosts::Light>{} : readLightsJson(o.lightsFile);
-        for (const std::string& l : o.lights) lights.push_back(parseLight(l));
+            o.lightsFile.empty() ? std::vector<ghosts::Light>{} : scene::readLightsJson(o.lightsFile);
+        for (const std::string& l : o.lights) lights.push_back(scene::parseLight(l));
         trace::TracedFlareOptions t;
         t.frame = {W, H, sensorMm.first / W};
         t.spectralSamples = o.spectral;
@@ -136,15 +136,15 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
         t.sensor = sensorFrom(o.table.sensor);
         t.coating = coatingFrom(o.table.coating);
         if (o.mode == "traced") {
-            TracedScene traced;
+            scene::TracedScene traced;
             if (!o.angle.empty()) {
                 const auto [deg, az] = parseAngle(o.angle, "--angle");
                 t.field = {degToRad(deg), degToRad(az)};
-                traced = renderTracedField(lens, t);
+                traced = scene::renderTracedField(lens, t);
                 meta.push_back({"fourierflare:fieldAngleDeg", text::fixed(deg, 6)});
                 meta.push_back({"fourierflare:azimuthDeg", text::fixed(az, 6)});
             } else {
-                traced = renderTracedScene(lens, lights, t);
+                traced = scene::renderTracedScene(lens, lights, t);
             }
             image = std::move(traced.image);
             meta.push_back({"fourierflare:grid", std::to_string(o.grid) + " " + o.table.sampling});
@@ -161,8 +161,8 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
             double off = 0.0;
             std::string text;
             const std::vector<float> spread =
-                renderDiffraction(lens, lights, t.frame, trace::sensorPlaneZ(lens, t.sensor), o.diffraction,
-                                  diffractionDevice(fs), &off, &text);
+                scene::renderDiffraction(lens, lights, t.frame, trace::sensorPlaneZ(lens, t.sensor), o.diffraction,
+                                         diffractionDevice(fs), &off, &text);
             image = fourier::FlareImage(W, H);
             for (std::size_t p = 0; p < image.pixels(); ++p)
                 for (int c = 0; c < 3; ++c) image.channel[c][p] = spread[p * 3 + c];
@@ -176,7 +176,7 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
             ss.sensorSizeMm = sensorMm;
             const ghosts::ShapedTable tab = loadShapedTable(lens, ss, g, reporter);
             ghosts::ShapedRender r;
-            image = renderShapedScene(lens, tab, lights, t.frame, t.sensor, &r, nullptr, polygonRaster(fs));
+            image = scene::renderShapedScene(lens, tab, lights, t.frame, t.sensor, &r, nullptr, polygonRaster(fs));
             summary = "shaped ghosts (" + std::to_string(tab.ghosts.size()) + " of " + std::to_string(tab.ghostCount) +
                       " ghosts, " + text::fixed(static_cast<double>(tab.bytes()) / 1048576.0, 1) +
                       " MiB in memory); drew " + std::to_string(r.drawn) + " ghost instances (" +
@@ -186,7 +186,7 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
             const ghosts::GhostTable tab = loadTable(lens, o.table, g, reporter);
             const ghosts::Camera cam{W, H, sensorMm.first};
             const auto profile = o.ghostModel == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
-            const auto ghosts = fourierGhosts(ghosts::instantiate(tab, lights, cam, profile));
+            const auto ghosts = scene::fourierGhosts(ghosts::instantiate(tab, lights, cam, profile));
             meta.push_back({"fourierflare:ghostModel", o.ghostModel});
             if (o.mode == "fitted") {
                 image = fourier::renderDirect(ghosts, W, H);

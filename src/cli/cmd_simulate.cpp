@@ -5,7 +5,6 @@
 
 #include "cli/commands.h"
 #include "cli/conventions.h"
-#include "cli/flare_scene.h"
 #include "cli/fourier_choices.h"
 #include "cli/option_parsing.h"
 #include "core/error.h"
@@ -23,6 +22,7 @@
 #include "image/light_detection.h"
 #include "image/plate.h"
 #include "optics/paraxial.h"
+#include "scene/scene.h"
 #include "trace/flare_raster.h"
 
 #include <CLI/CLI.hpp>
@@ -122,9 +122,9 @@ class Simulation {
         detection_ = image::parseThreshold(o.threshold);
         detection_.blockSize = o.block;
         lens_ = loadTraceableLens(o.lens, o.table.zoom, reporter_);
-        for (const std::string& l : o.lights) manualLights_.push_back(parseLight(l));
+        for (const std::string& l : o.lights) manualLights_.push_back(scene::parseLight(l));
         if (!o.lightsFile.empty()) {
-            const auto more = readLightsJson(o.lightsFile);
+            const auto more = scene::readLightsJson(o.lightsFile);
             manualLights_.insert(manualLights_.end(), more.begin(), more.end());
         }
         // Sensor width: --sensor-size, else from --fov through the EFL, else the lens file's, else 36 mm.
@@ -215,8 +215,8 @@ class Simulation {
             }
             ghosts::ShapedRender stats;
             std::size_t outside = 0;
-            const fourier::FlareImage flare = renderShapedScene(lens_, *shaped_, shifted, frame,
-                                                                sensorFrom(table_o_.sensor), &stats, &outside, raster_);
+            const fourier::FlareImage flare = scene::renderShapedScene(
+                lens_, *shaped_, shifted, frame, sensorFrom(table_o_.sensor), &stats, &outside, raster_);
             if (outside)
                 note(job.plate + ": " + std::to_string(outside) + " of " + std::to_string(lights.size()) +
                      " lights lie where no field angle of the lens images a source (outside its image circle on a " +
@@ -237,7 +237,7 @@ class Simulation {
             tTable = since(t);
             const ghosts::Camera cam{plate.displayWidth, plate.displayHeight, sensorWidthMm_};
             const auto profile = o_.ghostModel == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
-            auto ghosts = fourierGhosts(ghosts::instantiate(*table_, lights, cam, profile));
+            auto ghosts = scene::fourierGhosts(ghosts::instantiate(*table_, lights, cam, profile));
             // Display-window pixels to the data window's, and the artistic gain (1 = physical).
             for (auto& k : ghosts) {
                 k.x -= plate.originX - plate.displayX;
@@ -281,8 +281,8 @@ class Simulation {
             }
             std::vector<float> lightRgb = std::move(found.lightRgb);
             if (!manualLights_.empty())
-                lightRgb = splatLights(lights, plate.width, plate.height, plate.originX - plate.displayX,
-                                       plate.originY - plate.displayY);
+                lightRgb = scene::splatLights(lights, plate.width, plate.height, plate.originX - plate.displayX,
+                                              plate.originY - plate.displayY);
             double offFrame = 0.0;
             if (o_.diffraction == "traced") {
                 // The lens's own wavefront at the lights' fields: one PSF per tile of the frame that
@@ -389,7 +389,7 @@ class Simulation {
         std::string zones;
         for (const std::string& z : zones_) zones += (zones.empty() ? "" : "; ") + z;
         return o_.diffraction + ", gain " + text::roundTrip(o_.diffractionGain) + "; " +
-               describePsf(*aperture_, *psf_) +
+               scene::describePsf(*aperture_, *psf_) +
                (o_.diffraction == "traced" ? "; the lens's wavefront per " + std::to_string(kZones) + " x " +
                                                  std::to_string(kZones) + " tile, at (px) " + zones
                                            : std::string()) +

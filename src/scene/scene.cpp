@@ -1,4 +1,4 @@
-#include "cli/flare_scene.h"
+#include "scene/scene.h"
 
 #include "core/error.h"
 #include "core/file_io.h"
@@ -11,7 +11,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace ff::cli {
+namespace ff::scene {
 
 ghosts::Light parseLight(const std::string& spec) {
     const auto parts = text::split(spec, ',');
@@ -306,4 +306,4 @@ std::vector<float> renderDiffraction(const optics::Lens& lens, const std::vector
     return spread;
 }
 
-} // namespace ff::cli
+} // namespace ff::scene

@@ -1,6 +1,8 @@
 #pragma once
-// What `render` and `compare` share: the lights of a scene, its ghosts for the aggregator, and the
-// traced reference image of several lights.
+// A scene of lights through a lens, the stage that joins the tracer, the ghost models, the Fourier
+// aggregator and the diffraction: the lights (by hand or from JSON), the aggregator's ghosts from
+// table instances, the traced reference image of several lights, the shaped ghosts of a scene and its
+// diffraction. What `render`, `compare`, `simulate` and the benches share.
 
 #include "diffraction/convolution.h"
 #include "diffraction/psf.h"
@@ -13,7 +15,7 @@
 #include <string>
 #include <vector>
 
-namespace ff::cli {
+namespace ff::scene {
 
 /// "X,Y" or "X,Y,R,G,B" (pixels; RGB flux of the light's direct image, default 1,1,1).
 ghosts::Light parseLight(const std::string& spec);
@@ -78,4 +80,4 @@ fourier::FlareImage renderShapedScene(const optics::Lens& lens, const ghosts::Sh
                                       trace::SensorPlane sensor, ghosts::ShapedRender* stats = nullptr,
                                       std::size_t* outside = nullptr, ghosts::PolygonRaster* raster = nullptr);
 
-} // namespace ff::cli
+} // namespace ff::scene
