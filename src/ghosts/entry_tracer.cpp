@@ -81,11 +81,9 @@ Traced EntryTracer::trace(const std::vector<Task>& tasks) {
         const DirectResult& d = direct_.at(tasks[task].angleDeg);
         const trace::Field field{degToRad(tasks[task].angleDeg), 0.0};
         // Each wavelength's own region: a ghost's lit pupil can change shape with the wavelength,
-        // not only shift (the double Gauss 50 mm's R3->R1 at 22.28-22.40 deg passes a 5 x 3 mm
-        // patch at 650 nm that is gone at the d line). Where the light falls in pieces far apart,
-        // each piece gets a grid at its own scale; the wavelengths' searches tell one another
-        // where they found light, and look where the ghost's neighbouring angles found it
-        // (trace::searchPupil).
+        // not only shift (docs/sampling-cases.md, "Light that changes with the wavelength"). Where the light falls in
+        // pieces far apart, each piece gets a grid at its own scale; the wavelengths' searches tell one another where
+        // they found light, and look where the ghost's neighbouring angles found it (trace::searchPupil).
         trace::PupilSearch& found = traced.found[task];
         found = trace::searchPupil(frame_, field, s_.sampling, atLambda_, steps_[g], fitOptions_.maxRadiusMm,
                                    tasks[task].hints, tasks[task].lookCloser);
@@ -133,10 +131,8 @@ Traced EntryTracer::trace(const std::vector<Task>& tasks) {
 // rays), and 8x where more than kMaxThin of the region search's lit points are one point thick
 // (a band or ring of light narrower than that pass's spacing, which a grid as coarse lets slip
 // between its rays, and the edge sub-grids with it), 16x where more than kAllThin are (a part
-// that is all thin band: the wide angle's R4->R2 band at 31.7 deg, 0.05-0.1 mm thick, on a 256
-// grid over its 7 mm square had two or three rays across it, and its tangential spread missed
-// the mid-angles by up to 0.68 %; on 512, 0.07 %). Either way the moments would move in steps as
-// the field angle moves the light across the rays.
+// that is all thin band; docs/sampling-cases.md, "Parts that are all band"). Either way the
+// moments would move in steps as the field angle moves the light across the rays.
 int EntryTracer::gridFor(const trace::PupilRegion& r, int scale) const {
     constexpr double kMinLit = 0.1, kMaxThin = 0.05, kAllThin = 0.5;
     const int base = scale * s_.grid;

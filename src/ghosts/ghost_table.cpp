@@ -36,10 +36,9 @@ void requireSymmetric(const optics::Lens& lens) {
 
 // Intervals are not split below maxAngle / kFinestDivision (0.0002 deg on a 25 deg field). A ghost
 // refines alone, so following one of its kinks deeper costs about two traces per halving, and the
-// square-root kinks (a part of a ghost vignetted away: double Gauss 50 mm R3->R1 at 650 nm loses a
-// patch of its pupil at 22.395 deg, and its sigma r falls from 6.8 to 3.2 mm over the preceding
-// 0.12 deg) improve by only sqrt(2) per halving: at 1/8192 of the field the double Gauss 50 mm kept
-// intervals 9.7 % off. What fails at this floor is then handled there (table_refinement.h):
+// square-root kinks (a part of a ghost vignetted away) improve by only sqrt(2) per halving
+// (docs/sampling-cases.md, "Square-root kinks"). What fails at this floor is then handled there
+// (table_refinement.h):
 // pieces of light an entry's search lost are carried to it from its neighbour, and kinks get a knot.
 constexpr double kFinestDivision = 131072.0;
 

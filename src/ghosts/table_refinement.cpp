@@ -177,14 +177,11 @@ bool splitAtKinks(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const Ref
 }
 
 // Traces every entry of each ghost with a failing interval at the finest step again on grids twice
-// as fine, worst ghost first. Such an interval may join two entries each measured too coarsely: the
-// zoom's R9->R3 at 450 nm kept a step of sigma r from 3.816 to 3.862 mm between 13.1183289 and
-// 13.1183628 deg (0.59 % at the mid-angle), where a brute-force pass over the whole pupil
-// (4096 x 4096 rays) finds 3.838 mm at both; its 32 grid, 1.3 mm cells over a ghost lit on 12 % of
-// its square, erred by -0.65 to +0.62 % over 12.9-13.3 deg, alike over stretches of angle (which
-// the interpolation error cannot see) and stepping where the light crossed the rays. On the 64 grid
-// the same entries are within 0.13 % of the brute force. Each entry is told where it found light
-// before; every interval of the ghost is measured again, from entries on one grid.
+// as fine, worst ghost first. Such an interval may join two entries each measured too coarsely, in
+// error alike over stretches of angle (which the interpolation error cannot see) and stepping where
+// the light crosses the rays (docs/sampling-cases.md, "Entries measured too coarsely"). Each entry
+// is told where it found light before; every interval of the ghost is measured again, from entries
+// on one grid.
 bool traceFiner(EntryTracer& tracer, std::vector<GhostNodes>& nodes, const RefinementLimits& limits,
                 std::size_t& spent) {
     std::vector<std::pair<double, std::size_t>> failing; // (worst error, ghost)

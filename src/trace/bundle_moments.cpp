@@ -136,12 +136,11 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
             int in = 0, arriving = 0;
             for (const RayResult* r : rays) in += counted(*r), arriving += r->status == optics::RayStatus::Ok;
             bool straddles = in > 0 && in < 5;
-            // A step in the rays' weight: a reflection turning total (the double Gauss 50 mm's
-            // R11->R7 at 0.411 deg and 450 nm: the weight rises six-fold across a line of its pupil,
-            // which the centre-and-corner rule moved across whole cells, and 3 % of the ghost's flux
-            // with them, as the grid moved), in a cell all of whose rays count or on the ghost's edge.
-            // Lit shares do not see such a line (no aperture's edge), so its sub-cells count whole, on
-            // sub-grids kWeightStepSub times as dense.
+            // A step in the rays' weight (a reflection turning total), in a cell all of whose rays
+            // count or on the ghost's edge: the centre-and-corner rule would move it across whole
+            // cells as the grid moves. Lit shares do not see such a line (no aperture's edge), so its
+            // sub-cells count whole, on sub-grids kWeightStepSub times as dense
+            // (docs/sampling-cases.md, "Weight steps").
             if (arriving >= 2) {
                 double lo = 0.0, hi = 0.0;
                 bool first = true;
@@ -167,10 +166,7 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
         }
     // A step in the weight can run between a straddling cell's arriving rays and its border, where
     // none of them shows it: straddling cells beside a cell whose rays show one are resolved as
-    // densely. The double Gauss 50 mm's R11->R7 at 13.1127 deg and 650 nm has its step along the
-    // border between the outermost columns of its square's cells, whose light is cut by the front
-    // lens's rim: on their 4 x 4 sub-grids its flux stepped by 1.7 % within 0.00002 deg, on 16 x 16
-    // by 0.02 %.
+    // densely (docs/sampling-cases.md, "Weight steps on a cell's border").
     const std::vector<char> shown = edge;
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
@@ -213,23 +209,18 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
     // The straddling cells' sub-grids, then those of dark cells (none of their five rays counts)
     // into which a traced sub-grid's light reaches: a sub-cell on its border or corner holds light,
     // the cell beyond it is dark. Light thinner than the grid can pass between all five rays of a
-    // cell (the tip of a sliver, which the telephoto's R8->R3 at 6.657 deg lays in its square's
-    // outermost column: 2 % of its tangential second moment was there at one angle and not the
-    // next); light is continuous, so it enters such a cell across a border that a traced sub-grid
-    // sees it reach. (Light wholly inside one cell, between its rays, is the region search's to
-    // find: a piece far from the rest gets a square and grid of its own.)
+    // cell (docs/sampling-cases.md, "Slivers between rays"); light is continuous, so it enters such
+    // a cell across a border that a traced sub-grid sees it reach. (Light wholly inside one cell, between its rays, is
+    // the region search's to find: a piece far from the rest gets a square and grid of its own.)
     std::vector<char> resolved(c.size(), 0);
     for (const Resolve& r : queue) resolved[r.cell] = 1;
     // Light in a dark cell passed between rays a cell apart: it is thin, and a sub-grid of the
     // straddling cells' density would put a row or two across it.
     const int darkSub = 2 * subdivisions;
     // Light that no straddling cell borders can still pass between the rays: a sliver under a cell
-    // wide, far from the rest of the light (the zoom's R9->R3 at 13.15 deg and 450 nm passes two,
-    // 0.7 mm wide and 14 mm from its disc, whose light lands 17 mm from the centroid: where they fell
-    // between the 32 grid's rays, 1.3 mm apart, sigma r dropped from 3.67 to 2.51 mm). The region
-    // search's passes found it (there its local passes, twice as dense; the wide angle's R8->R4 at
-    // 4.4851 deg, a patch smaller than both spacings, only its jittered coarse pass); a dark cell
-    // holding one of their lit points is resolved, and the flood below follows the light from there.
+    // wide, far from the rest of the light. The region search's passes found it (its local passes,
+    // or its jittered coarse pass; docs/sampling-cases.md, "Far slivers"); a dark cell holding one of
+    // their lit points is resolved, and the flood below follows the light from there.
     for (const glm::dvec2& p : litPoints) {
         const double fx = (p.x - centres.x0) / centres.cell, fy = (p.y - centres.y0) / centres.cell;
         if (!(fx >= 0.0 && fy >= 0.0 && fx < n && fy < n)) continue;
@@ -240,11 +231,8 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
     }
     // Light between two edges that crosses no ray: a band between the edges of two apertures, or of
     // one and the counting circle, can be thinner than the grid, lit between all five rays of every
-    // cell it crosses and far from other light (the double Gauss 50 mm's R11->R5 at 24.69 deg and
-    // 450 nm passes one 5 um thick and 0.12 mm long, between the front lens's rim and the last
-    // surface's, whose light lands 3 mm from the centroid: 5 % of sigma r^2; the region search met
-    // it at some angles and not others). Dark cells whose open traces leave room for light between
-    // two edges are resolved.
+    // cell it crosses and far from other light (docs/sampling-cases.md, "Bands between two edges").
+    // Dark cells whose open traces leave room for light between two edges are resolved.
     for (const std::size_t i : cellsWithRoomForLight(L, steps, pupil, field, centres, c, k, maxRadius, resolved)) {
         resolved[i] = 1;
         queue.push_back({i, darkSub});
@@ -262,10 +250,8 @@ BundleMoments measureBundleResolved(const EmbreeTracer& tracer, const LensAtWave
             areas.insert(areas.end(), sub.rays.size(), centres.cellArea / (double(r.sub) * r.sub));
         }
         // Each sub-ray stands for the share of its sub-cell whose light passes (open_trace.h): light
-        // counted whole or not at all by sub-cells moved the moments in steps of a sub-row's light
-        // wherever an edge ran along the rows (the zoom's R32->R26 at 10.07 deg and 650 nm lands as a
-        // line whose distance from the axis varies with the pupil's y alone: the counting circle ran
-        // along a row of 24 cells, and the flux stepped by 1.6 % within 0.00001 deg).
+        // counted whole or not at all by sub-cells moves the moments in steps of a sub-row's light
+        // wherever an edge runs along the rows (docs/sampling-cases.md, "Edges along the rows").
         std::vector<int> subs;
         for (const Resolve& r : queue) subs.push_back(r.sub);
         const SubGridTrace traced = traceSubGrids(tracer, L, steps, subRays, first, subs, maxRadius);

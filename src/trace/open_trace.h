@@ -6,9 +6,8 @@
 // is non-negative (and the landing point lies within the counting radius, one more margin), so over
 // a cell small enough for the margins to be linear the lit part is the square cut by one half-plane
 // per margin: its area is exact for straight edges however thin the light between two of them, where
-// whole sub-cells counted all or nothing (a band of light 5 um thick between two apertures' edges,
-// the double Gauss 50 mm's R11->R5 at 24.69 deg, moved sigma r by 2 % as it fell on or between the
-// rows of a sub-grid 4.6 um apart). Units: mm; u, v in cells.
+// whole sub-cells counted all or nothing (docs/sampling-cases.md, "Lit shares"). Units: mm; u, v in
+// cells.
 
 #include "trace/embree_tracer.h"
 #include "trace/pupil_sampling.h"
@@ -55,8 +54,7 @@ std::vector<double> subCellShares(const OpenTrace& t, std::size_t first, int sub
 /// else through the centroid of the sub-cell's lit part. That ray's hit stands for the lit part (its
 /// landing point and weight); where it does not arrive or lands beyond maxRadius (the barrel, which
 /// the open trace does not know, blocks it; or the margins are far from linear across the sub-cell,
-/// as near a fold of the landing map, where a ray of the wide angle's R17->R16 at 45.03 deg landed
-/// 510 mm out) the share is 0.
+/// as near a fold of the landing map) the share is 0.
 struct SubGridTrace {
     std::vector<RayResult> hits;
     std::vector<double> share;

@@ -82,9 +82,8 @@ class RegionSearch {
     // light in a band thinner than the spacing and lying along the grid's rows or columns falls
     // between every point of a regular grid at some field angles, while each jittered point catches
     // it with a chance of its thickness over the spacing, so a band a few cells long is found at most
-    // angles (the wide angle's R4->R2 at 31.72-31.78 deg passes a band 0.1 mm thick and 4.6 mm long,
-    // along x, that a regular grid of points 0.28 mm apart misses); findPieces completes what it
-    // found by symmetry. Searches of the same field at other wavelengths pass other seeds, so that
+    // angles (docs/sampling-cases.md, "Bands along the grid"); findPieces completes what it found by
+    // symmetry. Searches of the same field at other wavelengths pass other seeds, so that
     // each places its points independently of the others and a band one misses another is likely
     // to meet (pupilPartsByWavelength).
     LitGrid coarse(std::uint32_t seed = 0) const {
@@ -103,10 +102,9 @@ class RegionSearch {
     // Whether light is at this wavelength where another's search found a piece: a jittered local pass
     // over the piece's box. The pieces of light it finds; its lit points are added to lit.
     // A piece much smaller than a coarse cell (a patch of light shrinking to nothing as the field
-    // angle moves: the wide angle's R6->R1 near 5.5163 deg at 450 nm, 0.09 mm across, that a pass 70
-    // um apart meets at some angles only) falls between the points of a pass two coarse cells wider
-    // than it on every side: told to look closer, where that pass finds nothing, a second one looks
-    // over the piece's box and as much again on every side.
+    // angle moves; docs/sampling-cases.md, "Vanishing patches") falls between the points of a pass
+    // two coarse cells wider than it on every side: told to look closer, where that pass finds
+    // nothing, a second one looks over the piece's box and as much again on every side.
     std::vector<LitBox> look(const LitBox& hint, std::size_t maxPieces, std::vector<glm::dvec2>& lit,
                              bool closer = false) const {
         LitGrid g = jittered(hint, kLocal);
@@ -151,10 +149,8 @@ class RegionSearch {
         box.yMin = std::min(box.yMin, found.yMin), box.yMax = std::max(box.yMax, found.yMax);
         // Where the light is its own mirror image, so is light that crosses the mirror line: its box
         // holds its image. The passes meet a band thinner than their spacing at some of its points
-        // and not others, and the box over those can stop short of one end (the wide angle's R4->R2
-        // at 550 nm, 21.4066-21.4175 deg: a band 6.2 mm long across the line and 60 um thick, whose
-        // part's square reached x = -4.06 mm on one side and 2.65 mm on the other; the light beyond,
-        // landing 4 mm from the ghost's centre, was lost and sigma t was 1.9 % short).
+        // and not others, and the box over those can stop short of one end (docs/sampling-cases.md,
+        // "Bands across the mirror line").
         if (symmetric_) {
             const LitBox image = mirror(box);
             if (gap(box, image) < 0.0) box.extend(image);
@@ -241,10 +237,7 @@ Slide slide(double boxMin, double boxMax, double half, double margin) {
 
 // Slides overlapping squares apart along an axis on which their boxes lie apart, each within its own
 // slack: two pieces far apart whose boxes are long across the gap between them get squares reaching
-// over it (the double Gauss 50 mm's R3->R1 at 21.84 deg at 450 nm: a crescent 20 x 8 mm and, 7.6 mm
-// below it, a patch 0.6 x 0.3 mm whose light lands 17 mm from the ghost's centroid; one square over
-// both put a 32 grid 0.67 mm apart over the patch, which fell between its rays at some angles and
-// not others, and the ghost's sigma r stepped by 7 %). Returns whether no two squares overlap.
+// over it (docs/sampling-cases.md, "Pieces far apart"). Returns whether no two squares overlap.
 bool slideApart(std::vector<PupilRegion>& parts, const std::vector<LitBox>& boxes, double margin) {
     const auto separate = [&](std::size_t a, std::size_t b, bool alongY) {
         double& ca = alongY ? parts[a].cy : parts[a].cx;
@@ -365,11 +358,10 @@ std::vector<PupilRegion> partsFrom(const RegionSearch& search, const PupilFrame&
         parts.push_back(search.square(boxes.back(), std::move(lit)));
     }
     split = split && slideApart(parts, boxes, search.cell());
-    // Light between the groups that the coarse pass stepped over would be lost to every part (the
-    // double Gauss 50 mm's R11->R5 near 24.54 deg: a band 0.24 mm thick below two patches far apart;
-    // at 24.646 deg one 0.09 mm thick, which the regular local passes over the whole, 0.3 mm apart,
-    // also missed). A jittered pass over all the light, twice as dense as the local passes, must find
-    // every lit point within the parts, or the region is not cut.
+    // Light between the groups that the coarse pass stepped over would be lost to every part
+    // (docs/sampling-cases.md, "Bands between groups"). A jittered pass over all the light, twice
+    // as dense as the local passes, must find every lit point within the parts, or the region is not
+    // cut.
     std::vector<glm::dvec2> wholeLit;
     const LitBox wholeBox = search.refine(found.all, &wholeLit);
     std::vector<glm::dvec2> points = found.points;

@@ -113,10 +113,9 @@ std::vector<PupilRegion> pupilParts(const PupilFrame& frame, const Field& field,
 /// pupilParts at several wavelengths of the same field and path, [wavelength][part]. The searches help
 /// one another: each places its coarse points independently of the others, and where one finds a piece
 /// of light far from everything another found, the other looks for light there on a finer pass of its
-/// own. A band a fraction of the coarse spacing thick is met by each search with a chance of its own
-/// (the wide angle's R4->R2 at 30.3-31.6 deg: 0.055 mm thick against 0.28 mm apart, missed at 450 nm
-/// at 6 of 66 of those angles alone, at none searched with 550 and 650 nm); where one search finds
-/// it, the others' finer passes find it too, if it is there at their wavelengths.
+/// own. A band a fraction of the coarse spacing thick is met by each search with a chance of its own;
+/// where one search finds it, the others' finer passes find it too, if it is there at their
+/// wavelengths (docs/sampling-cases.md, "Searches that help one another").
 std::vector<std::vector<PupilRegion>> pupilPartsByWavelength(const PupilFrame& frame, const Field& field,
                                                              Sampling sampling, std::span<const LensAtWavelength> Ls,
                                                              const std::vector<PathStep>& steps,
@@ -146,9 +145,8 @@ struct PupilSearch {
 /// pupilPartsByWavelength, told where light was found at neighbouring field angles of the same path:
 /// a piece of light a fraction of the coarse spacing across is met by the coarse passes with a chance
 /// of its area over a cell's, so the searches of neighbouring angles step over it at some angles and
-/// not at others, and a ghost's moments jump (the wide angle's R6->R1 at 450 nm: a patch 13 mm from
-/// the rest of its light, 0.14 mm across at 5.515 deg and gone at 5.5167 deg, a third of its radial
-/// spread, found at some of those angles). hints[w] (empty: none) are boxes where light was found at
+/// not at others, and a ghost's moments jump (docs/sampling-cases.md, "Hints from neighbouring
+/// angles"). hints[w] (empty: none) are boxes where light was found at
 /// wavelength w; those far from everything this search found are looked at on the finer passes that
 /// serve the wavelengths' hints to one another. lookCloser: where such a pass finds nothing at a hint
 /// smaller than a coarse cell, one as dense looks over the hint's box alone (for a piece shrinking to
