@@ -66,8 +66,8 @@ void printPlan(const fourier::FourierRender& r) {
                  r.seconds.plan, r.seconds.accumulate, r.seconds.evaluate, r.seconds.direct);
 }
 
-void runRender(const RenderOptions& o, const GlobalOptions& g) {
-    const auto start = std::chrono::steady_clock::now();
+// The sources given are one of --angle, lights, --ghosts, and suit the mode; no output is an input.
+void checkRenderSources(const RenderOptions& o) {
     for (const std::string& out : {o.output, o.preview})
         for (const std::string& in : {o.lens, o.lightsFile, o.ghostsFile})
             if (!out.empty() && !in.empty() && samePath(out, in))
@@ -85,23 +85,21 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
         throw Error(ErrorKind::Usage, "--ghosts needs --mode fitted or fourier (a ghost list has nothing to trace)");
     if (!explicitGhosts && o.lens.empty())
         throw Error(ErrorKind::Usage, "a lens file is required (unless --ghosts gives the ghosts)");
-    const auto [W, H] = parseFrameSize(o.size, "--size", 1, 16384);
-    std::vector<std::pair<double, double>> probes;
-    for (const std::string& p : o.probes) {
-        const auto xy = parsePair(p, ',', "--probe X,Y in pixels");
-        if (xy.first < 0 || xy.second < 0 || xy.first >= W || xy.second >= H)
-            throw Error(ErrorKind::Usage, "--probe " + p + " lies outside the " + o.size + " frame");
-        probes.push_back(xy);
-    }
-    const fourier::FourierSettings fs = o.fourier.settings(g);
+}
 
-    ConsoleReporter reporter(g);
-    image::Metadata meta = {{"Software", std::string("fourierflare ") + kVersion},
-                            {"fourierflare:commandLine", g.commandLine},
-                            {"fourierflare:mode", o.mode}};
-    fourier::FlareImage image;
+// One render: what the modes share, and what each adds to the header and the summary.
+struct RenderJob {
+    const RenderOptions& o;
+    const GlobalOptions& g;
+    int W = 0, H = 0;
+    fourier::FourierSettings fs;
+    ConsoleReporter& reporter;
+    image::Metadata& meta;
     std::string summary;
-    if (explicitGhosts) {
+
+    // --ghosts: the ghost list drawn directly (fitted) or aggregated (fourier).
+    fourier::FlareImage ghostList() {
+        fourier::FlareImage image;
         const auto ghosts = scene::readGhostsJson(o.ghostsFile);
         meta.push_back({"fourierflare:ghosts", o.ghostsFile});
         if (o.mode == "fitted") {
@@ -116,6 +114,120 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
             summary = "aggregated " + std::to_string(ghosts.size()) + " ghosts: " + r.describe();
         }
         meta.push_back({"fourierflare:units", "flux per pixel, in the ghost list's units"});
+        return image;
+    }
+
+    // --mode traced: every ghost of every light (or of the --angle field) ray-traced.
+    fourier::FlareImage traced(const optics::Lens& lens, const std::vector<ghosts::Light>& lights,
+                               trace::TracedFlareOptions t) {
+        fourier::FlareImage image;
+        scene::TracedScene flare;
+        if (!o.angle.empty()) {
+            const auto [deg, az] = parseAngle(o.angle, "--angle");
+            t.field = {degToRad(deg), degToRad(az)};
+            flare = scene::renderTracedField(lens, t);
+            meta.push_back({"fourierflare:fieldAngleDeg", text::fixed(deg, 6)});
+            meta.push_back({"fourierflare:azimuthDeg", text::fixed(az, 6)});
+        } else {
+            flare = scene::renderTracedScene(lens, lights, t);
+        }
+        image = std::move(flare.image);
+        meta.push_back({"fourierflare:grid", std::to_string(o.grid) + " " + o.table.sampling});
+        meta.push_back({"fourierflare:refine", text::fixed(o.refine, 3)});
+        meta.push_back({"fourierflare:refinement", flare.describeRefinement()});
+        summary = "traced " + std::to_string(flare.ghostCount) + " ghosts at " + std::to_string(flare.wavelengths) +
+                  " wavelengths for " + std::to_string(std::max<std::size_t>(lights.size(), 1)) +
+                  " light(s); ghost flux relative to the direct image, summed "
+                  "over wavelengths: " +
+                  text::scientific(flare.inFrame, 4) + " in the frame, " + text::scientific(flare.outside, 4) +
+                  " outside; " + flare.describeRefinement();
+        return image;
+    }
+
+    // --mode diffraction: the lights through the lens's PSF.
+    fourier::FlareImage diffraction(const optics::Lens& lens, const std::vector<ghosts::Light>& lights,
+                                    const trace::TracedFlareOptions& t) {
+        fourier::FlareImage image;
+        double off = 0.0;
+        std::string text;
+        const std::vector<float> spread =
+            scene::renderDiffraction(lens, lights, t.frame, trace::sensorPlaneZ(lens, t.sensor), o.diffraction,
+                                     diffractionDevice(fs), &off, &text);
+        image = fourier::FlareImage(W, H);
+        for (std::size_t p = 0; p < image.pixels(); ++p)
+            for (int c = 0; c < 3; ++c) image.channel[c][p] = spread[p * 3 + c];
+        meta.push_back({"fourierflare:diffraction", text});
+        summary = "the lens's diffraction (" + text + ") of " + std::to_string(lights.size()) + " light(s); " +
+                  text::scientific(off, 3) + " of the flux outside the frame";
+        return image;
+    }
+
+    // --mode shaped: the lens's shaped ghosts.
+    fourier::FlareImage shaped(const optics::Lens& lens, const std::vector<ghosts::Light>& lights,
+                               const trace::TracedFlareOptions& t, std::pair<double, double> sensorMm) {
+        fourier::FlareImage image;
+        ghosts::ShapedSettings ss;
+        ss.sensor = t.sensor;
+        ss.coating = t.coating;
+        ss.sensorSizeMm = sensorMm;
+        const ghosts::ShapedTable tab = loadShapedTable(lens, ss, g, reporter);
+        ghosts::ShapedRender r;
+        image = scene::renderShapedScene(lens, tab, lights, t.frame, t.sensor, &r, nullptr, polygonRaster(fs));
+        summary = "shaped ghosts (" + std::to_string(tab.ghosts.size()) + " of " + std::to_string(tab.ghostCount) +
+                  " ghosts, " + text::fixed(static_cast<double>(tab.bytes()) / 1048576.0, 1) +
+                  " MiB in memory); drew " + std::to_string(r.drawn) + " ghost instances (" +
+                  std::to_string(r.triangles) + " triangles), culled " + std::to_string(r.culled) + " holding " +
+                  text::scientific(r.culledShare, 2) + " of a light's ghost flux";
+        return image;
+    }
+
+    // --mode fitted or fourier: the ghost table's profiles, drawn directly or aggregated.
+    fourier::FlareImage fromTable(const optics::Lens& lens, const std::vector<ghosts::Light>& lights,
+                                  std::pair<double, double> sensorMm) {
+        fourier::FlareImage image;
+        const ghosts::GhostTable tab = loadTable(lens, o.table, g, reporter);
+        const ghosts::Camera cam{W, H, sensorMm.first};
+        const auto profile = o.ghostModel == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
+        const auto ghosts = scene::fourierGhosts(ghosts::instantiate(tab, lights, cam, profile));
+        meta.push_back({"fourierflare:ghostModel", o.ghostModel});
+        if (o.mode == "fitted") {
+            image = fourier::renderDirect(ghosts, W, H);
+            summary = "drew " + std::to_string(ghosts.size()) + " fitted ghosts of " + std::to_string(lights.size()) +
+                      " light(s) directly";
+        } else {
+            fourier::FourierRender r = fourier::renderFourier(ghosts, W, H, fs);
+            image = std::move(r.image);
+            meta.push_back({"fourierflare:fourier", r.describe()});
+            meta.push_back({"fourierflare:backend", fs.backend ? fs.backend->describe() : std::string("cpu")});
+            if (g.verbose) printPlan(r);
+            summary = "aggregated " + std::to_string(ghosts.size()) + " ghosts of " + std::to_string(lights.size()) +
+                      " light(s): " + r.describe();
+        }
+        return image;
+    }
+};
+
+void runRender(const RenderOptions& o, const GlobalOptions& g) {
+    const auto start = std::chrono::steady_clock::now();
+    checkRenderSources(o);
+    const auto [W, H] = parseFrameSize(o.size, "--size", 1, 16384);
+    std::vector<std::pair<double, double>> probes;
+    for (const std::string& p : o.probes) {
+        const auto xy = parsePair(p, ',', "--probe X,Y in pixels");
+        if (xy.first < 0 || xy.second < 0 || xy.first >= W || xy.second >= H)
+            throw Error(ErrorKind::Usage, "--probe " + p + " lies outside the " + o.size + " frame");
+        probes.push_back(xy);
+    }
+    const fourier::FourierSettings fs = o.fourier.settings(g);
+
+    ConsoleReporter reporter(g);
+    image::Metadata meta = {{"Software", std::string("fourierflare ") + kVersion},
+                            {"fourierflare:commandLine", g.commandLine},
+                            {"fourierflare:mode", o.mode}};
+    RenderJob job{o, g, W, H, fs, reporter, meta, {}};
+    fourier::FlareImage image;
+    if (!o.ghostsFile.empty()) {
+        image = job.ghostList();
     } else {
         const optics::Lens lens = loadTraceableLens(o.lens, o.table.zoom, reporter);
         std::pair<double, double> sensorMm = lens.sensorMm.value_or(std::make_pair(36.0, 24.0));
@@ -135,74 +247,16 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
         t.refinement = o.refine;
         t.sensor = sensorFrom(o.table.sensor);
         t.coating = coatingFrom(o.table.coating);
-        if (o.mode == "traced") {
-            scene::TracedScene traced;
-            if (!o.angle.empty()) {
-                const auto [deg, az] = parseAngle(o.angle, "--angle");
-                t.field = {degToRad(deg), degToRad(az)};
-                traced = scene::renderTracedField(lens, t);
-                meta.push_back({"fourierflare:fieldAngleDeg", text::fixed(deg, 6)});
-                meta.push_back({"fourierflare:azimuthDeg", text::fixed(az, 6)});
-            } else {
-                traced = scene::renderTracedScene(lens, lights, t);
-            }
-            image = std::move(traced.image);
-            meta.push_back({"fourierflare:grid", std::to_string(o.grid) + " " + o.table.sampling});
-            meta.push_back({"fourierflare:refine", text::fixed(o.refine, 3)});
-            meta.push_back({"fourierflare:refinement", traced.describeRefinement()});
-            summary = "traced " + std::to_string(traced.ghostCount) + " ghosts at " +
-                      std::to_string(traced.wavelengths) + " wavelengths for " +
-                      std::to_string(std::max<std::size_t>(lights.size(), 1)) +
-                      " light(s); ghost flux relative to the direct image, summed "
-                      "over wavelengths: " +
-                      text::scientific(traced.inFrame, 4) + " in the frame, " + text::scientific(traced.outside, 4) +
-                      " outside; " + traced.describeRefinement();
-        } else if (o.mode == "diffraction") {
-            double off = 0.0;
-            std::string text;
-            const std::vector<float> spread =
-                scene::renderDiffraction(lens, lights, t.frame, trace::sensorPlaneZ(lens, t.sensor), o.diffraction,
-                                         diffractionDevice(fs), &off, &text);
-            image = fourier::FlareImage(W, H);
-            for (std::size_t p = 0; p < image.pixels(); ++p)
-                for (int c = 0; c < 3; ++c) image.channel[c][p] = spread[p * 3 + c];
-            meta.push_back({"fourierflare:diffraction", text});
-            summary = "the lens's diffraction (" + text + ") of " + std::to_string(lights.size()) + " light(s); " +
-                      text::scientific(off, 3) + " of the flux outside the frame";
-        } else if (o.mode == "shaped") {
-            ghosts::ShapedSettings ss;
-            ss.sensor = t.sensor;
-            ss.coating = t.coating;
-            ss.sensorSizeMm = sensorMm;
-            const ghosts::ShapedTable tab = loadShapedTable(lens, ss, g, reporter);
-            ghosts::ShapedRender r;
-            image = scene::renderShapedScene(lens, tab, lights, t.frame, t.sensor, &r, nullptr, polygonRaster(fs));
-            summary = "shaped ghosts (" + std::to_string(tab.ghosts.size()) + " of " + std::to_string(tab.ghostCount) +
-                      " ghosts, " + text::fixed(static_cast<double>(tab.bytes()) / 1048576.0, 1) +
-                      " MiB in memory); drew " + std::to_string(r.drawn) + " ghost instances (" +
-                      std::to_string(r.triangles) + " triangles), culled " + std::to_string(r.culled) + " holding " +
-                      text::scientific(r.culledShare, 2) + " of a light's ghost flux";
-        } else {
-            const ghosts::GhostTable tab = loadTable(lens, o.table, g, reporter);
-            const ghosts::Camera cam{W, H, sensorMm.first};
-            const auto profile = o.ghostModel == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
-            const auto ghosts = scene::fourierGhosts(ghosts::instantiate(tab, lights, cam, profile));
-            meta.push_back({"fourierflare:ghostModel", o.ghostModel});
-            if (o.mode == "fitted") {
-                image = fourier::renderDirect(ghosts, W, H);
-                summary = "drew " + std::to_string(ghosts.size()) + " fitted ghosts of " +
-                          std::to_string(lights.size()) + " light(s) directly";
-            } else {
-                fourier::FourierRender r = fourier::renderFourier(ghosts, W, H, fs);
-                image = std::move(r.image);
-                meta.push_back({"fourierflare:fourier", r.describe()});
-                meta.push_back({"fourierflare:backend", fs.backend ? fs.backend->describe() : std::string("cpu")});
-                if (g.verbose) printPlan(r);
-                summary = "aggregated " + std::to_string(ghosts.size()) + " ghosts of " +
-                          std::to_string(lights.size()) + " light(s): " + r.describe();
-            }
-        }
+        if (o.mode == "traced")
+            image = job.traced(lens, lights, t);
+        else if (o.mode == "diffraction")
+            image = job.diffraction(lens, lights, t);
+        else if (o.mode == "shaped")
+            image = job.shaped(lens, lights, t, sensorMm);
+        else
+            image = job.fromTable(lens, lights, sensorMm);
     }
+    const std::string& summary = job.summary;
     const std::vector<float> rgb = image.interleaved();
     image::writeExr(o.output, W, H, {"R", "G", "B"}, rgb, meta);
     double ev = o.exposure;
