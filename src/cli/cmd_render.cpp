@@ -97,22 +97,27 @@ struct RenderJob {
     image::Metadata& meta;
     std::string summary;
 
+    // Ghosts drawn directly (--mode fitted) or aggregated (fourier); `kind` and `of` complete the
+    // summary ("drew N<kind> ghosts<of> directly", "aggregated N ghosts<of>: ...").
+    fourier::FlareImage draw(const std::vector<fourier::Ghost>& ghosts, const std::string& kind,
+                             const std::string& of) {
+        if (o.mode == "fitted") {
+            summary = "drew " + std::to_string(ghosts.size()) + kind + " ghosts" + of + " directly";
+            return fourier::renderDirect(ghosts, W, H);
+        }
+        fourier::FourierRender r = fourier::renderFourier(ghosts, W, H, fs);
+        meta.push_back({"fourierflare:fourier", r.describe()});
+        meta.push_back({"fourierflare:backend", fs.backend ? fs.backend->describe() : std::string("cpu")});
+        if (g.verbose) printPlan(r);
+        summary = "aggregated " + std::to_string(ghosts.size()) + " ghosts" + of + ": " + r.describe();
+        return std::move(r.image);
+    }
+
     // --ghosts: the ghost list drawn directly (fitted) or aggregated (fourier).
     fourier::FlareImage ghostList() {
-        fourier::FlareImage image;
         const auto ghosts = scene::readGhostsJson(o.ghostsFile);
         meta.push_back({"fourierflare:ghosts", o.ghostsFile});
-        if (o.mode == "fitted") {
-            image = fourier::renderDirect(ghosts, W, H);
-            summary = "drew " + std::to_string(ghosts.size()) + " ghosts directly";
-        } else {
-            fourier::FourierRender r = fourier::renderFourier(ghosts, W, H, fs);
-            image = std::move(r.image);
-            meta.push_back({"fourierflare:fourier", r.describe()});
-            meta.push_back({"fourierflare:backend", fs.backend ? fs.backend->describe() : std::string("cpu")});
-            if (g.verbose) printPlan(r);
-            summary = "aggregated " + std::to_string(ghosts.size()) + " ghosts: " + r.describe();
-        }
+        fourier::FlareImage image = draw(ghosts, "", "");
         meta.push_back({"fourierflare:units", "flux per pixel, in the ghost list's units"});
         return image;
     }
@@ -190,19 +195,7 @@ struct RenderJob {
         const auto profile = o.ghostModel == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
         const auto ghosts = scene::fourierGhosts(ghosts::instantiate(tab, lights, cam, profile));
         meta.push_back({"fourierflare:ghostModel", o.ghostModel});
-        if (o.mode == "fitted") {
-            image = fourier::renderDirect(ghosts, W, H);
-            summary = "drew " + std::to_string(ghosts.size()) + " fitted ghosts of " + std::to_string(lights.size()) +
-                      " light(s) directly";
-        } else {
-            fourier::FourierRender r = fourier::renderFourier(ghosts, W, H, fs);
-            image = std::move(r.image);
-            meta.push_back({"fourierflare:fourier", r.describe()});
-            meta.push_back({"fourierflare:backend", fs.backend ? fs.backend->describe() : std::string("cpu")});
-            if (g.verbose) printPlan(r);
-            summary = "aggregated " + std::to_string(ghosts.size()) + " ghosts of " + std::to_string(lights.size()) +
-                      " light(s): " + r.describe();
-        }
+        image = draw(ghosts, " fitted", " of " + std::to_string(lights.size()) + " light(s)");
         return image;
     }
 };

@@ -126,6 +126,19 @@ TEST(CliFourier, FittedAndFourierOfALensAgreeAndKeepFlux) {
               2); // --angle is traced-only
 }
 
+namespace {
+
+// The flux `render` prints for the frame (R, G, B) equals the light's, to 1e-4.
+void expectFluxInFrame(const std::string& err, std::array<double, 3> light) {
+    std::array<double, 3> f{};
+    const std::size_t p = err.find("flux in the frame (R, G, B): ");
+    ASSERT_NE(p, std::string::npos) << err;
+    std::sscanf(err.c_str() + p + 29, "%lf %lf %lf", &f[0], &f[1], &f[2]);
+    for (std::size_t c = 0; c < 3; ++c) EXPECT_NEAR(f[c], light[c], 1e-4 * light[c]) << c;
+}
+
+} // namespace
+
 // render --mode diffraction: the light's flux spread by the lens's PSF, all of it in the frame (printed
 // to 5 digits), and symmetric through the light's pixel (the pattern of a real pupil is).
 TEST(CliRender, DiffractionModeSpreadsTheLightsFlux) {
@@ -136,12 +149,7 @@ TEST(CliRender, DiffractionModeSpreadsTheLightsFlux) {
                        "--probe 60,67 -o '" +
                        (dir / "d.exr").string() + "'");
     ASSERT_EQ(r.code, 0) << r.err;
-    std::array<double, 3> f{};
-    const std::size_t p = r.err.find("flux in the frame (R, G, B): ");
-    ASSERT_NE(p, std::string::npos) << r.err;
-    std::sscanf(r.err.c_str() + p + 29, "%lf %lf %lf", &f[0], &f[1], &f[2]);
-    const double light[3] = {2.0, 1.0, 0.5};
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(f[c], light[c], 1e-4 * light[c]) << c;
+    expectFluxInFrame(r.err, {2.0, 1.0, 0.5});
     const auto v = probes(r.out);
     ASSERT_EQ(v.size(), 5u);
     for (int c = 0; c < 3; ++c) {
@@ -166,12 +174,7 @@ TEST(CliRender, DiffractionTracedKeepsTheFluxAndTheAxialSymmetry) {
     ASSERT_EQ(r.code, 0) << r.err;
     ASSERT_EQ(ideal.code, 0) << ideal.err;
     EXPECT_NE(r.err.find("the lens's traced wavefront"), std::string::npos) << r.err;
-    std::array<double, 3> f{};
-    const std::size_t p = r.err.find("flux in the frame (R, G, B): ");
-    ASSERT_NE(p, std::string::npos) << r.err;
-    std::sscanf(r.err.c_str() + p + 29, "%lf %lf %lf", &f[0], &f[1], &f[2]);
-    const double light[3] = {2.0, 1.0, 0.5};
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(f[c], light[c], 1e-4 * light[c]) << c;
+    expectFluxInFrame(r.err, {2.0, 1.0, 0.5});
     const auto v = probes(r.out), w = probes(ideal.out);
     ASSERT_EQ(v.size(), 5u);
     for (int c = 0; c < 3; ++c) {
