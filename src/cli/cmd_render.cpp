@@ -41,8 +41,8 @@ struct RenderOptions {
     int spectral = 0;
     int grid = 32;
     double refine = 1.0;
-    TableOptions
-        table; ///< the ghost table's options; its sampling, sensor plane and coatings serve the traced mode too
+    /// The ghost table's options; its sampling, sensor plane and coatings serve the traced mode too.
+    TableOptions table;
     std::string sensorSize;
     double exposure = std::numeric_limits<double>::quiet_NaN();
     FourierOptions fourier;

@@ -54,8 +54,8 @@ struct SimulateOptions {
     std::string ghostModel = "shaped";
     std::string diffraction = "physical";
     double diffractionGain = 1.0;
-    TableOptions
-        table; ///< the ghost table's (gaussian, cos2); its sensor plane and coatings serve the shaped model too
+    /// The ghost table's options (gaussian, cos2); its sensor plane and coatings serve the shaped model too.
+    TableOptions table;
     double maxPixels = 8192.0 * 8192.0;
     std::string frames;
     FourierOptions fourier;
