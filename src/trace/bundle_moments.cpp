@@ -8,11 +8,6 @@
 
 namespace ff::trace {
 
-bool landsWithin(const RayResult& r, double maxRadius) {
-    return maxRadius <= 0.0 ||
-           r.sensorPoint.x * r.sensorPoint.x + r.sensorPoint.y * r.sensorPoint.y <= maxRadius * maxRadius;
-}
-
 namespace {
 
 // Counted rays of one cell whose weights differ by more than this factor straddle a step in the

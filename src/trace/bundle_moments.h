@@ -17,9 +17,6 @@ struct BundleMoments {
     double mxx = 0.0, myy = 0.0, mxy = 0.0;               ///< central second moments, mm^2
 };
 
-/// Whether a ray's landing point lies within maxRadiusMm of the axis (0: no limit).
-bool landsWithin(const RayResult& r, double maxRadiusMm);
-
 /// Measures the surviving rays; when maxRadiusMm > 0 only those landing within it of the axis count
 /// towards energy and moments (the counts still cover every surviving ray).
 BundleMoments measureBundle(const Bundle& bundle, const std::vector<RayResult>& hits, double scale = 1.0,

@@ -23,6 +23,12 @@ struct RayResult {
     double weight = 0.0; ///< product of all Fresnel/coating factors; 0 when lost
 };
 
+/// Whether a ray's landing point lies within maxRadiusMm of the axis (0: no limit).
+inline bool landsWithin(const RayResult& r, double maxRadiusMm) {
+    return maxRadiusMm <= 0.0 ||
+           r.sensorPoint.x * r.sensorPoint.x + r.sensorPoint.y * r.sensorPoint.y <= maxRadiusMm * maxRadiusMm;
+}
+
 class EmbreeTracer {
   public:
     /// Builds the scene of L's lens (apertures, iris and stop from L; the same for every wavelength).

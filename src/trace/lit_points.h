@@ -3,7 +3,9 @@
 // square of the pupil plane, which of their points are lit, the boxes over lit points, and the pieces
 // (groups of neighbouring lit points) they fall in.
 
-#include "trace/pupil_sampling.h"
+#include "trace/bundle.h"
+#include "trace/ghost_path.h"
+#include "trace/sequential_tracer.h"
 
 #include <glm/vec2.hpp>
 

@@ -1,7 +1,5 @@
 #include "trace/open_trace.h"
 
-#include "trace/bundle_moments.h"
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
