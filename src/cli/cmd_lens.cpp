@@ -9,6 +9,7 @@
 #include "optics/lens_loader.h"
 #include "optics/lens_writer.h"
 #include "optics/real_ray.h"
+#include "optics/zoom.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>

@@ -5,6 +5,7 @@
 #include "ghosts/shaped_cache.h"
 #include "ghosts/table_cache.h"
 #include "optics/lens_loader.h"
+#include "optics/zoom.h"
 
 #include <CLI/CLI.hpp>
 

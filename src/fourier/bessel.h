@@ -15,7 +15,8 @@
 // so the same peak and flux). Values are point samples at pixel centres. Ghosts too small for the
 // chosen J, or centred farther than 1.5 half-diagonals from the centre, are drawn directly.
 
-#include "fourier/render.h"
+#include "fourier/backend.h"
+#include "fourier/render_result.h"
 
 #include <vector>
 

@@ -2,25 +2,9 @@
 // The aggregator end to end: plan, accumulate, evaluate, and draw the hybrid's direct ghosts.
 
 #include "fourier/backend.h"
-#include "fourier/evaluate.h"
-
-#include <optional>
-#include <string>
+#include "fourier/render_result.h"
 
 namespace ff::fourier {
-
-struct FourierRender {
-    FlareImage image;
-    Plan plan;                  ///< the frame's level
-    std::optional<Plan> coarse; ///< the wide ghosts' level (indices into the wide ghosts, in order)
-    StageSeconds seconds;
-
-    /// Both levels in words.
-    std::string describe() const;
-    std::size_t fourierCount() const { return plan.fourier + (coarse ? coarse->fourier : 0); }
-    std::size_t directCount() const { return plan.direct + (coarse ? coarse->direct : 0); }
-    std::size_t culledCount() const { return plan.culled + (coarse ? coarse->culled : 0); }
-};
 
 /// The ghosts through the separable Fourier representation (hybrid per the settings). Ghosts too wide
 /// for the frame's period (they would wrap into it) get a coarse level: a period of their own (up to

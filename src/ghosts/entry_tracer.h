@@ -3,7 +3,7 @@
 // entry per wavelength, the direct image that normalises it, and the progress of the build. The
 // refinement over field angles that decides what to trace is buildGhostTable's.
 
-#include "ghosts/ghost_table.h"
+#include "ghosts/table_data.h"
 #include "trace/bundle_moments.h"
 #include "trace/embree_tracer.h"
 #include "trace/pupil_sampling.h"

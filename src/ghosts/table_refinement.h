@@ -5,7 +5,7 @@
 // interval reaches the finest step still failing. The rounds of bisection are buildGhostTable's.
 
 #include "ghosts/entry_tracer.h"
-#include "ghosts/ghost_table.h"
+#include "ghosts/table_data.h"
 
 #include <map>
 #include <utility>

@@ -61,11 +61,4 @@ struct Lens {
     std::vector<std::size_t> reflectingInterfaces(double lambdaNm) const;
 };
 
-/// The lens at zoom position k (thicknesses of that position; an 'auto' image distance refocused).
-/// Throws ff::Error (Usage) when k is out of range.
-Lens atZoom(const Lens& lens, std::size_t k);
-
-/// Finds a zoom position by its label or 1-based index ("135", "2"); throws with the valid labels.
-std::size_t findZoomPosition(const Lens& lens, const std::string& labelOrIndex);
-
 } // namespace ff::optics

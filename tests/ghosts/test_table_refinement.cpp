@@ -1,3 +1,4 @@
+#include "ghosts/ghost_table.h"
 #include "ghosts/table_refinement.h"
 #include "optics/lens_loader.h"
 

@@ -1,6 +1,7 @@
 #include "core/units.h"
 #include "optics/lens_parser.h"
 #include "optics/paraxial.h"
+#include "optics/zoom.h"
 
 #include <gtest/gtest.h>
 

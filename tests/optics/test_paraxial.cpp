@@ -3,6 +3,7 @@
 #include "optics/lens_parser.h"
 #include "optics/paraxial.h"
 #include "optics/real_ray.h"
+#include "optics/zoom.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,7 @@
 #include "core/units.h"
 #include "optics/lens_loader.h"
 #include "optics/paraxial.h"
+#include "optics/zoom.h"
 #include "trace/embree_tracer.h"
 #include "trace/pupil_sampling.h"
 
