@@ -204,115 +204,130 @@ std::vector<double> binned(std::vector<double> I, int F, int S) {
     return I;
 }
 
-} // namespace
-
-Psf pixelPsf(const Aperture& aperture, const PsfSettings& settings) {
-    if (!(settings.pitchMm > 0.0)) throw Error(ErrorKind::Usage, "the PSF needs a positive pixel pitch");
-    Psf out;
+// The wavelengths and their linear-sRGB weights: negative (out-of-gamut) weights clipped and each
+// channel's weights summing to 1, so each channel's PSF carries the light's flux in that channel. A
+// channel no wavelength reaches takes them equally.
+std::vector<std::array<double, 3>> channelWeights(const PsfSettings& settings, std::vector<double>& wavelengthsNm) {
     std::vector<std::array<double, 3>> weights;
     if (settings.wavelengthsNm.empty()) {
-        trace::colourWeights(8, out.wavelengthsNm, weights);
+        trace::colourWeights(8, wavelengthsNm, weights);
     } else {
-        out.wavelengthsNm = settings.wavelengthsNm;
-        for (double l : out.wavelengthsNm) {
+        wavelengthsNm = settings.wavelengthsNm;
+        for (double l : wavelengthsNm) {
             const auto [X, Y, Z] = trace::cie1931(l);
             weights.push_back({3.2406 * X - 1.5372 * Y - 0.4986 * Z, -0.9689 * X + 1.8758 * Y + 0.0415 * Z,
                                0.0557 * X - 0.2040 * Y + 1.0570 * Z});
         }
     }
-    // Negative (out-of-gamut) weights clipped; each channel's weights sum to 1, so each channel's PSF
-    // carries the light's flux in that channel. A channel no wavelength reaches takes them equally.
     for (int c = 0; c < 3; ++c) {
         double sum = 0.0;
         for (auto& w : weights) sum += (w[c] = std::max(0.0, w[c]));
         for (auto& w : weights) w[c] = sum > 0.0 ? w[c] / sum : 1.0 / double(weights.size());
     }
-    const std::size_t W = out.wavelengthsNm.size();
+    return weights;
+}
+
+// One wavelength's kernel binned over pixels, its reach, samples per pixel, the flux it leaves out
+// (kept in the centre pixel) and its value where the taper starts over the centre.
+struct WavelengthKernel {
+    std::vector<double> kernel; ///< (2 radius + 1)^2, rows down
+    int radius = 0, binning = 0;
+    double outside = 0.0, edge = 0.0;
+};
+
+WavelengthKernel wavelengthKernel(const Aperture& aperture, const PsfSettings& settings, double lambdaNm) {
     const int F = settings.transform;
-    std::vector<std::vector<double>> kernels(W);
-    std::vector<int> radius(W);
-    out.binning.resize(W);
-    std::vector<double> outside(W), edge(W, 0.0);
-    tbb::parallel_for(std::size_t(0), W, [&](std::size_t i) {
-        const double lambdaN = out.wavelengthsNm[i] * 1e-6 * aperture.fNumber;
-        // S samples per pixel, at most lambda N / 2 apart (the intensity's Nyquist rate).
-        // S and K (below) have no prime factor above 7: the transform's size K S stays fast.
-        const double samples = std::ceil(settings.pitchMm / (0.5 * lambdaN) - 1e-9);
-        // A whole number K >= 4 of pixels per period (K S samples, K even, about `transform`), so that
-        // the pixels' centres tile the period and sum to its flux exactly. Pixels over ~2 000 lambda N
-        // wide (the period over kMaxTransform samples): the PSF is the light's own pixel.
-        if (4.0 * samples > kMaxTransform) {
-            out.binning[i] = static_cast<int>(std::min(samples, 1e9));
-            radius[i] = 0;
-            kernels[i] = {1.0};
-            return;
+    WavelengthKernel k;
+    const double lambdaN = lambdaNm * 1e-6 * aperture.fNumber;
+    // S samples per pixel, at most lambda N / 2 apart (the intensity's Nyquist rate).
+    // S and K (below) have no prime factor above 7: the transform's size K S stays fast.
+    const double samples = std::ceil(settings.pitchMm / (0.5 * lambdaN) - 1e-9);
+    // A whole number K >= 4 of pixels per period (K S samples, K even, about `transform`), so that
+    // the pixels' centres tile the period and sum to its flux exactly. Pixels over ~2 000 lambda N
+    // wide (the period over kMaxTransform samples): the PSF is the light's own pixel.
+    if (4.0 * samples > kMaxTransform) {
+        k.binning = static_cast<int>(std::min(samples, 1e9));
+        k.radius = 0;
+        k.kernel = {1.0};
+        return k;
+    }
+    const int S = fastSize(std::max(1, static_cast<int>(samples)));
+    k.binning = S;
+    // With a wavefront, the pupil gets Q = T / (2 S') samples across (S' = pitch / (lambda N / 2)
+    // rounded up to S): at least 8 |grad W| / lambda keeps the phase step under pi / 2.
+    const PupilFunction pupil = settings.pupil ? settings.pupil(lambdaNm) : PupilFunction{};
+    const double spacing = settings.pitchMm / S, needed = 8.0 * pupil.maxSlopeMm / (lambdaNm * 1e-6);
+    const int period = std::max(F, static_cast<int>(std::ceil(needed * lambdaN / spacing)));
+    const double half = 0.5 * period / S;
+    const int K = 2 * fastSize(std::max(2, static_cast<int>(period > F ? std::ceil(half) : std::round(half))));
+    const int T = K * S;
+    if (T > kMaxTransform && (pupil.opd || pupil.open))
+        throw Error(ErrorKind::Input, "the lens's aberrations at this field (a spot of " +
+                                          text::fixed(2.0 * aperture.fNumber * pupil.maxSlopeMm * 1e3, 0) +
+                                          " um) need a PSF transform over " + std::to_string(kMaxTransform) +
+                                          " samples");
+    if (T > kMaxTransform) {
+        k.radius = 0;
+        k.kernel = {1.0};
+        return k;
+    }
+    const std::vector<double> P = binned(intensity(aperture, lambdaNm, spacing, T, pupil.opd, pupil.open), T, S);
+    // The transform's intensity is periodic: near half the period the neighbouring periods' tails
+    // are as strong as the light's own (and strongest along the axes: a false cross). A quarter
+    // of the period keeps them under (1/3)^3 of the tail there, and the taper brings it to 0.
+    const int R = K / 4;
+    k.radius = R;
+    const int w = 2 * R + 1;
+    std::vector<double>& b = k.kernel;
+    b.assign(static_cast<std::size_t>(w) * w, 0.0);
+    double kept = 0.0, centre = 0.0, tail = 0.0;
+    for (int my = -R; my <= R; ++my)
+        for (int mx = -R; mx <= R; ++mx) {
+            // Pixel rows run down, sample rows up; rounding in the transforms can leave tiny negatives.
+            const double v = std::max(
+                0.0, P[static_cast<std::size_t>((-my * S + T) % T) * T + static_cast<std::size_t>((mx * S + T) % T)]);
+            // A round taper, 1 inside kTaper (R + 1), cos^2 down to 0 at R + 1: the kernel ends
+            // smoothly and round, not at a square's edge (which shows around a bright extended light).
+            const double r = std::hypot(mx, my), t = (r - kTaper * (R + 1)) / ((1.0 - kTaper) * (R + 1));
+            const double taper = t <= 0.0 ? 1.0 : t >= 1.0 ? 0.0 : std::pow(std::cos(0.5 * std::numbers::pi * t), 2);
+            if (mx == 0 && my == 0) centre = v;
+            if (t >= 0.0) tail = std::max(tail, v);
+            b[static_cast<std::size_t>(my + R) * w + (mx + R)] = v * taper;
+            kept += v * taper;
         }
-        const int S = fastSize(std::max(1, static_cast<int>(samples)));
-        out.binning[i] = S;
-        // With a wavefront, the pupil gets Q = T / (2 S') samples across (S' = pitch / (lambda N / 2)
-        // rounded up to S): at least 8 |grad W| / lambda keeps the phase step under pi / 2.
-        const PupilFunction pupil = settings.pupil ? settings.pupil(out.wavelengthsNm[i]) : PupilFunction{};
-        const double spacing = settings.pitchMm / S, needed = 8.0 * pupil.maxSlopeMm / (out.wavelengthsNm[i] * 1e-6);
-        const int period = std::max(F, static_cast<int>(std::ceil(needed * lambdaN / spacing)));
-        const double half = 0.5 * period / S;
-        const int K = 2 * fastSize(std::max(2, static_cast<int>(period > F ? std::ceil(half) : std::round(half))));
-        const int T = K * S;
-        if (T > kMaxTransform && (pupil.opd || pupil.open))
-            throw Error(ErrorKind::Input, "the lens's aberrations at this field (a spot of " +
-                                              text::fixed(2.0 * aperture.fNumber * pupil.maxSlopeMm * 1e3, 0) +
-                                              " um) need a PSF transform over " + std::to_string(kMaxTransform) +
-                                              " samples");
-        if (T > kMaxTransform) {
-            radius[i] = 0;
-            kernels[i] = {1.0};
-            return;
-        }
-        const std::vector<double> P =
-            binned(intensity(aperture, out.wavelengthsNm[i], spacing, T, pupil.opd, pupil.open), T, S);
-        // The transform's intensity is periodic: near half the period the neighbouring periods' tails
-        // are as strong as the light's own (and strongest along the axes: a false cross). A quarter
-        // of the period keeps them under (1/3)^3 of the tail there, and the taper brings it to 0.
-        const int R = K / 4;
-        radius[i] = R;
-        const int w = 2 * R + 1;
-        std::vector<double>& b = kernels[i];
-        b.assign(static_cast<std::size_t>(w) * w, 0.0);
-        double kept = 0.0, centre = 0.0, tail = 0.0;
-        for (int my = -R; my <= R; ++my)
-            for (int mx = -R; mx <= R; ++mx) {
-                // Pixel rows run down, sample rows up; rounding in the transforms can leave tiny negatives.
-                const double v = std::max(
-                    0.0,
-                    P[static_cast<std::size_t>((-my * S + T) % T) * T + static_cast<std::size_t>((mx * S + T) % T)]);
-                // A round taper, 1 inside kTaper (R + 1), cos^2 down to 0 at R + 1: the kernel ends
-                // smoothly and round, not at a square's edge (which shows around a bright extended light).
-                const double r = std::hypot(mx, my), t = (r - kTaper * (R + 1)) / ((1.0 - kTaper) * (R + 1));
-                const double taper = t <= 0.0   ? 1.0
-                                     : t >= 1.0 ? 0.0
-                                                : std::pow(std::cos(0.5 * std::numbers::pi * t), 2);
-                if (mx == 0 && my == 0) centre = v;
-                if (t >= 0.0) tail = std::max(tail, v);
-                b[static_cast<std::size_t>(my + R) * w + (mx + R)] = v * taper;
-                kept += v * taper;
-            }
-        edge[i] = centre > 0.0 ? tail / centre : 0.0;
-        outside[i] = std::max(0.0, 1.0 - kept);
-        b[static_cast<std::size_t>(R) * w + R] += outside[i];
-    });
-    out.radius = *std::max_element(radius.begin(), radius.end());
-    out.outside = *std::max_element(outside.begin(), outside.end());
-    out.edge = *std::max_element(edge.begin(), edge.end());
+    k.edge = centre > 0.0 ? tail / centre : 0.0;
+    k.outside = std::max(0.0, 1.0 - kept);
+    b[static_cast<std::size_t>(R) * w + R] += k.outside;
+    return k;
+}
+
+} // namespace
+
+Psf pixelPsf(const Aperture& aperture, const PsfSettings& settings) {
+    if (!(settings.pitchMm > 0.0)) throw Error(ErrorKind::Usage, "the PSF needs a positive pixel pitch");
+    Psf out;
+    const std::vector<std::array<double, 3>> weights = channelWeights(settings, out.wavelengthsNm);
+    const std::size_t W = out.wavelengthsNm.size();
+    std::vector<WavelengthKernel> kernels(W);
+    tbb::parallel_for(std::size_t(0), W,
+                      [&](std::size_t i) { kernels[i] = wavelengthKernel(aperture, settings, out.wavelengthsNm[i]); });
+    for (const WavelengthKernel& k : kernels) {
+        out.binning.push_back(k.binning);
+        out.radius = std::max(out.radius, k.radius);
+        out.outside = std::max(out.outside, k.outside);
+        out.edge = std::max(out.edge, k.edge);
+    }
     const int w = out.width();
     for (int c = 0; c < 3; ++c) {
-        std::vector<double> k(static_cast<std::size_t>(w) * w, 0.0);
+        std::vector<double> sum(static_cast<std::size_t>(w) * w, 0.0);
         for (std::size_t i = 0; i < W; ++i) {
-            const int R = radius[i], wi = 2 * R + 1, o = out.radius - R;
+            const int R = kernels[i].radius, wi = 2 * R + 1, o = out.radius - R;
             for (int y = 0; y < wi; ++y)
                 for (int x = 0; x < wi; ++x)
-                    k[static_cast<std::size_t>(y + o) * w + (x + o)] +=
-                        weights[i][c] * kernels[i][static_cast<std::size_t>(y) * wi + x];
+                    sum[static_cast<std::size_t>(y + o) * w + (x + o)] +=
+                        weights[i][c] * kernels[i].kernel[static_cast<std::size_t>(y) * wi + x];
         }
-        out.channel[c].assign(k.begin(), k.end());
+        out.channel[c].assign(sum.begin(), sum.end());
     }
     return out;
 }
