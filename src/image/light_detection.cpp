@@ -54,8 +54,11 @@ struct Components {
 
 } // namespace
 
-DetectionReport detectLights(const Plate& plate, const DetectionSettings& s) {
-    DetectionReport rep;
+namespace {
+
+// Each pixel's luminance of its non-negative RGB (0 where a channel is NaN or infinite), counting those
+// and the pixels with a negative channel, and the largest, into rep.
+std::vector<float> pixelLuminances(const Plate& plate, DetectionReport& rep) {
     const std::size_t n = plate.pixelCount();
     std::vector<float> lum(n, 0.0f);
     for (std::size_t p = 0; p < n; ++p) {
@@ -69,23 +72,37 @@ DetectionReport detectLights(const Plate& plate, const DetectionSettings& s) {
         lum[p] = static_cast<float>(l);
         rep.maxLuminance = std::max(rep.maxLuminance, l);
     }
+    return lum;
+}
+
+// The luminance threshold the settings ask for, kept strictly positive (above 0 every pixel would count).
+double thresholdFor(const std::vector<float>& lum, const DetectionSettings& s, double maxLuminance) {
+    double threshold = 0.0;
     switch (s.mode) {
     case ThresholdMode::Absolute:
-        rep.threshold = s.value;
+        threshold = s.value;
         break;
     case ThresholdMode::RelativeToMax:
-        rep.threshold = s.value * rep.maxLuminance;
+        threshold = s.value * maxLuminance;
         break;
     case ThresholdMode::Percentile: {
         std::vector<float> sorted(lum);
-        const auto k = static_cast<std::size_t>(std::clamp(s.value / 100.0, 0.0, 1.0) * double(n - 1));
+        const auto k = static_cast<std::size_t>(std::clamp(s.value / 100.0, 0.0, 1.0) * double(lum.size() - 1));
         std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(k), sorted.end());
-        rep.threshold = sorted[k];
+        threshold = sorted[k];
         break;
     }
     }
-    // Above a threshold of 0 every pixel would count: keep it strictly positive.
-    rep.threshold = std::max(rep.threshold, 1e-12);
+    return std::max(threshold, 1e-12);
+}
+
+} // namespace
+
+DetectionReport detectLights(const Plate& plate, const DetectionSettings& s) {
+    DetectionReport rep;
+    const std::size_t n = plate.pixelCount();
+    const std::vector<float> lum = pixelLuminances(plate, rep);
+    rep.threshold = thresholdFor(lum, s, rep.maxLuminance);
     const int W = plate.width, H = plate.height;
     Components comp(n);
     std::vector<char> bright(n, 0);
