@@ -80,9 +80,6 @@ std::vector<glm::dvec2> litPlaces(const LitGrid& g) {
     return places;
 }
 
-// The pieces of light of a pass: the boxes of its groups of lit points linked through neighbours
-// (the eight around each), at most maxPieces of them (more: empty, the light is too broken up to
-// tell its pieces apart at this spacing).
 std::vector<LitBox> litPieces(const LitGrid& g, std::size_t maxPieces) {
     std::vector<LitBox> pieces;
     std::vector<char> seen(g.lit.size(), 0);
