@@ -72,22 +72,47 @@ double evaluationFlops(int n, int m, int w, int h, double tx, double ty, Evaluat
 
 } // namespace
 
-Plan choosePlan(const std::vector<Ghost>& ghosts, int W, int H, const FourierSettings& s) {
-    Plan p;
+namespace {
+
+// Per shape (0 Gaussian, 1 cos^2), the spectral cut-off of the error budget and of the trimmed
+// budget (error x trimFraction; 0 without trimming), computed only for the shapes present (the cos^2
+// one tabulates its spectrum once).
+struct Cutoffs {
+    double full[2] = {0.0, 0.0}, trim[2] = {0.0, 0.0};
+};
+Cutoffs shapeCutoffs(const std::vector<Ghost>& ghosts, const FourierSettings& s) {
+    bool present[2] = {false, false};
+    for (const Ghost& g : ghosts) present[g.shape == Shape::Gaussian ? 0 : 1] = true;
+    Cutoffs c;
+    for (int sh = 0; sh < 2; ++sh) {
+        if (!present[sh]) continue;
+        const Shape shape = sh == 0 ? Shape::Gaussian : Shape::Cos2;
+        c.full[sh] = spectralCutoff(shape, s.error);
+        if (s.trimFraction > 0.0) c.trim[sh] = spectralCutoff(shape, s.error * s.trimFraction);
+    }
+    return c;
+}
+
+// The period along one axis: the one fixed by the settings, else the largest need (at least the
+// frame's side, at most the cap) rounded up to a size the FFT handles fast.
+double periodFor(double need, double fixed, double cap) {
+    return fixed > 0.0 ? fixed : fftFriendly(static_cast<int>(std::ceil(std::min(need, cap))));
+}
+
+// Each ghost's route before the period is known: culled (no flux, or wholly off the frame), Wide
+// (its copies on a period within the cap would reach the frame) or Fourier; its need, the period it
+// asks for along x and y (its distance to the frame's far side plus its padded extent), and the area
+// of its box on the frame. In parallel: each ghost writes only its own entries.
+void routeGhosts(const std::vector<Ghost>& ghosts, int W, int H, const FourierSettings& s, double cap,
+                 std::vector<Route>& route, std::vector<double>& needX, std::vector<double>& needY,
+                 std::vector<double>& boxArea) {
     const std::size_t K = ghosts.size();
-    p.route.assign(K, Route::Fourier);
-    p.termsX.assign(K, 0);
-    p.termsY.assign(K, 0);
-    std::vector<double> needX(K, 0.0), needY(K, 0.0), boxArea(K, 0.0);
-    const double cap = s.periodCap * std::max(W, H);
-    // Per-ghost work in parallel (each ghost writes only its own entries); the reductions follow in
-    // ghost order.
     tbb::parallel_for(std::size_t(0), K, [&](std::size_t k) {
         const Ghost& g = ghosts[k];
         const double ex = g.extentX(), ey = g.extentY();
         const bool empty = g.flux[0] == 0.0 && g.flux[1] == 0.0 && g.flux[2] == 0.0;
         if (empty || g.x + ex < 0.0 || g.x - ex > W || g.y + ey < 0.0 || g.y - ey > H) {
-            p.route[k] = Route::Culled;
+            route[k] = Route::Culled;
             return;
         }
         const double px = padExtent(g, widest(g.widthX), s.error), py = padExtent(g, widest(g.widthY), s.error);
@@ -98,27 +123,33 @@ Plan choosePlan(const std::vector<Ghost>& ghosts, int W, int H, const FourierSet
         const double limitX = s.fixedPeriodX > 0.0 ? s.fixedPeriodX : cap,
                      limitY = s.fixedPeriodY > 0.0 ? s.fixedPeriodY : cap;
         // A ghost whose copies would reach the frame goes to a coarser level, hybrid or not.
-        if (needX[k] > limitX || needY[k] > limitY) p.route[k] = Route::Wide;
+        if (needX[k] > limitX || needY[k] > limitY) route[k] = Route::Wide;
     });
+}
+
+} // namespace
+
+Plan choosePlan(const std::vector<Ghost>& ghosts, int W, int H, const FourierSettings& s) {
+    Plan p;
+    const std::size_t K = ghosts.size();
+    p.route.assign(K, Route::Fourier);
+    p.termsX.assign(K, 0);
+    p.termsY.assign(K, 0);
+    std::vector<double> needX(K, 0.0), needY(K, 0.0), boxArea(K, 0.0);
+    const double cap = s.periodCap * std::max(W, H);
+    routeGhosts(ghosts, W, H, s, cap, p.route, needX, needY, boxArea);
     // The period: the largest need of the ghosts still on the Fourier route.
     double tx = W, ty = H;
     for (std::size_t k = 0; k < K; ++k)
         if (p.route[k] == Route::Fourier) tx = std::max(tx, needX[k]), ty = std::max(ty, needY[k]);
-    p.periodX = s.fixedPeriodX > 0.0 ? s.fixedPeriodX : fftFriendly(static_cast<int>(std::ceil(std::min(tx, cap))));
-    p.periodY = s.fixedPeriodY > 0.0 ? s.fixedPeriodY : fftFriendly(static_cast<int>(std::ceil(std::min(ty, cap))));
+    p.periodX = periodFor(tx, s.fixedPeriodX, cap);
+    p.periodY = periodFor(ty, s.fixedPeriodY, cap);
 
     // Terms each ghost needs (its narrowest channel decides), and what it keeps when trimmed.
     std::vector<int> needN(K, 0), needM(K, 0), trimN(K, 0), trimM(K, 0);
-    // Cut-offs per shape, computed for the shapes present (the cos^2 one tabulates its spectrum once).
-    bool present[2] = {false, false};
-    for (const Ghost& g : ghosts) present[g.shape == Shape::Gaussian ? 0 : 1] = true;
-    double cut[2] = {0.0, 0.0}, trimCut[2] = {0.0, 0.0};
-    for (int sh = 0; sh < 2; ++sh) {
-        if (!present[sh]) continue;
-        const Shape shape = sh == 0 ? Shape::Gaussian : Shape::Cos2;
-        cut[sh] = spectralCutoff(shape, s.error);
-        if (s.trimFraction > 0.0) trimCut[sh] = spectralCutoff(shape, s.error * s.trimFraction);
-    }
+    const Cutoffs cutoffs = shapeCutoffs(ghosts, s);
+    const double(&cut)[2] = cutoffs.full;
+    const double(&trimCut)[2] = cutoffs.trim;
     tbb::parallel_for(std::size_t(0), K, [&](std::size_t k) {
         if (p.route[k] != Route::Fourier) return;
         const Ghost& g = ghosts[k];
