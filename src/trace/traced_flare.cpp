@@ -50,6 +50,65 @@ void colourWeights(int n, std::vector<double>& lambdas, std::vector<std::array<d
         for (int c = 0; c < 3; ++c) w[c] /= white[c];
 }
 
+namespace {
+
+// Ghosts whose flux (summed over the wavelengths) is under cullFraction of the strongest's: marked 1,
+// their count and share of the ghost flux in out.
+std::vector<char> cullFaint(const std::vector<double>& ghostFlux, double cullFraction, TracedFlare& out) {
+    const double strongest = ghostFlux.empty() ? 0.0 : *std::max_element(ghostFlux.begin(), ghostFlux.end());
+    const double total = std::accumulate(ghostFlux.begin(), ghostFlux.end(), 0.0);
+    std::vector<char> culled(ghostFlux.size(), 0);
+    double culledFlux = 0.0;
+    for (std::size_t g = 0; g < ghostFlux.size(); ++g)
+        if (ghostFlux[g] < cullFraction * strongest) {
+            culled[g] = 1;
+            ++out.culled;
+            culledFlux += ghostFlux[g];
+        }
+    out.culledShare = total > 0.0 ? culledFlux / total : 0.0;
+    return culled;
+}
+
+// The wavelengths' images weighted into linear RGB (R, G, B interleaved), negatives clipped.
+std::vector<float> combineRgb(std::vector<CoverageRaster> rasters, const std::vector<std::array<double, 3>>& weights,
+                              std::size_t pixels) {
+    std::vector<std::vector<double>> layers;
+    for (CoverageRaster& r : rasters) layers.push_back(std::move(r).release());
+    std::vector<float> rgb(pixels * 3, 0.0f);
+    for (std::size_t p = 0; p < pixels; ++p)
+        for (int ch = 0; ch < 3; ++ch) {
+            double v = 0.0;
+            for (std::size_t w = 0; w < layers.size(); ++w) v += weights[w][ch] * layers[w][p];
+            rgb[p * 3 + ch] = static_cast<float>(std::max(0.0, v));
+        }
+    return rgb;
+}
+
+// The direct path's and every ghost's steps and pupil region, each region found once for all
+// wavelengths: over the regions at the shortest and the longest.
+struct Paths {
+    std::vector<PathStep> directSteps;
+    PupilRegion directRegion;
+    std::vector<std::vector<PathStep>> ghostSteps;
+    std::vector<PupilRegion> regions;
+};
+Paths pathsOf(const optics::Lens& lens, const std::vector<GhostPair>& ghosts, const PupilFrame& pupil,
+              const TracedFlareOptions& o, const std::vector<double>& wavelengthsNm, double sensorZ) {
+    const auto [shortest, longest] = std::minmax_element(wavelengthsNm.begin(), wavelengthsNm.end());
+    const LensAtWavelength ends[] = {LensAtWavelength(lens, *shortest, sensorZ),
+                                     LensAtWavelength(lens, *longest, sensorZ)};
+    Paths p;
+    p.directSteps = pathSteps(lens, std::nullopt);
+    p.directRegion = bandRegion(pupil, o.field, o.sampling, ends, p.directSteps);
+    for (const GhostPair& g : ghosts) {
+        p.ghostSteps.push_back(pathSteps(lens, g));
+        p.regions.push_back(bandRegion(pupil, o.field, o.sampling, ends, p.ghostSteps.back()));
+    }
+    return p;
+}
+
+} // namespace
+
 TracedFlare renderTracedFlare(const optics::Lens& lensIn, const TracedFlareOptions& o) {
     const optics::Lens lens = withCoating(lensIn, o.coating);
     const double sensorZ = sensorPlaneZ(lens, o.sensor);
@@ -71,19 +130,11 @@ TracedFlare renderTracedFlare(const optics::Lens& lensIn, const TracedFlareOptio
     if (n < 2 || n > 4096)
         throw Error(ErrorKind::Usage, "the starting grid x the refinement must be 2 to 4096 cells per side");
 
-    // Each path's pupil region, found once for all wavelengths: over the regions at the shortest and
-    // the longest.
-    const auto [shortest, longest] = std::minmax_element(out.wavelengthsNm.begin(), out.wavelengthsNm.end());
-    const LensAtWavelength ends[] = {LensAtWavelength(lens, *shortest, sensorZ),
-                                     LensAtWavelength(lens, *longest, sensorZ)};
-    std::vector<std::vector<PathStep>> ghostSteps;
-    std::vector<PupilRegion> regions;
-    const auto directSteps = pathSteps(lens, std::nullopt);
-    const PupilRegion directRegion = bandRegion(pupil, o.field, o.sampling, ends, directSteps);
-    for (const GhostPair& g : ghosts) {
-        ghostSteps.push_back(pathSteps(lens, g));
-        regions.push_back(bandRegion(pupil, o.field, o.sampling, ends, ghostSteps.back()));
-    }
+    const Paths paths = pathsOf(lens, ghosts, pupil, o, out.wavelengthsNm, sensorZ);
+    const std::vector<PathStep>& directSteps = paths.directSteps;
+    const PupilRegion& directRegion = paths.directRegion;
+    const std::vector<std::vector<PathStep>>& ghostSteps = paths.ghostSteps;
+    const std::vector<PupilRegion>& regions = paths.regions;
     std::vector<LensAtWavelength> Ls;
     Ls.reserve(W);
     for (double l : out.wavelengthsNm) Ls.emplace_back(lens, l, sensorZ);
@@ -125,17 +176,7 @@ TracedFlare renderTracedFlare(const optics::Lens& lensIn, const TracedFlareOptio
     for (std::size_t w = 0; w < W; ++w)
         if (directEnergy[w] > 0.0)
             for (std::size_t g = 0; g < G; ++g) ghostFlux[g] += grids[w][g]->energy() / directEnergy[w];
-    const double strongest = G ? *std::max_element(ghostFlux.begin(), ghostFlux.end()) : 0.0;
-    const double total = std::accumulate(ghostFlux.begin(), ghostFlux.end(), 0.0);
-    std::vector<char> culled(G, 0);
-    double culledFlux = 0.0;
-    for (std::size_t g = 0; g < G; ++g)
-        if (ghostFlux[g] < o.cullFraction * strongest) {
-            culled[g] = 1;
-            ++out.culled;
-            culledFlux += ghostFlux[g];
-        }
-    out.culledShare = total > 0.0 ? culledFlux / total : 0.0;
+    const std::vector<char> culled = cullFaint(ghostFlux, o.cullFraction, out);
 
     // Pass 2, per wavelength in parallel: the ghosts refined in parallel a few at a time, then drawn
     // in ghost order, so the image does not depend on the number of threads.
@@ -167,15 +208,7 @@ TracedFlare renderTracedFlare(const optics::Lens& lensIn, const TracedFlareOptio
         out.maxDepth = std::max(out.maxDepth, s.depth);
     }
 
-    std::vector<std::vector<double>> layers;
-    for (CoverageRaster& r : rasters) layers.push_back(std::move(r).release());
-    out.rgb.assign(pixels * 3, 0.0f);
-    for (std::size_t p = 0; p < pixels; ++p)
-        for (int ch = 0; ch < 3; ++ch) {
-            double v = 0.0;
-            for (std::size_t w = 0; w < layers.size(); ++w) v += weights[w][ch] * layers[w][p];
-            out.rgb[p * 3 + ch] = static_cast<float>(std::max(0.0, v));
-        }
+    out.rgb = combineRgb(std::move(rasters), weights, pixels);
     return out;
 }
 
