@@ -273,12 +273,18 @@ class Simulation {
         image::Metadata diffractionMeta = {{"fourierflare:diffraction", "off"}};
         if (aperture_) {
             const double pitch = sensorWidthMm_ / plate.displayWidth;
-            if (!psf_ || psfPitch_ != pitch) {
-                diffraction::PsfSettings ps;
-                ps.pitchMm = pitch;
-                psf_ = std::make_unique<diffraction::Psf>(diffraction::pixelPsf(*aperture_, ps));
-                psfPitch_ = pitch;
-            }
+            // The aberration-free PSF, made once per pixel pitch (a sequence pays it once); with
+            // --diffraction traced only where a tile's own PSF cannot be made.
+            auto ideal = [&]() -> const diffraction::Psf& {
+                if (!psf_ || psfPitch_ != pitch) {
+                    diffraction::PsfSettings ps;
+                    ps.pitchMm = pitch;
+                    psf_ = std::make_unique<diffraction::Psf>(diffraction::pixelPsf(*aperture_, ps));
+                    psfPitch_ = pitch;
+                }
+                return *psf_;
+            };
+            psfText_.clear();
             std::vector<float> lightRgb = std::move(found.lightRgb);
             if (!manualLights_.empty())
                 lightRgb = scene::splatLights(lights, plate.width, plate.height, plate.originX - plate.displayX,
@@ -298,6 +304,7 @@ class Simulation {
                         ps.pupil = diffraction::tracedPupil(lens_, xMm, yMm,
                                                             trace::sensorPlaneZ(lens_, sensorFrom(table_o_.sensor)));
                         diffraction::Psf p = diffraction::pixelPsf(*aperture_, ps);
+                        if (psfText_.empty()) psfText_ = scene::describePsf(*aperture_, p);
                         zones_.push_back(text::fixed(x, 0) + "," + text::fixed(y, 0) + ": to " +
                                          std::to_string(p.radius) + " px");
                         return p;
@@ -305,13 +312,15 @@ class Simulation {
                         note("the lights near pixel (" + text::fixed(x, 0) + ", " + text::fixed(y, 0) +
                              ") get the aberration-free PSF: " + e.what());
                         zones_.push_back(text::fixed(x, 0) + "," + text::fixed(y, 0) + ": aberration-free");
-                        return *psf_;
+                        if (psfText_.empty()) psfText_ = scene::describePsf(*aperture_, ideal());
+                        return ideal();
                     }
                 };
                 diffractionRgb = diffraction::zonedDiffractionLayer(lightRgb, plate.width, plate.height, kZones, kZones,
                                                                     psfAt, o_.diffractionGain, &offFrame, convolver_);
             } else {
-                diffractionRgb = diffraction::diffractionLayer(lightRgb, plate.width, plate.height, *psf_,
+                psfText_ = scene::describePsf(*aperture_, ideal());
+                diffractionRgb = diffraction::diffractionLayer(lightRgb, plate.width, plate.height, ideal(),
                                                                o_.diffractionGain, &offFrame, convolver_);
             }
             diffractionMeta = {{"fourierflare:diffraction", describeDiffraction()}};
@@ -389,7 +398,7 @@ class Simulation {
         std::string zones;
         for (const std::string& z : zones_) zones += (zones.empty() ? "" : "; ") + z;
         return o_.diffraction + ", gain " + text::roundTrip(o_.diffractionGain) + "; " +
-               scene::describePsf(*aperture_, *psf_) +
+               (psfText_.empty() ? std::string("no light to diffract") : psfText_) +
                (o_.diffraction == "traced" ? "; the lens's wavefront per " + std::to_string(kZones) + " x " +
                                                  std::to_string(kZones) + " tile, at (px) " + zones
                                            : std::string()) +
@@ -413,6 +422,7 @@ class Simulation {
     std::optional<diffraction::Aperture> aperture_; ///< with --diffraction physical
     TableOptions table_o_;                          ///< o_.table with the sensor plane --sensor gave
     std::unique_ptr<diffraction::Psf> psf_;         ///< aberration-free (the traced PSFs' fallback)
+    std::string psfText_;                           ///< the PSF described (the first tile's with traced)
     std::vector<std::string> zones_;                ///< --diffraction traced: each tile's PSF, for the header
     static constexpr int kZones = 3;                ///< --diffraction traced: tiles per side of the frame
     double psfPitch_ = 0.0;                         ///< the pixel pitch psf_ was made for

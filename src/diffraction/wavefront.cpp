@@ -258,7 +258,9 @@ TracedWavefront tracedWavefront(const optics::Lens& lens, double angleRad, doubl
     for (std::size_t k : clipping) clipRadius.push_back(L.clipRadius[steps[k].surface]);
     auto opd = [fit](double u, double v) { return fit->first(u, v); };
     auto open = [fit, clipRadius](double u, double v) {
-        std::vector<double> o(fit->outputs());
+        // Called for every pupil sample of every PSF: one buffer per thread, not one per call.
+        thread_local std::vector<double> o;
+        o.resize(fit->outputs());
         fit->evaluate(u, v, o.data());
         for (std::size_t c = 0; c < clipRadius.size(); ++c)
             if (std::hypot(o[1 + 2 * c], o[2 + 2 * c]) > clipRadius[c]) return false;

@@ -282,23 +282,25 @@ std::vector<float> renderDiffraction(const optics::Lens& lens, const std::vector
     const diffraction::Aperture aperture = diffraction::apertureOf(lens);
     diffraction::PsfSettings ps;
     ps.pitchMm = frame.pitchMm;
-    const diffraction::Psf psf = diffraction::pixelPsf(aperture, ps);
     auto convolve = [&](const std::vector<float>& l, const diffraction::Psf& p) {
         return device ? device->convolve(l, W, H, p, offFrame) : diffraction::convolve(l, W, H, p, offFrame);
     };
-    std::string text = mode + "; " + describePsf(aperture, psf);
     if (mode != "traced") {
-        if (summary) *summary = text;
+        const diffraction::Psf psf = diffraction::pixelPsf(aperture, ps);
+        if (summary) *summary = mode + "; " + describePsf(aperture, psf);
         return convolve(splatLights(lights, W, H), psf);
     }
-    // Each light through the PSF with the lens's traced wavefront at its own field.
+    // Each light through the PSF with the lens's traced wavefront at its own field (described by the
+    // first light's PSF, then each light's reach).
     std::vector<float> spread(static_cast<std::size_t>(W) * H * 3, 0.0f);
+    std::string text = mode;
     for (const ghosts::Light& l : lights) {
         const glm::dvec2 at = frame.pixelToSensor(l.xPx, l.yPx);
         ps.pupil = diffraction::tracedPupil(lens, at.x, at.y, sensorZ);
         const diffraction::Psf own = diffraction::pixelPsf(aperture, ps);
         const std::vector<float> one = convolve(splatLights({l}, W, H), own);
         for (std::size_t i = 0; i < spread.size(); ++i) spread[i] += one[i];
+        if (text == mode) text += "; " + describePsf(aperture, own);
         text += "; at (" + text::fixed(l.xPx, 1) + ", " + text::fixed(l.yPx, 1) +
                 ") the lens's traced wavefront, PSF to " + std::to_string(own.radius) + " px";
     }
