@@ -213,11 +213,7 @@ std::vector<std::array<double, 3>> channelWeights(const PsfSettings& settings, s
         trace::colourWeights(8, wavelengthsNm, weights);
     } else {
         wavelengthsNm = settings.wavelengthsNm;
-        for (double l : wavelengthsNm) {
-            const auto [X, Y, Z] = trace::cie1931(l);
-            weights.push_back({3.2406 * X - 1.5372 * Y - 0.4986 * Z, -0.9689 * X + 1.8758 * Y + 0.0415 * Z,
-                               0.0557 * X - 0.2040 * Y + 1.0570 * Z});
-        }
+        for (double l : wavelengthsNm) weights.push_back(trace::linearSrgb(l));
     }
     for (int c = 0; c < 3; ++c) {
         double sum = 0.0;

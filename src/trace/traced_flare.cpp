@@ -27,6 +27,13 @@ std::array<double, 3> cie1931(double l) {
     return {x, y, z};
 }
 
+std::array<double, 3> linearSrgb(double lambdaNm) {
+    const auto [X, Y, Z] = cie1931(lambdaNm);
+    // XYZ -> linear sRGB (IEC 61966-2-1).
+    return {3.2406 * X - 1.5372 * Y - 0.4986 * Z, -0.9689 * X + 1.8758 * Y + 0.0415 * Z,
+            0.0557 * X - 0.2040 * Y + 1.0570 * Z};
+}
+
 void colourWeights(int n, std::vector<double>& lambdas, std::vector<std::array<double, 3>>& weights) {
     lambdas.clear();
     weights.clear();
@@ -38,10 +45,7 @@ void colourWeights(int n, std::vector<double>& lambdas, std::vector<std::array<d
     std::array<double, 3> white{};
     for (int i = 0; i < n; ++i) {
         const double l = 400.0 + 300.0 * (i + 0.5) / n;
-        const auto [X, Y, Z] = cie1931(l);
-        // XYZ -> linear sRGB (IEC 61966-2-1).
-        const std::array<double, 3> rgb = {3.2406 * X - 1.5372 * Y - 0.4986 * Z, -0.9689 * X + 1.8758 * Y + 0.0415 * Z,
-                                           0.0557 * X - 0.2040 * Y + 1.0570 * Z};
+        const std::array<double, 3> rgb = linearSrgb(l);
         lambdas.push_back(l);
         weights.push_back(rgb);
         for (int c = 0; c < 3; ++c) white[c] += rgb[c];

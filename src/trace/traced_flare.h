@@ -55,6 +55,10 @@ void colourWeights(int spectralSamples, std::vector<double>& wavelengthsNm,
 /// CIE 1931 2-degree colour matching functions (x, y, z) at lambdaNm, analytic fit.
 std::array<double, 3> cie1931(double lambdaNm);
 
+/// The colour of a unit of light at lambdaNm in linear sRGB (CIE 1931 through IEC 61966-2-1's matrix);
+/// out-of-gamut wavelengths have negative components.
+std::array<double, 3> linearSrgb(double lambdaNm);
+
 TracedFlare renderTracedFlare(const optics::Lens& lens, const TracedFlareOptions& options);
 
 /// The field whose direct image (its chief ray through the centre of the paraxial entrance pupil,
