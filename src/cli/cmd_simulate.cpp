@@ -110,9 +110,14 @@ class Simulation {
             if (!o.sensorSize.empty())
                 throw Error(ErrorKind::Usage,
                             "--sensor is the sensor plane: file or paraxial (the size is --sensor-size)");
+            if (o.sensor.find('x') == std::string::npos)
+                throw Error(ErrorKind::Usage, "expected --sensor file or paraxial (the sensor plane; its size is "
+                                              "--sensor-size WxH), got " +
+                                                  text::quoted(o.sensor));
             parseSensorSize(o.sensor, "--sensor");
-            note("--sensor WxH is deprecated: use --sensor-size WxH (--sensor is the sensor plane: file or paraxial; "
-                 "the old spelling goes in the next release)");
+            std::fprintf(stderr,
+                         "fourierflare: warning: --sensor WxH is deprecated: use --sensor-size WxH (--sensor is "
+                         "the sensor plane: file or paraxial; the old spelling goes in the next release)\n");
             sizeGiven = o.sensor;
         } else {
             table_o_.sensor = o.sensor;

@@ -17,12 +17,12 @@ void addLensArgument(CLI::App& cmd, std::string& lens, const std::string& help =
 void requireLens(const std::string& lens);
 
 /// An option's old spelling, accepted for one release: it sets `target` as `now` does and prints a
-/// note naming `now`. Hidden from the help.
+/// warning naming `now` (not hidden by --quiet: the spelling will stop working). Hidden from the help.
 template <class T>
 CLI::Option* addDeprecated(CLI::App& cmd, const std::string& old, T& target, const std::string& now) {
     return cmd.add_option(old, target)->group("")->each([old, now](const std::string&) {
         std::fprintf(stderr,
-                     "fourierflare: note: %s is deprecated: use %s (the old spelling goes in the next release)\n",
+                     "fourierflare: warning: %s is deprecated: use %s (the old spelling goes in the next release)\n",
                      old.c_str(), now.c_str());
     });
 }

@@ -123,7 +123,7 @@ TEST(Cli, ErrorsPrintRawBytesEscaped) {
 }
 
 // One convention (docs/cli.md): the lens is the first argument or --lens in every command; the old
-// spellings of renamed options still work for one release, with a note, and do what the new ones do.
+// spellings of renamed options still work for one release, with a warning, and do what the new ones do.
 TEST(CliConvention, TheLensIsAnArgumentOrAnOptionEverywhere) {
     const std::string lens = "lenses/cooke-triplet-50mm-f5.lens";
     const RunResult a = run("lens info " + lens), b = run("lens info --lens " + lens);
@@ -143,7 +143,7 @@ TEST(CliConvention, TheLensIsAnArgumentOrAnOptionEverywhere) {
     EXPECT_EQ(both.code, 2); // one or the other
 }
 
-TEST(CliConvention, OldSpellingsStillWorkWithANote) {
+TEST(CliConvention, OldSpellingsStillWorkWithAWarning) {
     ff::test::TempDir dir;
     const std::string lens = "lenses/cooke-triplet-50mm-f5.lens";
     const std::string env = "FF_CACHE_DIR='" + (dir / "cache").string() + "' ";

@@ -387,7 +387,7 @@ TEST(CliSimulate, DiffractionTracedUsesTheLensWavefrontPerTile) {
 }
 
 // --sensor is the sensor plane in simulate as everywhere; its old meaning, the sensor's size, still
-// works for one release with a note and gives the same image as --sensor-size.
+// works for one release with a warning and gives the same image as --sensor-size.
 TEST(CliSimulate, TheOldSensorSizeSpellingGivesTheSameImage) {
     ff::test::TempDir dir;
     writePlate(dir / "plate.exr", 20, 12, 400.0f);
@@ -400,7 +400,9 @@ TEST(CliSimulate, TheOldSensorSizeSpellingGivesTheSameImage) {
     ASSERT_EQ(a.pixels.size(), b.pixels.size());
     EXPECT_TRUE(a.pixels == b.pixels);
     EXPECT_EQ(run(simulate(dir / "plate.exr", dir / "bad.exr", "--sensor 30x20 --sensor-size 30x20"), kEnv).code, 2);
-    EXPECT_EQ(run(simulate(dir / "plate.exr", dir / "bad.exr", "--sensor focus"), kEnv).code, 2);
+    const auto plane = run(simulate(dir / "plate.exr", dir / "bad.exr", "--sensor focus"), kEnv);
+    EXPECT_EQ(plane.code, 2);
+    EXPECT_NE(plane.err.find("expected --sensor file or paraxial"), std::string::npos) << plane.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "bad.exr"));
 }
 
