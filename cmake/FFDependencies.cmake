@@ -36,6 +36,16 @@ add_library(ff_blas INTERFACE)
 target_link_libraries(ff_blas INTERFACE BLAS::BLAS)
 target_include_directories(ff_blas SYSTEM INTERFACE ${FF_CBLAS_INCLUDE_DIR})
 add_library(ff::blas ALIAS ff_blas)
+if(FF_BUILD_PYTHON)
+  # Debian's interpreter, whose numpy and pytest come from Debian's packages (python3-numpy,
+  # python3-pytest), rather than the first python3 on PATH (a pyenv or venv may lack them).
+  if(NOT DEFINED Python3_EXECUTABLE AND EXISTS /usr/bin/python3)
+    set(Python3_EXECUTABLE /usr/bin/python3)
+  endif()
+  find_package(Python3 3.9 REQUIRED COMPONENTS Interpreter Development.Module)
+  set(PYBIND11_FINDPYTHON ON)
+  find_package(pybind11 2.10 CONFIG REQUIRED)
+endif()
 if(FF_BUILD_TESTS)
   find_package(GTest 1.11 REQUIRED)
   find_package(yaml-cpp 0.7 REQUIRED) # the tests parse exported Unity assets back

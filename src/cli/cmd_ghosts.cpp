@@ -20,6 +20,8 @@
 #include <optional>
 #include <tuple>
 
+#include "report/ghost_report.h"
+
 namespace ff::cli {
 
 namespace {
@@ -39,23 +41,6 @@ struct GhostsOptions {
     bool json = false;
     std::string zoom;
 };
-
-nlohmann::json pathJson(const trace::PathStats& p) {
-    auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
-    nlohmann::json j = {{"path", p.label()},
-                        {"launched", p.launched},
-                        {"surviving", p.surviving},
-                        {"blocked", p.blocked},
-                        {"surviving_fraction", p.launched ? double(p.surviving) / double(p.launched) : 0.0},
-                        {"relative_energy", p.relativeEnergy},
-                        {"energy_per_launched_ray", p.energyPerRay},
-                        {"centroid_mm", {p.centroidX, p.centroidY}},
-                        {"rms_radius_mm", p.rmsRadius},
-                        {"axial_ratio", num(p.axialRatio)},
-                        {"on_sensor_share", p.onSensor}};
-    if (p.ghost) j["surfaces"] = {p.ghost->first + 1, p.ghost->second + 1};
-    return j;
-}
 
 // Pads to a display width counted in UTF-8 code points (labels contain the arrow U+2192).
 std::string padRight(const std::string& s, std::size_t width) {
@@ -84,42 +69,20 @@ void printPath(const trace::PathStats& p, std::size_t rank) {
 void runGhosts(const GhostsOptions& o, const GlobalOptions& g) {
     ConsoleReporter reporter(g);
     const optics::Lens lens = loadTraceableLens(o.file, o.zoom, reporter);
-
-    trace::GhostAnalysisOptions a;
-    a.field = {degToRad(o.angleDeg), degToRad(o.azimuthDeg)};
-    a.wavelengthsNm = o.wavelengths;
-    a.grid = o.grid;
-    a.sampling = samplingFrom(o.sampling);
-    a.sensor = sensorFrom(o.sensor);
-    a.coating = coatingFrom(o.coating);
-    const trace::GhostReport r = trace::analyzeGhosts(lens, a);
+    report::GhostQuery q;
+    q.angleDeg = o.angleDeg;
+    q.azimuthDeg = o.azimuthDeg;
+    q.wavelengthsNm = o.wavelengths;
+    q.grid = o.grid;
+    q.sampling = o.sampling;
+    q.sensor = o.sensor;
+    q.coating = o.coating;
+    const trace::GhostReport r = trace::analyzeGhosts(lens, q.options());
     const std::size_t nGhosts = r.wavelengths.empty() ? 0 : r.wavelengths[0].ghosts.size();
     const std::size_t shown = o.top > 0 ? std::min<std::size_t>(static_cast<std::size_t>(o.top), nGhosts) : nGhosts;
 
     if (o.json) {
-        nlohmann::json j = {{"lens", lens.name},
-                            {"file", lens.file},
-                            {"field_angle_deg", o.angleDeg},
-                            {"azimuth_deg", o.azimuthDeg},
-                            {"sampling", o.sampling},
-                            {"grid", o.grid},
-                            {"coating", o.coating},
-                            {"sensor", o.sensor},
-                            {"sensor_z_mm", r.sensorZ},
-                            {"sensor_size_mm", {r.sensorSizeMm.first, r.sensorSizeMm.second}},
-                            {"reflecting_interfaces", r.reflectingInterfaces},
-                            {"ghost_count", nGhosts}};
-        nlohmann::json wl = nlohmann::json::array();
-        for (const auto& w : r.wavelengths) {
-            nlohmann::json ghosts = nlohmann::json::array();
-            for (std::size_t i = 0; i < shown; ++i) ghosts.push_back(pathJson(w.ghosts[i]));
-            wl.push_back({{"wavelength_nm", w.lambdaNm},
-                          {"direct", pathJson(w.direct)},
-                          {"ghosts", ghosts},
-                          {"total_ghost_relative_energy", w.totalGhostRelative}});
-        }
-        j["wavelengths"] = wl;
-        std::cout << j.dump(2) << "\n";
+        std::cout << report::ghostReportJson(lens, q, r, shown).dump(2) << "\n";
         return;
     }
     std::printf("Ghosts of %s at %.2f deg (azimuth %.1f deg)\n", lens.name.c_str(), o.angleDeg, o.azimuthDeg);

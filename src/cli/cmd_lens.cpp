@@ -2,22 +2,20 @@
 
 #include "cli/commands.h"
 #include "cli/conventions.h"
-#include "cli/lens_report.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/units.h"
 #include "optics/lens_loader.h"
 #include "optics/lens_writer.h"
-#include "optics/real_ray.h"
-#include "optics/zoom.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
 #include <iostream>
-#include <limits>
 #include <memory>
+
+#include "report/lens_report.h"
 
 namespace ff::cli {
 
@@ -37,36 +35,11 @@ struct ConvertOptions {
 void runInfo(const InfoOptions& o, const GlobalOptions& g) {
     ConsoleReporter reporter(g);
     const optics::Lens lens = optics::loadLens(o.file, &reporter);
-    std::vector<std::size_t> which;
-    if (!o.zoom.empty())
-        which.push_back(optics::findZoomPosition(lens, o.zoom));
-    else
-        for (std::size_t k = 0; k < lens.zoomCount(); ++k) which.push_back(k);
-
-    std::vector<PositionReport> positions;
-    for (std::size_t k : which) {
-        const optics::Lens at = optics::atZoom(lens, k);
-        PositionReport p;
-        p.label = lens.isZoom() ? lens.zoomLabels[k] : std::string();
-        p.firstOrder = optics::analyzeFirstOrder(at, o.lambdaNm, /*allowAfocal=*/true);
-        if (p.firstOrder.afocal) {
-            p.realRayEfl = std::numeric_limits<double>::quiet_NaN();
-            p.realRayProblem = "the lens is afocal: a ray parallel to the axis leaves parallel";
-        } else
-            try {
-                p.realRayEfl = optics::realRayEfl(at, o.lambdaNm, 1e-4 * 0.5 * p.firstOrder.entrancePupilDiameter);
-            } catch (const Error& e) {
-                // A check of the paraxial data, not part of them: the report goes on without it.
-                p.realRayEfl = std::numeric_limits<double>::quiet_NaN();
-                p.realRayProblem = e.message();
-                reporter.note({lens.file, 0, 0}, "the real-ray focal length could not be checked: " + p.realRayProblem);
-            }
-        positions.push_back(p);
-    }
+    const std::vector<report::PositionReport> positions = report::positionReports(lens, o.lambdaNm, o.zoom, &reporter);
     if (o.json)
-        std::cout << lensInfoJson(lens, o.lambdaNm, positions).dump(2) << "\n";
+        std::cout << report::lensInfoJson(lens, o.lambdaNm, positions).dump(2) << "\n";
     else
-        std::cout << lensInfoText(lens, o.lambdaNm, positions);
+        std::cout << report::lensInfoText(lens, o.lambdaNm, positions);
 }
 
 void runConvert(const ConvertOptions& o, const GlobalOptions& g) {

@@ -5,7 +5,6 @@
 #include "ghosts/shaped_cache.h"
 #include "ghosts/table_cache.h"
 #include "optics/lens_loader.h"
-#include "optics/zoom.h"
 
 #include <CLI/CLI.hpp>
 
@@ -16,26 +15,19 @@
 namespace ff::cli {
 
 optics::Lens loadTraceableLens(const std::string& file, const std::string& zoom, Reporter& reporter) {
-    optics::Lens lens = optics::loadLens(file, &reporter);
-    if (!zoom.empty()) lens = optics::atZoom(lens, optics::findZoomPosition(lens, zoom));
-    if (!lens.rotationallySymmetric())
-        throw Error(ErrorKind::Input, SourceLocation{lens.file},
-                    "the lens has anamorphic surfaces; the ghost tracer needs a rotationally symmetric lens");
-    return lens;
+    return optics::loadTraceableLens(file, zoom, &reporter);
 }
 
 trace::Sampling samplingFrom(const std::string& s) {
-    return s == "paraxial-grid" ? trace::Sampling::ParaxialGrid : trace::Sampling::Reaim;
+    return trace::samplingNamed(s);
 }
 
 trace::SensorPlane sensorFrom(const std::string& s) {
-    return s == "paraxial" ? trace::SensorPlane::Paraxial : trace::SensorPlane::File;
+    return trace::sensorPlaneNamed(s);
 }
 
 trace::CoatingChoice coatingFrom(const std::string& s) {
-    if (s == "none") return trace::CoatingChoice::None;
-    if (s == "mgf2") return trace::CoatingChoice::MgF2;
-    return trace::CoatingChoice::File;
+    return trace::coatingNamed(s);
 }
 
 void TableOptions::addTo(CLI::App& cmd, bool legacyGrid, bool withSensor) {

@@ -1,10 +1,12 @@
 #include "optics/lens_loader.h"
 
+#include "core/error.h"
 #include "core/file_io.h"
 #include "core/text.h"
 #include "optics/dat_importer.h"
 #include "optics/lens_parser.h"
 #include "optics/zmx_importer.h"
+#include "optics/zoom.h"
 
 namespace ff::optics {
 
@@ -40,6 +42,19 @@ Lens loadLens(const std::filesystem::path& path, Reporter* reporter) {
                                              "; expected .lens (native/FlareSim), .zmx (Zemax) or .dat (pbrt)");
     const std::string bytes = readFileBytes(path, kMaxLensFileBytes);
     return parseLensBytes(bytes, format, path.string(), reporter);
+}
+
+Lens loadTraceableLens(const std::filesystem::path& path, const std::string& zoom, Reporter* reporter) {
+    Lens lens = loadLens(path, reporter);
+    if (!zoom.empty()) lens = atZoom(lens, findZoomPosition(lens, zoom));
+    requireTraceable(lens);
+    return lens;
+}
+
+void requireTraceable(const Lens& lens) {
+    if (!lens.rotationallySymmetric())
+        throw Error(ErrorKind::Input, SourceLocation{lens.file},
+                    "the lens has anamorphic surfaces; the ghost tracer needs a rotationally symmetric lens");
 }
 
 } // namespace ff::optics

@@ -18,4 +18,12 @@ Lens loadLens(const std::filesystem::path& path, Reporter* reporter = nullptr);
 Lens parseLensBytes(std::string_view bytes, const std::string& format, const std::string& fileName,
                     Reporter* reporter = nullptr);
 
+/// Throws ff::Error (Input, naming the file) for a lens the ghost tracer cannot trace: one with
+/// anamorphic surfaces.
+void requireTraceable(const Lens& lens);
+
+/// The lens at the zoom position `zoom` (a label or 1-based index; "" = as loaded), refusing an
+/// anamorphic lens, which the ghost tracer cannot trace (ff::Error, Input, naming the file).
+Lens loadTraceableLens(const std::filesystem::path& path, const std::string& zoom, Reporter* reporter = nullptr);
+
 } // namespace ff::optics

@@ -1,5 +1,7 @@
 #include "trace/ghost_analysis.h"
 
+#include "core/error.h"
+#include "core/text.h"
 #include "core/units.h"
 #include "optics/paraxial.h"
 #include "trace/bundle_moments.h"
@@ -12,6 +14,34 @@
 #include <limits>
 
 namespace ff::trace {
+
+namespace {
+
+[[noreturn]] void unknownName(const char* what, const std::string& name, const char* names) {
+    throw Error(ErrorKind::Usage,
+                std::string("unknown ") + what + " " + text::quoted(name) + " (expected " + names + ")");
+}
+
+} // namespace
+
+Sampling samplingNamed(const std::string& name) {
+    if (name == "reaim") return Sampling::Reaim;
+    if (name == "paraxial-grid") return Sampling::ParaxialGrid;
+    unknownName("sampling", name, "reaim or paraxial-grid");
+}
+
+SensorPlane sensorPlaneNamed(const std::string& name) {
+    if (name == "file") return SensorPlane::File;
+    if (name == "paraxial") return SensorPlane::Paraxial;
+    unknownName("sensor plane", name, "file or paraxial");
+}
+
+CoatingChoice coatingNamed(const std::string& name) {
+    if (name == "file") return CoatingChoice::File;
+    if (name == "none") return CoatingChoice::None;
+    if (name == "mgf2") return CoatingChoice::MgF2;
+    unknownName("coating", name, "file, none or mgf2");
+}
 
 double sensorPlaneZ(const optics::Lens& lens, SensorPlane plane) {
     if (plane == SensorPlane::File) return lens.sensorZ();

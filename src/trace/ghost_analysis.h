@@ -21,6 +21,12 @@ namespace ff::trace {
 enum class SensorPlane { File, Paraxial };
 enum class CoatingChoice { File, None, MgF2 };
 
+/// The choices by the names the CLI and the Python module give them; any other name throws ff::Error
+/// (Usage) listing the names.
+Sampling samplingNamed(const std::string& name);       ///< reaim | paraxial-grid
+SensorPlane sensorPlaneNamed(const std::string& name); ///< file | paraxial
+CoatingChoice coatingNamed(const std::string& name);   ///< file | none | mgf2
+
 struct GhostAnalysisOptions {
     Field field;
     std::vector<double> wavelengthsNm = {550.0};

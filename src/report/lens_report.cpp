@@ -1,14 +1,18 @@
-#include "cli/lens_report.h"
+#include "report/lens_report.h"
 
+#include "core/error.h"
 #include "core/text.h"
+#include "optics/real_ray.h"
+#include "optics/zoom.h"
 
 #include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
-namespace ff::cli {
+namespace ff::report {
 
 using optics::Lens;
 using optics::Surface;
@@ -129,27 +133,67 @@ std::string lensInfoText(const Lens& lens, double lambdaNm, const std::vector<Po
     return o.str();
 }
 
-nlohmann::json lensInfoJson(const Lens& lens, double lambdaNm, const std::vector<PositionReport>& positions) {
+PositionReport positionReport(const Lens& lens, double lambdaNm, const std::string& label, Reporter* reporter) {
+    PositionReport p;
+    p.label = label;
+    p.firstOrder = optics::analyzeFirstOrder(lens, lambdaNm, /*allowAfocal=*/true);
+    if (p.firstOrder.afocal) {
+        p.realRayEfl = std::numeric_limits<double>::quiet_NaN();
+        p.realRayProblem = "the lens is afocal: a ray parallel to the axis leaves parallel";
+        return p;
+    }
+    try {
+        p.realRayEfl = optics::realRayEfl(lens, lambdaNm, 1e-4 * 0.5 * p.firstOrder.entrancePupilDiameter);
+    } catch (const Error& e) {
+        // A check of the paraxial data, not part of them: the report goes on without it.
+        p.realRayEfl = std::numeric_limits<double>::quiet_NaN();
+        p.realRayProblem = e.message();
+        if (reporter)
+            reporter->note({lens.file, 0, 0}, "the real-ray focal length could not be checked: " + p.realRayProblem);
+    }
+    return p;
+}
+
+std::vector<PositionReport> positionReports(const Lens& lens, double lambdaNm, const std::string& zoom,
+                                            Reporter* reporter) {
+    std::vector<std::size_t> which;
+    if (!zoom.empty())
+        which.push_back(optics::findZoomPosition(lens, zoom));
+    else
+        for (std::size_t k = 0; k < lens.zoomCount(); ++k) which.push_back(k);
+    std::vector<PositionReport> positions;
+    for (std::size_t k : which)
+        positions.push_back(
+            positionReport(optics::atZoom(lens, k), lambdaNm, lens.isZoom() ? lens.zoomLabels[k] : "", reporter));
+    return positions;
+}
+
+nlohmann::json positionJson(const PositionReport& p) {
     using nlohmann::json;
-    auto optional = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
     auto finiteOrNull = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
-    json j;
-    j["name"] = lens.name;
-    j["file"] = lens.file;
-    j["format"] = lens.format;
-    j["content_hash"] = lens.contentHash;
-    j["source"] = lens.source;
-    j["patent"] = lens.patent;
-    j["nominal_focal_length_mm"] = optional(lens.nominalFocalLength); // null where absent or afocal (inf)
-    j["stop_surface"] = lens.stopIndex() + 1;
-    j["stop_inferred"] = lens.stopInferred;
-    j["afocal_header"] = lens.nominalFocalLength && std::isinf(*lens.nominalFocalLength);
-    j["f_number_header"] = optional(lens.fNumber);
-    j["sensor_mm"] = lens.sensorMm ? json::array({lens.sensorMm->first, lens.sensorMm->second}) : json(nullptr);
-    j["aperture_blades"] = lens.apertureBlades;
-    j["blade_rotation_deg"] = lens.bladeRotationDeg;
-    j["wavelength_nm"] = lambdaNm;
-    j["zoom_positions"] = lens.zoomLabels;
+    const optics::FirstOrder& f = p.firstOrder;
+    return {{"label", p.label},
+            {"efl_mm", finiteOrNull(f.efl)},
+            {"bfd_mm", finiteOrNull(f.bfd)},
+            {"ffd_mm", finiteOrNull(f.ffd)},
+            {"entrance_pupil_z_mm", f.entrancePupilZ},
+            {"entrance_pupil_diameter_mm", f.entrancePupilDiameter},
+            {"exit_pupil_z_mm", finiteOrNull(f.exitPupilZ)},
+            {"exit_pupil_diameter_mm", finiteOrNull(f.exitPupilDiameter)},
+            {"f_number", finiteOrNull(f.fNumber)},
+            {"afocal", f.afocal},
+            {"angular_magnification", f.afocal ? json(f.angularMagnification) : json(nullptr)},
+            {"stop_semi_aperture_mm", f.stopSemiAperture},
+            {"image_distance_mm", f.imageDistance},
+            {"total_track_mm", f.totalTrack},
+            {"real_ray_efl_mm", finiteOrNull(p.realRayEfl)},
+            {"real_ray_problem", p.realRayProblem},
+            {"reflecting_interfaces", f.reflectingInterfaces},
+            {"two_bounce_ghosts", f.ghostCount}};
+}
+
+nlohmann::json surfacesJson(const Lens& lens, double lambdaNm) {
+    using nlohmann::json;
     json surfaces = json::array();
     for (std::size_t i = 0; i < lens.surfaces.size(); ++i) {
         const Surface& s = lens.surfaces[i];
@@ -172,32 +216,35 @@ nlohmann::json lensInfoJson(const Lens& lens, double lambdaNm, const std::vector
         js["shape"] = optics::toString(s.shape);
         surfaces.push_back(js);
     }
-    j["surfaces"] = surfaces;
+    return surfaces;
+}
+
+nlohmann::json lensInfoJson(const Lens& lens, double lambdaNm, const std::vector<PositionReport>& positions) {
+    using nlohmann::json;
+    auto optional = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
+    json j;
+    j["name"] = lens.name;
+    j["file"] = lens.file;
+    j["format"] = lens.format;
+    j["content_hash"] = lens.contentHash;
+    j["source"] = lens.source;
+    j["patent"] = lens.patent;
+    j["nominal_focal_length_mm"] = optional(lens.nominalFocalLength); // null where absent or afocal (inf)
+    j["stop_surface"] = lens.stopIndex() + 1;
+    j["stop_inferred"] = lens.stopInferred;
+    j["afocal_header"] = lens.nominalFocalLength && std::isinf(*lens.nominalFocalLength);
+    j["f_number_header"] = optional(lens.fNumber);
+    j["sensor_mm"] = lens.sensorMm ? json::array({lens.sensorMm->first, lens.sensorMm->second}) : json(nullptr);
+    j["aperture_blades"] = lens.apertureBlades;
+    j["blade_rotation_deg"] = lens.bladeRotationDeg;
+    j["wavelength_nm"] = lambdaNm;
+    j["zoom_positions"] = lens.zoomLabels;
+    j["surfaces"] = surfacesJson(lens, lambdaNm);
     j["image_distance_auto"] = lens.imageDistanceAuto;
     json pos = json::array();
-    for (const PositionReport& p : positions) {
-        const optics::FirstOrder& f = p.firstOrder;
-        pos.push_back({{"label", p.label},
-                       {"efl_mm", finiteOrNull(f.efl)},
-                       {"bfd_mm", finiteOrNull(f.bfd)},
-                       {"ffd_mm", finiteOrNull(f.ffd)},
-                       {"entrance_pupil_z_mm", f.entrancePupilZ},
-                       {"entrance_pupil_diameter_mm", f.entrancePupilDiameter},
-                       {"exit_pupil_z_mm", finiteOrNull(f.exitPupilZ)},
-                       {"exit_pupil_diameter_mm", finiteOrNull(f.exitPupilDiameter)},
-                       {"f_number", finiteOrNull(f.fNumber)},
-                       {"afocal", f.afocal},
-                       {"angular_magnification", f.afocal ? json(f.angularMagnification) : json(nullptr)},
-                       {"stop_semi_aperture_mm", f.stopSemiAperture},
-                       {"image_distance_mm", f.imageDistance},
-                       {"total_track_mm", f.totalTrack},
-                       {"real_ray_efl_mm", finiteOrNull(p.realRayEfl)},
-                       {"real_ray_problem", p.realRayProblem},
-                       {"reflecting_interfaces", f.reflectingInterfaces},
-                       {"two_bounce_ghosts", f.ghostCount}});
-    }
+    for (const PositionReport& p : positions) pos.push_back(positionJson(p));
     j["first_order"] = pos;
     return j;
 }
 
-} // namespace ff::cli
+} // namespace ff::report

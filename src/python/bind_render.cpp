@@ -1,0 +1,191 @@
+// fourierflare.render: the flare of lights as an image, in the CLI's `render` modes.
+
+#include "core/error.h"
+#include "core/units.h"
+#include "fourier/render.h"
+#include "ghosts/shaped_cache.h"
+#include "optics/lens_loader.h"
+#include "scene/scene.h"
+#include "trace/traced_flare.h"
+
+#include <cmath>
+#include <pybind11/stl.h>
+
+#include "bindings.h"
+#include "python_support.h"
+
+namespace ff::python {
+
+using namespace pybind11::literals;
+
+namespace {
+
+struct RenderArgs {
+    std::string mode = "traced", ghostModel = "gaussian", diffraction = "physical";
+    std::optional<std::pair<double, double>> angle;        ///< degrees: field, azimuth
+    std::optional<std::pair<double, double>> sensorSizeMm; ///< default: the lens file's, else 36 x 24
+    int grid = 32, spectral = 0;
+    double refine = 1.0;
+    TableArgs table;
+    bool useCache = true;
+    double fourierError = 1e-3;
+    int fourierN = 0;
+};
+
+std::optional<std::pair<double, double>> angleFrom(const py::object& angle) {
+    if (angle.is_none()) return std::nullopt;
+    if (py::isinstance<py::float_>(angle) || py::isinstance<py::int_>(angle))
+        return std::make_pair(py::cast<double>(angle), 0.0);
+    const auto a = py::cast<std::vector<double>>(angle);
+    if (a.size() != 2) throw Error(ErrorKind::Usage, "angle is degrees or (degrees, azimuth degrees)");
+    return std::make_pair(a[0], a[1]);
+}
+
+void check(const RenderArgs& a, bool fromTable, bool haveLights) {
+    auto usage = [](const std::string& s) { throw Error(ErrorKind::Usage, s); };
+    for (const char* m : {"traced", "shaped", "fitted", "fourier", "diffraction"})
+        if (a.mode == m) goto known;
+    usage("mode must be traced, shaped, fitted, fourier or diffraction, got '" + a.mode + "'");
+known:
+    if (a.ghostModel != "gaussian" && a.ghostModel != "cos2") usage("ghost_model must be gaussian or cos2");
+    if (a.diffraction != "physical" && a.diffraction != "traced") usage("diffraction must be physical or traced");
+    if (a.grid < 2 || a.grid > 1024) usage("grid must be 2..1024 rays per side");
+    if (a.spectral != 0 && (a.spectral < 8 || a.spectral > 16)) usage("spectral must be 0 or 8..16 wavelengths");
+    if (!(a.refine >= 1.0 && a.refine <= 16.0)) usage("refine must be 1..16");
+    if (!(a.fourierError >= 1e-7 && a.fourierError <= 0.5)) usage("fourier_error must be 1e-7..0.5");
+    if (a.fourierN < 0 || a.fourierN > 2048) usage("fourier_n must be 0 (the budget's choice) or 1..2048");
+    if (a.sensorSizeMm && !(a.sensorSizeMm->first > 0.0 && a.sensorSizeMm->second > 0.0 &&
+                            std::isfinite(a.sensorSizeMm->first) && std::isfinite(a.sensorSizeMm->second)))
+        usage("sensor_size must be (width, height) in mm, both > 0");
+    if (a.angle && (!std::isfinite(a.angle->first) || !std::isfinite(a.angle->second)))
+        usage("angle must be finite degrees");
+    if (a.angle && a.mode != "traced") usage("angle works with mode='traced'; give the lights' positions instead");
+    if (a.angle && haveLights) usage("give either angle or lights, not both");
+    if (!a.angle && !haveLights) usage("give lights (pixels) or, with mode='traced', a field angle");
+    if (fromTable && a.mode != "fitted" && a.mode != "fourier")
+        usage("a GhostTable renders with mode='fitted' or 'fourier'; give the Lens for mode='" + a.mode + "'");
+}
+
+fourier::FlareImage fromTable(const ghosts::GhostTable& table, const std::vector<ghosts::Light>& lights, int W, int H,
+                              double sensorWidthMm, const RenderArgs& a) {
+    const ghosts::Camera cam{W, H, sensorWidthMm};
+    const auto profile = a.ghostModel == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
+    const auto ghosts = scene::fourierGhosts(ghosts::instantiate(table, lights, cam, profile));
+    if (a.mode == "fitted") return fourier::renderDirect(ghosts, W, H);
+    fourier::FourierSettings fs;
+    fs.error = a.fourierError;
+    fs.fixedN = a.fourierN;
+    return fourier::renderFourier(ghosts, W, H, fs).image;
+}
+
+fourier::FlareImage fromLens(const optics::Lens& lens, const std::vector<ghosts::Light>& lights, int W, int H,
+                             const RenderArgs& a, const py::object& progress) {
+    const std::pair<double, double> sensorMm =
+        a.sensorSizeMm.value_or(lens.sensorMm.value_or(std::make_pair(36.0, 24.0)));
+    if (a.mode == "fitted" || a.mode == "fourier") {
+        std::shared_ptr<ghosts::GhostTable> table;
+        {
+            py::gil_scoped_acquire gil;
+            table = buildTable(lens, a.table, a.useCache, progress);
+        }
+        return fromTable(*table, lights, W, H, sensorMm.first, a);
+    }
+    optics::requireTraceable(lens);
+    trace::TracedFlareOptions t;
+    t.frame = {W, H, sensorMm.first / W};
+    t.spectralSamples = a.spectral;
+    t.sampling = trace::samplingNamed(a.table.sampling);
+    t.grid = a.grid;
+    t.refinement = a.refine;
+    t.sensor = trace::sensorPlaneNamed(a.table.sensor);
+    t.coating = trace::coatingNamed(a.table.coating);
+    if (a.mode == "traced") {
+        if (a.angle) {
+            t.field = {degToRad(a.angle->first), degToRad(a.angle->second)};
+            return std::move(scene::renderTracedField(lens, t).image);
+        }
+        return std::move(scene::renderTracedScene(lens, lights, t).image);
+    }
+    if (a.mode == "diffraction") {
+        const std::vector<float> spread = scene::renderDiffraction(
+            lens, lights, t.frame, trace::sensorPlaneZ(lens, t.sensor), a.diffraction, nullptr, nullptr, nullptr);
+        fourier::FlareImage image(W, H);
+        for (std::size_t p = 0; p < image.pixels(); ++p)
+            for (int c = 0; c < 3; ++c) image.channel[c][p] = spread[p * 3 + c];
+        return image;
+    }
+    ghosts::ShapedSettings ss;
+    ss.sensor = t.sensor;
+    ss.coating = t.coating;
+    ss.sensorSizeMm = sensorMm;
+    NullReporter quiet;
+    const ghosts::ShapedTable tab = ghosts::shapedTableFor(lens, ss, a.useCache, quiet);
+    return scene::renderShapedScene(lens, tab, lights, t.frame, t.sensor);
+}
+
+py::array_t<float> render(const py::object& source, const py::object& lightsIn, const py::object& size,
+                          const std::string& mode, const py::object& angle, const std::string& ghostModel,
+                          const std::string& diffraction, const py::object& sensorSize, int grid, double refine,
+                          int spectral, int tableGrid, const std::string& sampling, const std::string& sensor,
+                          const std::string& coating, double maxAngle, int tableAngles, double tolerance, bool useCache,
+                          double fourierError, int fourierN, const py::object& progress) {
+    RenderArgs a;
+    a.mode = mode;
+    a.ghostModel = ghostModel;
+    a.diffraction = diffraction;
+    a.angle = angleFrom(angle);
+    if (!sensorSize.is_none()) a.sensorSizeMm = py::cast<std::pair<double, double>>(sensorSize);
+    a.grid = grid;
+    a.refine = refine;
+    a.spectral = spectral;
+    a.table = {tableGrid, sampling, sensor, coating, maxAngle, tableAngles, tolerance};
+    a.table.settings(); // checks the table's options whatever the mode
+    a.useCache = useCache;
+    a.fourierError = fourierError;
+    a.fourierN = fourierN;
+    const auto [W, H] = sizeFrom(size, "size");
+    const std::vector<ghosts::Light> lights = lightsFrom(lightsIn);
+    const auto* table =
+        py::isinstance<ghosts::GhostTable>(source) ? &py::cast<const ghosts::GhostTable&>(source) : nullptr;
+    const auto* lens = table ? nullptr : &py::cast<const optics::Lens&>(source);
+    check(a, table != nullptr, !lights.empty());
+    fourier::FlareImage image;
+    {
+        py::gil_scoped_release nogil;
+        if (table) {
+            const double width = a.sensorSizeMm ? a.sensorSizeMm->first : table->sensorSizeMm.first;
+            image = fromTable(*table, lights, W, H, width, a);
+        } else {
+            image = fromLens(*lens, lights, W, H, a, progress);
+        }
+    }
+    return ownedArray(image.interleaved(), {H, W, 3});
+}
+
+} // namespace
+
+void bindRender(py::module_& m) {
+    m.def("render", &render, "source"_a, "lights"_a = py::none(), "size"_a = std::make_pair(1280, 720),
+          "mode"_a = "traced", py::kw_only(), "angle"_a = py::none(), "ghost_model"_a = "gaussian",
+          "diffraction"_a = "physical", "sensor_size"_a = py::none(), "grid"_a = 32, "refine"_a = 1.0, "spectral"_a = 0,
+          "table_grid"_a = 32, "sampling"_a = "reaim", "sensor"_a = "file", "coating"_a = "file", "max_angle"_a = 0.0,
+          "table_angles"_a = 64, "tolerance"_a = 0.005, "use_cache"_a = true, "fourier_error"_a = 1e-3,
+          "fourier_n"_a = 0, "progress"_a = py::none(),
+          R"(The flare of lights through a lens as a float32 array of shape (height, width, 3), linear RGB,
+flux per pixel relative to the direct image of a unit light: what `fourierflare render` writes.
+
+source: a Lens, or a GhostTable for mode 'fitted' or 'fourier'.
+lights: a sequence of (x, y), (x, y, r, g, b) or {"x", "y", "flux": [r, g, b]} in pixels (origin
+top-left, +y down); or, with mode='traced', angle=degrees or (degrees, azimuth) for one source.
+size: (width, height) in pixels; the image spans the sensor's width (sensor_size (w, h) in mm,
+default the lens file's, else 36 x 24).
+mode: 'traced' (every ghost ray-traced; grid, refine, spectral), 'shaped' (the shaped ghosts),
+'fitted' (the ghost table's ghost_model profiles drawn directly), 'fourier' (aggregated through
+the separable Fourier series; fourier_error, fourier_n) or 'diffraction' (the iris's starburst;
+diffraction='physical' or 'traced').
+The table's options (table_grid, sampling, sensor, coating, max_angle, table_angles, tolerance,
+use_cache, progress) are GhostTable.build's; sampling, sensor and coating serve every mode. Runs
+on the CPU, without the GIL.)");
+}
+
+} // namespace ff::python
