@@ -147,6 +147,8 @@ py::array_t<float> render(const py::object& source, const py::object& lightsIn, 
     const std::vector<ghosts::Light> lights = lightsFrom(lightsIn);
     const auto* table =
         py::isinstance<ghosts::GhostTable>(source) ? &py::cast<const ghosts::GhostTable&>(source) : nullptr;
+    if (!table && !py::isinstance<optics::Lens>(source))
+        throw py::type_error("render's source is a fourierflare.Lens or a fourierflare.GhostTable");
     const auto* lens = table ? nullptr : &py::cast<const optics::Lens&>(source);
     check(a, table != nullptr, !lights.empty());
     fourier::FlareImage image;
