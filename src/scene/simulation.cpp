@@ -1,0 +1,244 @@
+#include "scene/simulation.h"
+
+#include "core/error.h"
+#include "core/text.h"
+#include "diffraction/wavefront.h"
+#include "fourier/backend.h"
+#include "fourier/render.h"
+#include "ghosts/shaped_cache.h"
+#include "ghosts/table_cache.h"
+#include "image/composite.h"
+#include "scene/scene.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+namespace ff::scene {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point& t) {
+    const auto now = Clock::now();
+    const double s = std::chrono::duration<double>(now - t).count();
+    t = now;
+    return s;
+}
+
+constexpr int kZones = 3; ///< --diffraction traced: tiles per side of the frame
+
+} // namespace
+
+Simulation::Simulation(optics::Lens lens, SimulationSettings settings, Reporter& reporter)
+    : lens_(std::move(lens)), s_(std::move(settings)), reporter_(reporter) {
+    if (s_.gain < 0.0 || !std::isfinite(s_.gain))
+        throw Error(ErrorKind::Usage, "the flare gain must be a finite number >= 0");
+    if (s_.diffractionGain < 0.0 || !std::isfinite(s_.diffractionGain))
+        throw Error(ErrorKind::Usage, "the diffraction gain must be a finite number >= 0");
+    if (s_.ghostModel != "shaped" && s_.ghostModel != "gaussian" && s_.ghostModel != "cos2")
+        throw Error(ErrorKind::Usage, "the ghost model is shaped, gaussian or cos2, got " + text::quoted(s_.ghostModel));
+    if (s_.diffraction != "off" && s_.diffraction != "physical" && s_.diffraction != "traced")
+        throw Error(ErrorKind::Usage,
+                    "the diffraction is off, physical or traced, got " + text::quoted(s_.diffraction));
+    if (!(s_.sensorWidthMm >= 0.0) || !std::isfinite(s_.sensorWidthMm))
+        throw Error(ErrorKind::Usage, "the sensor width must be a finite number of mm > 0");
+    if (s_.sensorWidthMm == 0.0) s_.sensorWidthMm = lens_.sensorMm ? lens_.sensorMm->first : 36.0;
+    if (!s_.loadTable)
+        s_.loadTable = [this](const optics::Lens& l, const ghosts::TableSettings& t) {
+            return ghosts::tableFor(l, t, true, {}, reporter_);
+        };
+    if (!s_.loadShaped)
+        s_.loadShaped = [this](const optics::Lens& l, const ghosts::ShapedSettings& t) {
+            return ghosts::shapedTableFor(l, t, true, reporter_);
+        };
+    if (s_.diffraction != "off") {
+        try {
+            aperture_ = diffraction::apertureOf(lens_);
+        } catch (const Error& e) {
+            reporter_.note({}, std::string("no diffraction: ") + e.what());
+        }
+    }
+    s_.detection.lightImage = aperture_.has_value();
+}
+
+Simulation::~Simulation() = default;
+
+SimulatedPlate Simulation::run(const image::Plate& plate) {
+    auto t = Clock::now();
+    SimulatedPlate out;
+    out.lights = s_.lights;
+    if (out.lights.empty()) {
+        out.found = image::detectLights(plate, s_.detection);
+        for (const auto& l : out.found.lights) out.lights.push_back({l.x, l.y, l.flux});
+        if (out.found.nonFinite)
+            reporter_.note({plate.path},
+                           std::to_string(out.found.nonFinite) +
+                               " pixels are NaN or infinite: ignored by light detection (left as they are in the "
+                               "output)");
+        if (out.found.emissiveZeroAlpha)
+            reporter_.note({plate.path}, std::to_string(out.found.emissiveZeroAlpha) +
+                                             " bright pixels have alpha 0 (premultiplied emission): counted as light");
+    }
+    out.detectSeconds = since(t);
+    if (s_.ghostModel == "shaped")
+        drawShaped(plate, out);
+    else
+        drawFitted(plate, out);
+    t = Clock::now();
+    out.diffraction.assign(out.flare.size(), 0.0f);
+    out.diffractionText = "off";
+    if (aperture_) {
+        diffract(plate, out);
+        out.ghosts = out.flare;
+        for (std::size_t i = 0; i < out.flare.size(); ++i) out.flare[i] += out.diffraction[i];
+    } else {
+        out.ghosts = out.flare;
+    }
+    if (out.composite.empty()) out.composite = image::composite(plate.rgb(), out.flare);
+    out.diffractionSeconds = since(t);
+    return out;
+}
+
+void Simulation::drawShaped(const image::Plate& plate, SimulatedPlate& out) {
+    auto t = Clock::now();
+    const double pitch = s_.sensorWidthMm / plate.displayWidth;
+    // One table per display-window shape (the field it must cover).
+    if (!shaped_ || shapedFor_ != std::make_pair(plate.displayWidth, plate.displayHeight)) {
+        shapedFor_ = {plate.displayWidth, plate.displayHeight};
+        ghosts::ShapedSettings ss;
+        ss.sensorSizeMm = {s_.sensorWidthMm, pitch * plate.displayHeight};
+        ss.sensor = s_.table.sensor;
+        ss.coating = s_.table.coating;
+        shaped_ = std::make_unique<ghosts::ShapedTable>(s_.loadShaped(lens_, ss));
+    }
+    out.tableSeconds = since(t);
+    // The axis is at the display window's centre; the frame is the data window.
+    trace::ImageFrame frame{plate.width, plate.height, pitch};
+    frame.centreXMm = (plate.originX - plate.displayX + 0.5 * plate.width - 0.5 * plate.displayWidth) * pitch;
+    frame.centreYMm = (0.5 * plate.displayHeight - (plate.originY - plate.displayY + 0.5 * plate.height)) * pitch;
+    std::vector<ghosts::Light> shifted = out.lights;
+    for (auto& l : shifted) {
+        l.xPx -= plate.originX - plate.displayX;
+        l.yPx -= plate.originY - plate.displayY;
+        for (double& f : l.flux) f *= s_.gain;
+    }
+    ghosts::ShapedRender stats;
+    const fourier::FlareImage flare =
+        renderShapedScene(lens_, *shaped_, shifted, frame, s_.table.sensor, &stats, &out.outside, s_.raster);
+    if (out.outside)
+        reporter_.note({plate.path},
+                       std::to_string(out.outside) + " of " + std::to_string(out.lights.size()) +
+                           " lights lie where no field angle of the lens images a source (outside its image circle "
+                           "on a " +
+                           text::fixed(s_.sensorWidthMm, 1) + " mm wide sensor): they get no flare");
+    out.flare = flare.interleaved();
+    out.flareText = std::to_string(stats.drawn) + " ghost instances drawn (" + std::to_string(stats.triangles) +
+                    " triangles), " + std::to_string(stats.culled) + " culled holding at most " +
+                    text::scientific(stats.culledShare, 2) + " of a light's ghost flux";
+    out.modelMeta = {{"fourierflare:ghostModel", "shaped"},
+                     {"fourierflare:backend", s_.raster ? s_.fourier.backend->describe() : std::string("cpu")},
+                     {"fourierflare:culled", std::to_string(stats.culled) + " ghost instances, at most " +
+                                                 text::scientific(stats.culledShare, 3) + " of a light's ghost flux"}};
+    out.flareSeconds = since(t);
+}
+
+void Simulation::drawFitted(const image::Plate& plate, SimulatedPlate& out) {
+    auto t = Clock::now();
+    if (!table_) {
+        table_ = std::make_unique<ghosts::GhostTable>(s_.loadTable(lens_, s_.table));
+        tableKey_ = table_->settingsKey;
+    }
+    out.tableSeconds = since(t);
+    const ghosts::Camera cam{plate.displayWidth, plate.displayHeight, s_.sensorWidthMm};
+    const auto profile = s_.ghostModel == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
+    auto ghosts = fourierGhosts(ghosts::instantiate(*table_, out.lights, cam, profile));
+    // Display-window pixels to the data window's, and the gain (1 = physical).
+    for (auto& k : ghosts) {
+        k.x -= plate.originX - plate.displayX;
+        k.y -= plate.originY - plate.displayY;
+        for (double& f : k.flux) f *= s_.gain;
+    }
+    const fourier::FourierRender flare = fourier::renderFourier(ghosts, plate.width, plate.height, s_.fourier);
+    out.flare = flare.image.interleaved();
+    out.fourierText = flare.describe() + "; seconds: accumulate " + text::fixed(flare.seconds.accumulate, 4) +
+                      ", evaluate " + text::fixed(flare.seconds.evaluate, 4) + ", direct " +
+                      text::fixed(flare.seconds.direct, 4);
+    // The composite on the device that holds the flare, when the flare is the ghosts alone.
+    if (s_.deviceComposite && !aperture_) out.composite = s_.deviceComposite(plate);
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "%zu ghosts instanced; N %d x M %d, %zu through Fourier, %zu direct, %zu culled",
+                  ghosts.size(), flare.plan.n, flare.plan.m, flare.fourierCount(), flare.directCount(),
+                  flare.culledCount());
+    out.flareText = buf;
+    out.modelMeta = {{"fourierflare:ghostModel", s_.ghostModel},
+                     {"fourierflare:fourier", flare.describe()},
+                     {"fourierflare:backend", s_.fourier.backend ? s_.fourier.backend->describe() : std::string("cpu")},
+                     {"fourierflare:table", table_->settingsKey}};
+    out.flareSeconds = since(t);
+}
+
+const diffraction::Psf& Simulation::idealPsf(double pitch) {
+    if (!psf_ || psfPitch_ != pitch) {
+        diffraction::PsfSettings ps;
+        ps.pitchMm = pitch;
+        psf_ = std::make_unique<diffraction::Psf>(diffraction::pixelPsf(*aperture_, ps));
+        psfPitch_ = pitch;
+    }
+    return *psf_;
+}
+
+void Simulation::diffract(const image::Plate& plate, SimulatedPlate& out) {
+    const double pitch = s_.sensorWidthMm / plate.displayWidth;
+    std::string psfText;
+    std::vector<std::string> zones;
+    std::vector<float> lightRgb = std::move(out.found.lightRgb);
+    if (!s_.lights.empty())
+        lightRgb = splatLights(out.lights, plate.width, plate.height, plate.originX - plate.displayX,
+                               plate.originY - plate.displayY);
+    double offFrame = 0.0;
+    if (s_.diffraction == "traced") {
+        // The lens's own wavefront at the lights' fields: one PSF per tile of the frame that holds
+        // light, at its lights' centre (pixels of the data window; the axis at the display window's
+        // centre). The aberration-free PSF only where a tile's own cannot be made.
+        auto psfAt = [&](double x, double y) {
+            const double xMm = (x + plate.originX - plate.displayX - 0.5 * plate.displayWidth) * pitch;
+            const double yMm = (0.5 * plate.displayHeight - (y + plate.originY - plate.displayY)) * pitch;
+            diffraction::PsfSettings ps;
+            ps.pitchMm = pitch;
+            try {
+                ps.pupil = diffraction::tracedPupil(lens_, xMm, yMm, trace::sensorPlaneZ(lens_, s_.table.sensor));
+                diffraction::Psf p = diffraction::pixelPsf(*aperture_, ps);
+                if (psfText.empty()) psfText = describePsf(*aperture_, p);
+                zones.push_back(text::fixed(x, 0) + "," + text::fixed(y, 0) + ": to " + std::to_string(p.radius) +
+                                " px");
+                return p;
+            } catch (const Error& e) {
+                reporter_.note({}, "the lights near pixel (" + text::fixed(x, 0) + ", " + text::fixed(y, 0) +
+                                       ") get the aberration-free PSF: " + e.what());
+                zones.push_back(text::fixed(x, 0) + "," + text::fixed(y, 0) + ": aberration-free");
+                if (psfText.empty()) psfText = describePsf(*aperture_, idealPsf(pitch));
+                return idealPsf(pitch);
+            }
+        };
+        out.diffraction = diffraction::zonedDiffractionLayer(lightRgb, plate.width, plate.height, kZones, kZones, psfAt,
+                                                             s_.diffractionGain, &offFrame, s_.convolver);
+    } else {
+        psfText = describePsf(*aperture_, idealPsf(pitch));
+        out.diffraction = diffraction::diffractionLayer(lightRgb, plate.width, plate.height, idealPsf(pitch),
+                                                        s_.diffractionGain, &offFrame, s_.convolver);
+    }
+    std::string zoneText;
+    for (const std::string& z : zones) zoneText += (zoneText.empty() ? "" : "; ") + z;
+    out.diffractionText = s_.diffraction + ", gain " + text::roundTrip(s_.diffractionGain) + "; " +
+                          (psfText.empty() ? std::string("no light to diffract") : psfText) +
+                          (s_.diffraction == "traced" ? "; the lens's wavefront per " + std::to_string(kZones) +
+                                                            " x " + std::to_string(kZones) + " tile, at (px) " +
+                                                            zoneText
+                                                      : std::string()) +
+                          (s_.convolver ? "; convolved on " + s_.fourier.backend->describe()
+                                        : std::string("; convolved on the CPU"));
+}
+
+} // namespace ff::scene

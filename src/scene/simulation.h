@@ -1,0 +1,93 @@
+#pragma once
+// A lens against an HDR plate (docs/simulate.md): the lights, given or found in the plate; the
+// lens's ghosts (shaped, or the ghost table's fits aggregated through Fourier) drawn into the plate's
+// data window; the iris's diffraction of the lights' flux; the layers and their composite. What the
+// CLI's `simulate` and the Python module's simulate() run; reading and writing files is theirs.
+
+#include "core/reporter.h"
+#include "diffraction/convolution.h"
+#include "diffraction/psf.h"
+#include "fourier/plan.h"
+#include "ghosts/instancing.h"
+#include "ghosts/shaped_ghosts.h"
+#include "image/light_detection.h"
+#include "image/plate.h"
+#include "optics/lens.h"
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ff::scene {
+
+struct SimulationSettings {
+    std::string ghostModel = "shaped";    ///< shaped | gaussian | cos2
+    std::string diffraction = "physical"; ///< off | physical | traced
+    double gain = 1.0;                    ///< the flare's gain (1 = physical)
+    double diffractionGain = 1.0;         ///< the diffraction layer's gain (1 = physical)
+    double sensorWidthMm = 0.0;           ///< the plate spans this width; 0: the lens file's, else 36
+    image::DetectionSettings detection;   ///< how lights are found (lightImage is set here)
+    std::vector<ghosts::Light> lights;    ///< given (display-window pixels): no detection
+    /// The ghost table's settings (gaussian, cos2); their sensor plane and coatings serve every model.
+    ghosts::TableSettings table;
+    fourier::FourierSettings fourier;            ///< the aggregator (gaussian, cos2)
+    ghosts::PolygonRaster* raster = nullptr;     ///< where the shaped polygons are drawn (null: the CPU)
+    diffraction::Convolver* convolver = nullptr; ///< the diffraction's convolution (null: FFTW)
+    /// The ghost table / shaped table of the lens (default: ghosts::tableFor / shapedTableFor with
+    /// the cache); a caller that reports builds supplies its own.
+    std::function<ghosts::GhostTable(const optics::Lens&, const ghosts::TableSettings&)> loadTable;
+    std::function<ghosts::ShapedTable(const optics::Lens&, const ghosts::ShapedSettings&)> loadShaped;
+    /// The composite made on the device that holds a fitted flare without diffraction (bit-identical
+    /// to image::composite), or empty where it cannot.
+    std::function<std::vector<float>(const image::Plate&)> deviceComposite;
+};
+
+/// One plate's result; layers are R, G, B interleaved over the plate's data window.
+struct SimulatedPlate {
+    std::vector<ghosts::Light> lights; ///< display-window pixels
+    image::DetectionReport found;      ///< where the lights were found (empty when given)
+    std::vector<float> ghosts, diffraction, flare, composite;
+    std::string flareText;        ///< what was drawn (ghost instances, triangles or terms, culled)
+    std::string diffractionText;  ///< the PSFs and where the convolution ran ("off" without)
+    std::string fourierText;      ///< gaussian, cos2: the aggregator's plan and its stage times
+    std::size_t outside = 0;      ///< shaped: lights no field angle of the lens images (no flare)
+    image::Metadata modelMeta;    ///< the ghost model's choices, for a file's header
+    double detectSeconds = 0.0, tableSeconds = 0.0, flareSeconds = 0.0, diffractionSeconds = 0.0;
+};
+
+class Simulation {
+  public:
+    /// Checks the settings (ff::Error, Usage) and finds the lens's aperture for the diffraction
+    /// (where it has none, diffraction is off, with a note).
+    Simulation(optics::Lens lens, SimulationSettings settings, Reporter& reporter);
+    ~Simulation();
+
+    /// The layers for one plate; tables and PSFs are kept for the next plate of the same shape.
+    SimulatedPlate run(const image::Plate& plate);
+
+    const optics::Lens& lens() const { return lens_; }
+    double sensorWidthMm() const { return s_.sensorWidthMm; }
+    bool diffracts() const { return aperture_.has_value(); }
+    const std::string& tableKey() const { return tableKey_; }
+
+  private:
+    void drawShaped(const image::Plate& plate, SimulatedPlate& out);
+    void drawFitted(const image::Plate& plate, SimulatedPlate& out);
+    void diffract(const image::Plate& plate, SimulatedPlate& out);
+    const diffraction::Psf& idealPsf(double pitch);
+
+    optics::Lens lens_;
+    SimulationSettings s_;
+    Reporter& reporter_;
+    std::optional<diffraction::Aperture> aperture_;
+    std::unique_ptr<ghosts::GhostTable> table_;
+    std::unique_ptr<ghosts::ShapedTable> shaped_;
+    std::pair<int, int> shapedFor_;         ///< the display window shaped_ was made for
+    std::unique_ptr<diffraction::Psf> psf_; ///< aberration-free (the traced PSFs' fallback)
+    double psfPitch_ = 0.0;                 ///< the pixel pitch psf_ was made for
+    std::string tableKey_;
+};
+
+} // namespace ff::scene
