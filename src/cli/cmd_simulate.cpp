@@ -10,21 +10,12 @@
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/text.h"
-#include "core/units.h"
-#include "diffraction/convolution.h"
-#include "diffraction/psf.h"
-#include "diffraction/wavefront.h"
 #include "ff/version.h"
-#include "fourier/render.h"
-#include "ghosts/instancing.h"
 #include "gpu/gl_backend.h"
-#include "image/composite.h"
 #include "image/light_detection.h"
 #include "image/plate.h"
-#include "optics/paraxial.h"
 #include "scene/scene.h"
 #include "scene/simulation.h"
-#include "trace/flare_raster.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -34,8 +25,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <numbers>
-#include <optional>
 #include <unistd.h>
 
 namespace ff::cli {
@@ -228,10 +217,8 @@ class Simulation {
         s.lights = manualLights_;
         if (!sizeGiven.empty()) {
             s.sensorWidthMm = parseSensorSize(sizeGiven, sizeGiven == o.sensor ? "--sensor" : "--sensor-size").first;
-        } else if (o.fov > 0.0) {
-            s.sensorWidthMm =
-                2.0 * std::abs(optics::paraxialEfl(lens, lines::d)) * std::tan(0.5 * o.fov * std::numbers::pi / 180.0);
         }
+        s.fovDeg = sizeGiven.empty() ? o.fov : 0.0;
         s.table = table.settings();
         // Options checked first: the backend (EGL) is touched last. The GL backend draws the shaped
         // model's polygons, or aggregates the fitted models with the Fourier options.

@@ -320,6 +320,23 @@ int checkPlate(const std::string& path, const PlateLimits& limits) {
     return 3;
 }
 
+Plate plateFromPixels(const std::string& name, int width, int height, std::vector<std::string> channels,
+                      std::vector<float> pixels) {
+    if (width < 1 || height < 1 || channels.empty() ||
+        pixels.size() != static_cast<std::size_t>(width) * height * channels.size())
+        bad(name, "the pixels do not fill a " + std::to_string(width) + " x " + std::to_string(height) + " image of " +
+                      std::to_string(channels.size()) + " channels");
+    Plate p;
+    p.path = name;
+    p.width = p.displayWidth = width;
+    p.height = p.displayHeight = height;
+    p.channels = std::move(channels);
+    p.pixels = std::move(pixels);
+    findChannels(name, p);
+    checkValues(name, p);
+    return p;
+}
+
 Plate readPlate(const std::string& path, const PlateLimits& limits) {
     if (!limits.checker.empty()) guardedRead(path, limits);
     return readDirect(path, limits, true);

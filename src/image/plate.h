@@ -54,6 +54,12 @@ struct Plate {
 /// no colour channels, or more than half of its pixels negative, NaN or infinite.
 Plate readPlate(const std::string& path, const PlateLimits& limits = {});
 
+/// A plate from pixels in memory (`channels` interleaved, rows top to bottom; data window = display
+/// window at 0, 0), its R, G, B (or Y) and A found and its values checked as readPlate does; `name`
+/// stands for the file in messages.
+Plate plateFromPixels(const std::string& name, int width, int height, std::vector<std::string> channels,
+                      std::vector<float> pixels);
+
 /// What the checker process runs: reads the file in full under a memory limit; exit status 0 when it
 /// is a usable plate, else 3 with the reason on stderr (a crash or a hang is the caller's to see).
 int checkPlate(const std::string& path, const PlateLimits& limits);

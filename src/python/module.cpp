@@ -16,4 +16,5 @@ Errors raise fourierflare.Error (InputError, UsageError) carrying file, line and
     ff::python::bindLens(m);
     ff::python::bindGhosts(m);
     ff::python::bindRender(m);
+    ff::python::bindSimulate(m);
 }

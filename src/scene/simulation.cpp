@@ -2,17 +2,20 @@
 
 #include "core/error.h"
 #include "core/text.h"
+#include "core/units.h"
 #include "diffraction/wavefront.h"
 #include "fourier/backend.h"
 #include "fourier/render.h"
 #include "ghosts/shaped_cache.h"
 #include "ghosts/table_cache.h"
 #include "image/composite.h"
+#include "optics/paraxial.h"
 #include "scene/scene.h"
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 
 namespace ff::scene {
 
@@ -38,12 +41,20 @@ Simulation::Simulation(optics::Lens lens, SimulationSettings settings, Reporter&
     if (s_.diffractionGain < 0.0 || !std::isfinite(s_.diffractionGain))
         throw Error(ErrorKind::Usage, "the diffraction gain must be a finite number >= 0");
     if (s_.ghostModel != "shaped" && s_.ghostModel != "gaussian" && s_.ghostModel != "cos2")
-        throw Error(ErrorKind::Usage, "the ghost model is shaped, gaussian or cos2, got " + text::quoted(s_.ghostModel));
+        throw Error(ErrorKind::Usage,
+                    "the ghost model is shaped, gaussian or cos2, got " + text::quoted(s_.ghostModel));
     if (s_.diffraction != "off" && s_.diffraction != "physical" && s_.diffraction != "traced")
         throw Error(ErrorKind::Usage,
                     "the diffraction is off, physical or traced, got " + text::quoted(s_.diffraction));
     if (!(s_.sensorWidthMm >= 0.0) || !std::isfinite(s_.sensorWidthMm))
         throw Error(ErrorKind::Usage, "the sensor width must be a finite number of mm > 0");
+    if (!(s_.fovDeg >= 0.0 && s_.fovDeg < 180.0))
+        throw Error(ErrorKind::Usage, "the field of view must be 0..180 degrees (0: not given)");
+    if (s_.sensorWidthMm > 0.0 && s_.fovDeg > 0.0)
+        throw Error(ErrorKind::Usage, "give either the sensor's size or the field of view, not both");
+    if (s_.fovDeg > 0.0)
+        s_.sensorWidthMm =
+            2.0 * std::abs(optics::paraxialEfl(lens_, lines::d)) * std::tan(0.5 * s_.fovDeg * std::numbers::pi / 180.0);
     if (s_.sensorWidthMm == 0.0) s_.sensorWidthMm = lens_.sensorMm ? lens_.sensorMm->first : 36.0;
     if (!s_.loadTable)
         s_.loadTable = [this](const optics::Lens& l, const ghosts::TableSettings& t) {
@@ -231,14 +242,13 @@ void Simulation::diffract(const image::Plate& plate, SimulatedPlate& out) {
     }
     std::string zoneText;
     for (const std::string& z : zones) zoneText += (zoneText.empty() ? "" : "; ") + z;
-    out.diffractionText = s_.diffraction + ", gain " + text::roundTrip(s_.diffractionGain) + "; " +
-                          (psfText.empty() ? std::string("no light to diffract") : psfText) +
-                          (s_.diffraction == "traced" ? "; the lens's wavefront per " + std::to_string(kZones) +
-                                                            " x " + std::to_string(kZones) + " tile, at (px) " +
-                                                            zoneText
-                                                      : std::string()) +
-                          (s_.convolver ? "; convolved on " + s_.fourier.backend->describe()
-                                        : std::string("; convolved on the CPU"));
+    out.diffractionText =
+        s_.diffraction + ", gain " + text::roundTrip(s_.diffractionGain) + "; " +
+        (psfText.empty() ? std::string("no light to diffract") : psfText) +
+        (s_.diffraction == "traced" ? "; the lens's wavefront per " + std::to_string(kZones) + " x " +
+                                          std::to_string(kZones) + " tile, at (px) " + zoneText
+                                    : std::string()) +
+        (s_.convolver ? "; convolved on " + s_.fourier.backend->describe() : std::string("; convolved on the CPU"));
 }
 
 } // namespace ff::scene

@@ -27,7 +27,8 @@ struct SimulationSettings {
     std::string diffraction = "physical"; ///< off | physical | traced
     double gain = 1.0;                    ///< the flare's gain (1 = physical)
     double diffractionGain = 1.0;         ///< the diffraction layer's gain (1 = physical)
-    double sensorWidthMm = 0.0;           ///< the plate spans this width; 0: the lens file's, else 36
+    double sensorWidthMm = 0.0;           ///< the plate spans this width; 0: from fovDeg, else the lens file's, else 36
+    double fovDeg = 0.0;                  ///< > 0 (with sensorWidthMm 0): the width 2 EFL tan(fov / 2)
     image::DetectionSettings detection;   ///< how lights are found (lightImage is set here)
     std::vector<ghosts::Light> lights;    ///< given (display-window pixels): no detection
     /// The ghost table's settings (gaussian, cos2); their sensor plane and coatings serve every model.
@@ -49,11 +50,11 @@ struct SimulatedPlate {
     std::vector<ghosts::Light> lights; ///< display-window pixels
     image::DetectionReport found;      ///< where the lights were found (empty when given)
     std::vector<float> ghosts, diffraction, flare, composite;
-    std::string flareText;        ///< what was drawn (ghost instances, triangles or terms, culled)
-    std::string diffractionText;  ///< the PSFs and where the convolution ran ("off" without)
-    std::string fourierText;      ///< gaussian, cos2: the aggregator's plan and its stage times
-    std::size_t outside = 0;      ///< shaped: lights no field angle of the lens images (no flare)
-    image::Metadata modelMeta;    ///< the ghost model's choices, for a file's header
+    std::string flareText;       ///< what was drawn (ghost instances, triangles or terms, culled)
+    std::string diffractionText; ///< the PSFs and where the convolution ran ("off" without)
+    std::string fourierText;     ///< gaussian, cos2: the aggregator's plan and its stage times
+    std::size_t outside = 0;     ///< shaped: lights no field angle of the lens images (no flare)
+    image::Metadata modelMeta;   ///< the ghost model's choices, for a file's header
     double detectSeconds = 0.0, tableSeconds = 0.0, flareSeconds = 0.0, diffractionSeconds = 0.0;
 };
 
