@@ -30,6 +30,7 @@ struct RenderArgs {
     bool useCache = true;
     double fourierError = 1e-3;
     int fourierN = 0;
+    bool hybrid = true;
 };
 
 std::optional<std::pair<double, double>> angleFrom(const py::object& angle) {
@@ -75,6 +76,7 @@ fourier::FlareImage fromTable(const ghosts::GhostTable& table, const std::vector
     fourier::FourierSettings fs;
     fs.error = a.fourierError;
     fs.fixedN = a.fourierN;
+    fs.hybrid = a.hybrid;
     return fourier::renderFourier(ghosts, W, H, fs).image;
 }
 
@@ -128,7 +130,7 @@ py::array_t<float> render(const py::object& source, const py::object& lightsIn, 
                           const std::string& diffraction, const py::object& sensorSize, int grid, double refine,
                           int spectral, int tableGrid, const std::string& sampling, const std::string& sensor,
                           const std::string& coating, double maxAngle, int tableAngles, double tolerance, bool useCache,
-                          double fourierError, int fourierN, const py::object& progress) {
+                          double fourierError, int fourierN, bool hybrid, const py::object& progress) {
     RenderArgs a;
     a.mode = mode;
     a.ghostModel = ghostModel;
@@ -143,6 +145,7 @@ py::array_t<float> render(const py::object& source, const py::object& lightsIn, 
     a.useCache = useCache;
     a.fourierError = fourierError;
     a.fourierN = fourierN;
+    a.hybrid = hybrid;
     const auto [W, H] = sizeFrom(size, "size");
     const std::vector<ghosts::Light> lights = lightsFrom(lightsIn);
     const auto* table =
@@ -172,7 +175,7 @@ void bindRender(py::module_& m) {
           "diffraction"_a = "physical", "sensor_size"_a = py::none(), "grid"_a = 32, "refine"_a = 1.0, "spectral"_a = 0,
           "table_grid"_a = 32, "sampling"_a = "reaim", "sensor"_a = "file", "coating"_a = "file", "max_angle"_a = 0.0,
           "table_angles"_a = 64, "tolerance"_a = 0.005, "use_cache"_a = true, "fourier_error"_a = 1e-3,
-          "fourier_n"_a = 0, "progress"_a = py::none(),
+          "fourier_n"_a = 0, "hybrid"_a = true, "progress"_a = py::none(),
           R"(The flare of lights through a lens as a float32 array of shape (height, width, 3), linear RGB,
 flux per pixel relative to the direct image of a unit light: what `fourierflare render` writes.
 
@@ -183,7 +186,8 @@ size: (width, height) in pixels; the image spans the sensor's width (sensor_size
 default the lens file's, else 36 x 24).
 mode: 'traced' (every ghost ray-traced; grid, refine, spectral), 'shaped' (the shaped ghosts),
 'fitted' (the ghost table's ghost_model profiles drawn directly), 'fourier' (aggregated through
-the separable Fourier series; fourier_error, fourier_n) or 'diffraction' (the iris's starburst;
+the separable Fourier series; fourier_error, fourier_n, and hybrid=False to
+send every ghost through the series, as the CLI's --no-hybrid) or 'diffraction' (the iris's starburst;
 diffraction='physical' or 'traced').
 The table's options (table_grid, sampling, sensor, coating, max_angle, table_angles, tolerance,
 use_cache, progress) are GhostTable.build's; sampling, sensor and coating serve every mode. Runs
