@@ -15,6 +15,7 @@
 #include "image/light_detection.h"
 #include "image/metrics.h"
 #include "image/plate.h"
+#include "scene/comparison.h"
 #include "scene/scene.h"
 
 #include <CLI/CLI.hpp>
@@ -45,122 +46,6 @@ struct CompareOptions {
     std::string diffraction = "off"; ///< off, physical or traced (then the aberration-free one too)
     FourierOptions fourier;
 };
-
-using Clock = std::chrono::steady_clock;
-double seconds(Clock::time_point t) {
-    return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-nlohmann::json toJson(const image::ImageError& e) {
-    auto finite = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
-    return {{"relativeL2", finite(e.relativeL2)},
-            {"psnrDb", finite(e.psnrDb)},
-            {"maxAbs", e.maxAbs},
-            {"maxRelative", e.maxRelative},
-            {"fluxRatio", e.fluxRatio}};
-}
-
-std::string row(const std::string& what, const image::ImageError& e) {
-    char buf[256];
-    std::snprintf(buf, sizeof buf, "| %s | %.3e | %.1f | %.3e | %.4f |\n", what.c_str(), e.relativeL2, e.psnrDb,
-                  e.maxRelative, e.fluxRatio);
-    return buf;
-}
-
-// Log-log plot of relative L2 against N, one polyline per series, as a small standalone SVG.
-std::string errorPlot(const std::vector<int>& ns,
-                      const std::vector<std::pair<std::string, std::vector<double>>>& series, double budget) {
-    const double W = 640, H = 400, left = 70, right = 150, top = 20, bottom = 50;
-    double lo = budget, hi = budget;
-    for (const auto& s : series)
-        for (double v : s.second)
-            if (v > 0 && std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
-    const double ly0 = std::floor(std::log10(lo)), ly1 = std::ceil(std::log10(hi) + 1e-9);
-    const double lx0 = std::log2(ns.front()), lx1 = std::max(lx0 + 1, std::log2(ns.back()));
-    auto X = [&](double n) { return left + (std::log2(n) - lx0) / (lx1 - lx0) * (W - left - right); };
-    auto Y = [&](double v) { return top + (ly1 - std::log10(v)) / (ly1 - ly0) * (H - top - bottom); };
-    std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"640\" height=\"400\" "
-                      "font-family=\"sans-serif\" font-size=\"12\">\n"
-                      "<rect width=\"640\" height=\"400\" fill=\"white\"/>\n";
-    for (double e = ly0; e <= ly1; ++e)
-        svg += "<line x1=\"" + text::fixed(left, 1) + "\" x2=\"" + text::fixed(W - right, 1) + "\" y1=\"" +
-               text::fixed(Y(std::pow(10, e)), 1) + "\" y2=\"" + text::fixed(Y(std::pow(10, e)), 1) +
-               "\" stroke=\"#ddd\"/><text x=\"" + text::fixed(left - 8, 1) + "\" y=\"" +
-               text::fixed(Y(std::pow(10, e)) + 4, 1) + "\" text-anchor=\"end\">1e" +
-               std::to_string(static_cast<int>(e)) + "</text>\n";
-    for (int n : ns)
-        svg += "<text x=\"" + text::fixed(X(n), 1) + "\" y=\"" + text::fixed(H - bottom + 18, 1) +
-               "\" text-anchor=\"middle\">" + std::to_string(n) + "</text>\n";
-    svg += "<text x=\"" + text::fixed(0.5 * (left + W - right), 1) + "\" y=\"" + text::fixed(H - 10, 1) +
-           "\" text-anchor=\"middle\">N (terms along x)</text>\n";
-    svg += "<text x=\"16\" y=\"" + text::fixed(0.5 * H, 1) + "\" transform=\"rotate(-90 16 " + text::fixed(0.5 * H, 1) +
-           ")\" text-anchor=\"middle\">relative L2 error</text>\n";
-    svg += "<line x1=\"" + text::fixed(left, 1) + "\" x2=\"" + text::fixed(W - right, 1) + "\" y1=\"" +
-           text::fixed(Y(budget), 1) + "\" y2=\"" + text::fixed(Y(budget), 1) +
-           "\" stroke=\"#888\" stroke-dasharray=\"4 3\"/><text x=\"" + text::fixed(W - right + 6, 1) + "\" y=\"" +
-           text::fixed(Y(budget) + 4, 1) + "\">budget</text>\n";
-    const char* colours[] = {"#d62728", "#1f77b4", "#ff7f0e", "#2ca02c"};
-    for (std::size_t s = 0; s < series.size(); ++s) {
-        std::string pts;
-        for (std::size_t i = 0; i < ns.size(); ++i)
-            if (series[s].second[i] > 0 && std::isfinite(series[s].second[i]))
-                pts += text::fixed(X(ns[i]), 1) + "," + text::fixed(Y(series[s].second[i]), 1) + " ";
-        const char* colour = colours[s % 4];
-        svg += std::string("<polyline fill=\"none\" stroke=\"") + colour + "\" stroke-width=\"2\" points=\"" + pts +
-               "\"/>\n";
-        svg += "<text x=\"" + text::fixed(W - right + 6, 1) + "\" y=\"" + text::fixed(top + 16 + 16.0 * double(s), 1) +
-               "\" fill=\"" + colour + "\">" + series[s].first + "</text>\n";
-    }
-    return svg + "</svg>\n";
-}
-
-// The lights' diffraction (docs/diffraction.md): the aberration-free PSF's, and with --diffraction
-// traced the one with the lens's traced wavefront at each light's field, compared with it. The
-// diffraction is the same for every ghost model, so it is shown apart from them.
-std::string compareDiffraction(const CompareOptions& o, const optics::Lens& lens,
-                               const std::vector<ghosts::Light>& lights, const trace::TracedFlareOptions& to,
-                               const fourier::FourierSettings& fs, const std::filesystem::path& dir,
-                               const image::Metadata& meta, nlohmann::json& report) {
-    const int W = to.frame.width, H = to.frame.height;
-    const double z = trace::sensorPlaneZ(lens, to.sensor);
-    std::string md =
-        "## Diffraction\n\nThe lights through the lens's point-spread function (the same for every ghost model; "
-        "the model: docs/diffraction.md):\n\n| PSF | flux in the frame / the lights' | seconds |\n|---|---|---|\n";
-    double lightsFlux = 0.0;
-    for (const auto& l : lights) lightsFlux += l.flux[0] + l.flux[1] + l.flux[2];
-    std::vector<std::string> modes = {"physical"};
-    if (o.diffraction == "traced") modes.push_back("traced");
-    std::vector<std::vector<float>> images;
-    for (const std::string& mode : modes) {
-        const auto t0 = Clock::now();
-        double off = 0.0;
-        std::string text;
-        images.push_back(scene::renderDiffraction(lens, lights, to.frame, z, mode, diffractionDevice(fs), &off, &text));
-        const double s = seconds(t0);
-        double flux = 0.0;
-        for (float v : images.back()) flux += v;
-        const std::string name = "diffraction-" + mode;
-        image::Metadata m = meta;
-        m.push_back({"fourierflare:diffraction", text});
-        image::writeExr((dir / (name + ".exr")).string(), W, H, {"R", "G", "B"}, images.back(), m);
-        image::writePng((dir / (name + ".png")).string(), W, H,
-                        image::tonemapPreview(images.back(), image::autoExposure(images.back())), m);
-        report["diffraction"][mode] = {{"psf", text}, {"fluxInFrame", flux / lightsFlux}, {"seconds", s}};
-        md += "| " + text + " | " + text::fixed(flux / lightsFlux, 6) + " | " + text::fixed(s, 2) + " |\n";
-    }
-    if (images.size() == 2) {
-        const auto e = image::compareImages(images[1], images[0]);
-        const double scale = image::differenceQuantile(images[1], images[0], 0.999);
-        image::writePng((dir / "diff-diffraction-traced-vs-physical.png").string(), W, H,
-                        image::differencePicture(images[1], images[0], scale), meta);
-        report["diffraction"]["tracedVsPhysical"] = toJson(e);
-        md +=
-            "\n| comparison | relative L2 | PSNR (dB) | max error / peak | flux ratio |\n|---|---|---|---|---|\n" +
-            row("diffraction with the lens's traced wavefront vs aberration-free (what the lens's aberrations change)",
-                e);
-    }
-    return md + "\n";
-}
 
 // The lights of --plate: found as simulate finds them, the strongest o.maxLights kept (the traced
 // reference costs seconds per light), positions scaled to --size. `size` gets the plate's size where
@@ -217,203 +102,6 @@ std::filesystem::path reportFolder(const std::string& output) {
     return dir;
 }
 
-// One comparison: the scene, the traced reference, and the report as each model adds its part.
-struct Comparison {
-    Comparison(const CompareOptions& options, const GlobalOptions& global) : o(options), g(global), reporter(global) {}
-    const CompareOptions& o;
-    const GlobalOptions& g;
-    ConsoleReporter reporter;
-    optics::Lens lens;
-    std::vector<ghosts::Light> lights;
-    int W = 0, H = 0;
-    std::pair<double, double> sensorMm;
-    std::filesystem::path dir;
-    image::Metadata meta;
-    trace::TracedFlareOptions to;
-    fourier::FourierSettings base;
-    std::vector<float> tracedRgb;
-    double exposure = 0.0;
-    std::string md, timing;
-    nlohmann::json report;
-    std::vector<std::pair<std::string, std::vector<double>>> vsFitted, vsTraced; ///< error against N
-
-    void say(const std::string& s) const {
-        if (!g.quiet) std::fprintf(stderr, "fourierflare: %s\n", s.c_str());
-    }
-    void save(const std::string& name, const std::vector<float>& rgb) const {
-        image::writeExr((dir / (name + ".exr")).string(), W, H, {"R", "G", "B"}, rgb, meta);
-        image::writePng((dir / (name + ".png")).string(), W, H, image::tonemapPreview(rgb, exposure), meta);
-    }
-
-    // The shaped ghosts: every ghost's traced mesh, interpolated over field angle.
-    void shaped() {
-        auto t0 = Clock::now();
-        ghosts::ShapedSettings ss;
-        ss.sensorSizeMm = sensorMm;
-        ss.sensor = to.sensor;
-        ss.coating = to.coating;
-        const ghosts::ShapedTable shapedTable = loadShapedTable(lens, ss, g, reporter);
-        const double buildSeconds = seconds(t0);
-        t0 = Clock::now();
-        ghosts::ShapedRender sr;
-        const std::vector<float> shapedRgb =
-            scene::renderShapedScene(lens, shapedTable, lights, to.frame, to.sensor, &sr, nullptr, polygonRaster(base))
-                .interleaved();
-        const double drawSeconds = seconds(t0);
-        save("shaped", shapedRgb);
-        const auto eShaped = image::compareImages(shapedRgb, tracedRgb);
-        const double scale = image::differenceQuantile(shapedRgb, tracedRgb, 0.999);
-        image::writePng((dir / "diff-shaped-vs-traced.png").string(), W, H,
-                        image::differencePicture(shapedRgb, tracedRgb, scale), meta);
-        md += row("shaped vs traced (ghost meshes; " + std::to_string(sr.culled) + " faint ghost instance(s) culled)",
-                  eShaped);
-        timing += "| shaped ghosts: build (" + std::to_string(shapedTable.ghosts.size()) + " ghosts, " +
-                  std::to_string(shapedTable.rays) + " rays) | " + text::fixed(buildSeconds, 3) +
-                  " |\n| shaped ghosts: draw (" + std::to_string(sr.triangles) + " triangles) | " +
-                  text::fixed(drawSeconds, 3) + " |\n";
-        report["shaped"] = toJson(eShaped);
-        report["shaped"]["culledShare"] = sr.culledShare;
-        report["shaped"]["differenceScale"] = scale;
-        report["seconds"]["shapedBuild"] = buildSeconds;
-        report["seconds"]["shapedDraw"] = drawSeconds;
-    }
-
-    // One profile's fitted and Fourier images against the reference, and its error against N.
-    void compareProfile(ghosts::Profile profile, const ghosts::GhostTable& tab, const std::vector<int>& ns) {
-        const ghosts::Camera cam{W, H, sensorMm.first};
-        const std::string name = ghosts::toString(profile);
-        const auto ghosts = scene::fourierGhosts(ghosts::instantiate(tab, lights, cam, profile));
-        auto t0 = Clock::now();
-        const fourier::FlareImage fitted = fourier::renderDirect(ghosts, W, H);
-        const double fittedSeconds = seconds(t0);
-        const fourier::FourierRender four = fourier::renderFourier(ghosts, W, H, base);
-        const std::vector<float> fittedRgb = fitted.interleaved(), fourierRgb = four.image.interleaved();
-        save("fitted-" + name, fittedRgb);
-        save("fourier-" + name, fourierRgb);
-        const auto eFit = image::compareImages(fittedRgb, tracedRgb),
-                   eTrunc = image::compareImages(fourierRgb, fittedRgb),
-                   eTotal = image::compareImages(fourierRgb, tracedRgb);
-        if (base.basis == fourier::Basis::Bessel) {
-            // The Bessel basis draws each ghost isotropic: separate that model change from the truncation.
-            auto iso = ghosts;
-            for (auto& k : iso)
-                for (int c = 0; c < 3; ++c) k.widthX[c] = k.widthY[c] = std::sqrt(k.widthX[c] * k.widthY[c]);
-            const std::vector<float> isoRgb = fourier::renderDirect(iso, W, H).interleaved();
-            const auto eIso = image::compareImages(isoRgb, fittedRgb),
-                       eTruncIso = image::compareImages(fourierRgb, isoRgb);
-            md += row("fitted " + name + " made isotropic vs fitted (the Bessel basis's model)", eIso) +
-                  row("fourier-bessel " + name + " vs isotropic fitted (truncation)", eTruncIso);
-            report["profiles"][name]["isotropicVsFitted"] = toJson(eIso);
-            report["profiles"][name]["fourierVsIsotropic"] = toJson(eTruncIso);
-        }
-        // Difference pictures, each scaled to its own 99.9th percentile of |luminance difference|.
-        const std::vector<std::pair<std::string, std::pair<const std::vector<float>*, const std::vector<float>*>>>
-            diffs = {{"diff-fitted-" + name + "-vs-traced", {&fittedRgb, &tracedRgb}},
-                     {"diff-fourier-" + name + "-vs-fitted", {&fourierRgb, &fittedRgb}},
-                     {"diff-fourier-" + name + "-vs-traced", {&fourierRgb, &tracedRgb}}};
-        nlohmann::json scales;
-        for (const auto& [file, pair] : diffs) {
-            const double scale = image::differenceQuantile(*pair.first, *pair.second, 0.999);
-            image::writePng((dir / (file + ".png")).string(), W, H,
-                            image::differencePicture(*pair.first, *pair.second, scale), meta);
-            scales[file] = scale;
-        }
-        const std::string truncation = base.basis == fourier::Basis::Bessel
-                                           ? " vs fitted (isotropic model + truncation)"
-                                           : " vs fitted (truncation)";
-        md += row("fitted " + name + " vs traced (profile model)", eFit) + row("fourier " + name + truncation, eTrunc) +
-              row("fourier " + name + " vs traced (total)", eTotal);
-        timing += "| fitted " + name + " (direct, " + std::to_string(ghosts.size()) + " ghosts) | " +
-                  text::fixed(fittedSeconds, 3) + " |\n";
-        timing += "| fourier " + name + " (" + four.describe() + ") | " + text::fixed(four.seconds.total(), 3) +
-                  " (accumulate " + text::fixed(four.seconds.accumulate, 3) + ", evaluate " +
-                  text::fixed(four.seconds.evaluate, 3) + ", direct " + text::fixed(four.seconds.direct, 3) + ") |\n";
-        nlohmann::json& p = report["profiles"][name];
-        p["ghosts"] = ghosts.size();
-        p["fittedVsTraced"] = toJson(eFit);
-        p["fourierVsFitted"] = toJson(eTrunc);
-        p["fourierVsTraced"] = toJson(eTotal);
-        p["fourier"] = {{"plan", four.describe()},
-                        {"n", four.plan.n},
-                        {"m", four.plan.m},
-                        {"periodX", four.plan.periodX},
-                        {"periodY", four.plan.periodY},
-                        {"throughFourier", four.fourierCount()},
-                        {"direct", four.directCount()},
-                        {"culled", four.culledCount()},
-                        {"coarseLevel", four.coarse ? four.coarse->describe() : std::string()},
-                        {"evaluation", fourier::toString(four.plan.evaluation)}};
-        p["seconds"] = {{"fitted", fittedSeconds},
-                        {"fourier", four.seconds.total()},
-                        {"accumulate", four.seconds.accumulate},
-                        {"evaluate", four.seconds.evaluate},
-                        {"direct", four.seconds.direct}};
-        p["differenceScales"] = scales;
-        // Error against N: every ghost through Fourier with all N terms (no hybrid, no trimming; those
-        // that would wrap into the frame on the coarse level), the automatic period: the truncation error.
-        std::vector<double> errFit, errTraced;
-        for (int n : ns) {
-            fourier::FourierSettings s = base;
-            s.fixedN = n;
-            s.hybrid = false;
-            s.trimFraction = 0.0;
-            const fourier::FourierRender r = fourier::renderFourier(ghosts, W, H, s);
-            const std::vector<float> rgb = r.image.interleaved();
-            const auto a = image::compareImages(rgb, fittedRgb), b = image::compareImages(rgb, tracedRgb);
-            errFit.push_back(a.relativeL2);
-            errTraced.push_back(b.relativeL2);
-            p["errorVsN"].push_back({{"n", n},
-                                     {"m", r.plan.m},
-                                     {"vsFitted", toJson(a)},
-                                     {"vsTraced", toJson(b)},
-                                     {"seconds", r.seconds.total()}});
-        }
-        vsFitted.push_back({name + " vs fitted", errFit});
-        vsTraced.push_back({name + " vs traced", errTraced});
-        say(name + ": fitted vs traced " + text::fixed(eFit.relativeL2, 4) + ", fourier vs fitted " +
-            text::fixed(eTrunc.relativeL2, 6) + " (" + four.describe() + ")");
-    }
-
-    // The error-against-N table, the wall times and the files; writes the report.
-    void finish(const std::vector<int>& ns) {
-        md +=
-            "## Error against the number of terms\n\nEvery ghost through Fourier with N terms along x (M in proportion "
-            "to the periods), no hybrid "
-            "split and no per-ghost trimming (ghosts whose copies would reach the frame on a period of twice its size "
-            "go "
-            "to a coarse level "
-            "with its own period and terms, the same in every row); relative L2 against the fitted (truncation alone) "
-            "and the traced image.\n\n| N |";
-        for (const auto& s : vsFitted) md += " " + s.first + " |";
-        for (const auto& s : vsTraced) md += " " + s.first + " |";
-        md += "\n|---|";
-        for (std::size_t i = 0; i < vsFitted.size() + vsTraced.size(); ++i) md += "---|";
-        md += "\n";
-        for (std::size_t i = 0; i < ns.size(); ++i) {
-            md += "| " + std::to_string(ns[i]) + " |";
-            for (const auto& s : vsFitted) md += " " + text::scientific(s.second[i], 3) + " |";
-            for (const auto& s : vsTraced) md += " " + text::scientific(s.second[i], 3) + " |";
-            md += "\n";
-        }
-        md += "\n![error against N](error-vs-n.svg)\n\n## Wall time\n\nFourier backend: " +
-              report["fourierBackend"].get<std::string>() + ".\n\n" + timing;
-        md += "\n## Files\n\n`traced`, `fitted-*`, `fourier-*` as EXR (linear) and PNG (same exposure); "
-              "`diff-A-vs-B.png`: "
-              "luminance of A minus B, "
-              "red where A is brighter, blue where darker, white where equal, full colour at the 99.9th percentile of "
-              "|A − "
-              "B| (values in report.json, "
-              "`differenceScales`); with --diffraction, `diffraction-physical` (and `diffraction-traced`) as EXR and "
-              "PNG.\n";
-        auto all = vsFitted;
-        all.insert(all.end(), vsTraced.begin(), vsTraced.end());
-        writeFileAtomic((dir / "error-vs-n.svg").string(), errorPlot(ns, all, base.error));
-        writeFileAtomic((dir / "report.json").string(), report.dump(2) + "\n");
-        writeFileAtomic((dir / "report.md").string(), md);
-        say("wrote " + (dir / "report.md").string());
-    }
-};
-
 void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     if (int(!o.lights.empty()) + int(!o.lightsFile.empty()) + int(!o.plate.empty()) != 1)
         throw Error(ErrorKind::Usage,
@@ -423,96 +111,38 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     std::vector<ghosts::Light> fromPlate;
     if (!o.plate.empty()) fromPlate = plateLights(o, size, plateLightCount);
     if (size.empty()) size = "1920x1080";
-    Comparison c(o, g);
-    std::tie(c.W, c.H) = parseFrameSize(size, "--size", 8, 8192);
-    const std::vector<int> ns = parseSweep(o.ns);
-    c.dir = reportFolder(o.output);
-    c.lens = loadTraceableLens(o.lens, o.table.zoom, c.reporter);
-    c.sensorMm = c.lens.sensorMm.value_or(std::make_pair(36.0, 24.0));
-    if (!o.sensorSize.empty()) c.sensorMm = parseSensorSize(o.sensorSize, "--sensor-size");
-    c.lights = o.lightsFile.empty() ? fromPlate : scene::readLightsJson(o.lightsFile);
-    for (const std::string& l : o.lights) c.lights.push_back(scene::parseLight(l));
-    c.meta = {{"Software", std::string("fourierflare ") + kVersion},
-              {"fourierflare:commandLine", g.commandLine},
-              {"fourierflare:lens", c.lens.file},
-              {"fourierflare:lensHash", c.lens.contentHash}};
-
-    // Traced reference.
-    auto t0 = Clock::now();
-    c.to.frame = {c.W, c.H, c.sensorMm.first / c.W};
-    c.to.grid = o.grid;
-    c.to.sampling = samplingFrom(o.table.sampling);
-    c.to.sensor = sensorFrom(o.table.sensor);
-    c.to.coating = coatingFrom(o.table.coating);
-    const scene::TracedScene tracedScene = scene::renderTracedScene(c.lens, c.lights, c.to);
-    const double tracedSeconds = seconds(t0);
-    c.say("traced " + std::to_string(c.lights.size()) + " light(s) in " + text::fixed(tracedSeconds, 2) + " s (" +
-          tracedScene.describeRefinement() + ")");
-    // The reference's own error: the traced render against one with the refinement doubled.
-    t0 = Clock::now();
-    trace::TracedFlareOptions refined = c.to;
-    refined.refinement = 2.0;
-    const std::vector<float> checkRgb = scene::renderTracedScene(c.lens, c.lights, refined).image.interleaved();
-    const double checkSeconds = seconds(t0);
-
-    t0 = Clock::now();
-    const ghosts::GhostTable tab = loadTable(c.lens, o.table, g, c.reporter);
-    const double tableSeconds = seconds(t0);
-    c.base = o.fourier.settings(g);
-
-    c.tracedRgb = tracedScene.image.interleaved();
-    c.exposure = image::autoExposure(c.tracedRgb);
-    c.save("traced", c.tracedRgb);
-    const image::ImageError eReference = image::compareImages(c.tracedRgb, checkRgb);
-    c.say("the traced reference against one refined twice as far: relative L2 " +
-          text::scientific(eReference.relativeL2, 3) + ", flux ratio " + text::fixed(eReference.fluxRatio, 5));
-
-    nlohmann::json& report = c.report;
-    report["tool"] = std::string("fourierflare ") + kVersion;
-    report["commandLine"] = g.commandLine;
-    report["lens"] = {{"file", c.lens.file}, {"name", c.lens.name}, {"hash", c.lens.contentHash}};
-    report["frame"] = {{"width", c.W}, {"height", c.H}, {"sensorMm", {c.sensorMm.first, c.sensorMm.second}}};
-    for (const auto& l : c.lights) report["lights"].push_back({{"x", l.xPx}, {"y", l.yPx}, {"flux", l.flux}});
-    report["budget"] = c.base.error;
-    report["previewExposureEv"] = c.exposure;
-    report["seconds"] = {{"traced", tracedSeconds}, {"tracedRefined", checkSeconds}, {"table", tableSeconds}};
-    report["reference"] = toJson(eReference);
-    report["reference"]["against"] = "the traced render with twice the refinement (--refine 2)";
-    report["fourierBackend"] = c.base.backend ? c.base.backend->describe() : std::string("cpu");
-    std::string& md = c.md;
-    md = "# Flare comparison: " + c.lens.name + "\n\n";
-    md += "Lens `" + c.lens.file + "`, frame " + std::to_string(c.W) + " x " + std::to_string(c.H) + " px over " +
-          text::fixed(c.sensorMm.first, 1) + " x " + text::fixed(c.sensorMm.second, 1) + " mm, " +
-          std::to_string(c.lights.size()) +
-          " light(s). Images are flux per pixel relative to each light's "
-          "direct image; previews share one exposure (" +
-          text::fixed(c.exposure, 2) + " EV, from the traced image).\n\n";
+    ConsoleReporter reporter(g);
+    scene::ComparisonSettings cs;
+    std::tie(cs.width, cs.height) = parseFrameSize(size, "--size", 8, 8192);
+    cs.ns = parseSweep(o.ns);
+    const std::filesystem::path dir = reportFolder(o.output);
+    const optics::Lens lens = loadTraceableLens(o.lens, o.table.zoom, reporter);
+    cs.sensorMm = lens.sensorMm.value_or(std::make_pair(36.0, 24.0));
+    if (!o.sensorSize.empty()) cs.sensorMm = parseSensorSize(o.sensorSize, "--sensor-size");
+    cs.lights = o.lightsFile.empty() ? fromPlate : scene::readLightsJson(o.lightsFile);
+    for (const std::string& l : o.lights) cs.lights.push_back(scene::parseLight(l));
     if (!o.plate.empty())
-        md += "Lights: the " + std::to_string(c.lights.size()) + " strongest of the " +
-              std::to_string(plateLightCount) + " found in `" + o.plate + "` (threshold " + o.threshold + ").\n\n";
-    md += "- **traced**: every ghost ray-traced (adaptive pupil grids from " + std::to_string(o.grid) +
-          "² cells, 450/550/650 nm; " + tracedScene.describeRefinement() + ") and rasterised — the reference.\n";
-    md += "- **shaped**: every ghost as the mesh its rays draw on the sensor (pupil grids with the apertures' edges "
-          "clipped exactly, "
-          "interpolated over field angle; docs/ghost-table.md), drawn with the traced renderer's raster.\n";
-    md += "- **fitted**: the ghost table's profiles (per ghost, field angle and wavelength), axis-aligned, drawn "
-          "directly over every pixel (no truncation).\n";
-    md += "- **fourier**: the same profiles aggregated through the separable Fourier series (budget " +
-          text::roundTrip(c.base.error) + ", hybrid).\n\n";
-    md += "| comparison | relative L2 | PSNR (dB) | max error / peak | flux ratio |\n|---|---|---|---|---|\n";
-    md += row("traced vs traced refined twice as far (the reference's own error)", eReference);
-
-    c.timing = "| mode | seconds |\n|---|---|\n| traced | " + text::fixed(tracedSeconds, 3) +
-               " |\n| traced, refined twice as far (the reference's check) | " + text::fixed(checkSeconds, 3) +
-               " |\n| ghost table (load or build) | " + text::fixed(tableSeconds, 3) + " |\n";
-    c.shaped();
-    // The Bessel basis takes Gaussian ghosts only.
-    std::vector<ghosts::Profile> profiles = {ghosts::Profile::Gaussian};
-    if (c.base.basis == fourier::Basis::Separable) profiles.push_back(ghosts::Profile::Cos2);
-    for (const auto profile : profiles) c.compareProfile(profile, tab, ns);
-    c.md += "\nPSNR uses the reference's peak. Flux ratio = total flux of the image / total flux of the reference.\n\n";
-    if (o.diffraction != "off") c.md += compareDiffraction(o, c.lens, c.lights, c.to, c.base, c.dir, c.meta, c.report);
-    c.finish(ns);
+        cs.lightsNote = "Lights: the " + std::to_string(cs.lights.size()) + " strongest of the " +
+                        std::to_string(plateLightCount) + " found in `" + o.plate + "` (threshold " + o.threshold +
+                        ").";
+    cs.grid = o.grid;
+    cs.table = o.table.settings();
+    cs.diffraction = o.diffraction;
+    cs.commandLine = g.commandLine;
+    cs.loadTable = [&](const optics::Lens& l, const ghosts::TableSettings&) {
+        return loadTable(l, o.table, g, reporter);
+    };
+    cs.loadShaped = [&](const optics::Lens& l, const ghosts::ShapedSettings& ss) {
+        return loadShapedTable(l, ss, g, reporter);
+    };
+    cs.say = [&](const std::string& line) {
+        if (!g.quiet) std::fprintf(stderr, "fourierflare: %s\n", line.c_str());
+    };
+    // The backend (EGL) last, after every option has been checked.
+    cs.fourier = o.fourier.settings(g);
+    cs.raster = polygonRaster(cs.fourier);
+    cs.convolver = diffractionDevice(cs.fourier);
+    scene::compareFlares(lens, cs, dir);
 }
 
 } // namespace

@@ -14,6 +14,7 @@ void bindLens(pybind11::module_& m);     ///< Lens
 void bindGhosts(pybind11::module_& m);   ///< ghost_report, GhostTable
 void bindRender(pybind11::module_& m);   ///< render
 void bindSimulate(pybind11::module_& m); ///< simulate
+void bindCompare(pybind11::module_& m);  ///< compare
 
 /// The ghost table's options, named as the CLI's (--table-grid, --sampling, --sensor, --coating,
 /// --max-angle, --table-angles, --tolerance), checked against the same ranges (ff::Error, Usage).

@@ -17,4 +17,5 @@ Errors raise fourierflare.Error (InputError, UsageError) carrying file, line and
     ff::python::bindGhosts(m);
     ff::python::bindRender(m);
     ff::python::bindSimulate(m);
+    ff::python::bindCompare(m);
 }

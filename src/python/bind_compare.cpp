@@ -1,0 +1,116 @@
+// fourierflare.compare: the flare models of one scene against the traced reference.
+
+#include "core/error.h"
+#include "ghosts/shaped_cache.h"
+#include "ghosts/table_cache.h"
+#include "optics/lens_loader.h"
+#include "scene/comparison.h"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <pybind11/stl.h>
+#include <random>
+
+#include "bindings.h"
+#include "python_support.h"
+
+namespace ff::python {
+
+using namespace pybind11::literals;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The report folder: `output` (created), or a fresh temporary one removed afterwards.
+struct ReportFolder {
+    explicit ReportFolder(const py::object& output) {
+        if (!output.is_none()) {
+            path = py::cast<std::string>(py::str(output));
+            if (fs::exists(path) && !fs::is_directory(path))
+                throw Error(ErrorKind::Usage, "the report folder '" + path.string() + "' exists and is not a folder");
+        } else {
+            std::random_device rd;
+            path = fs::temp_directory_path() / ("fourierflare-compare-" + std::to_string(rd()) + std::to_string(rd()));
+            temporary = true;
+        }
+        std::error_code ec;
+        fs::create_directories(path, ec);
+        if (ec)
+            throw Error(ErrorKind::Runtime, "cannot create the report folder '" + path.string() + "': " + ec.message());
+    }
+    ~ReportFolder() {
+        std::error_code ec;
+        if (temporary) fs::remove_all(path, ec);
+    }
+    ReportFolder(const ReportFolder&) = delete;
+    ReportFolder& operator=(const ReportFolder&) = delete;
+    fs::path path;
+    bool temporary = false;
+};
+
+py::object compare(const optics::Lens& lens, const py::object& lights, const py::object& size, const py::object& output,
+                   int grid, std::vector<int> ns, const std::string& diffraction, const py::object& sensorSize,
+                   int tableGrid, const std::string& sampling, const std::string& sensor, const std::string& coating,
+                   double maxAngle, int tableAngles, double tolerance, double fourierError,
+                   const py::object& progress) {
+    scene::ComparisonSettings s;
+    s.lights = lightsFrom(lights);
+    std::tie(s.width, s.height) = sizeFrom(size, "size");
+    s.sensorMm = lens.sensorMm.value_or(std::make_pair(36.0, 24.0));
+    if (!sensorSize.is_none()) s.sensorMm = py::cast<std::pair<double, double>>(sensorSize);
+    if (!(s.sensorMm.first > 0.0 && s.sensorMm.second > 0.0 && std::isfinite(s.sensorMm.first) &&
+          std::isfinite(s.sensorMm.second)))
+        throw Error(ErrorKind::Usage, "sensor_size must be (width, height) in mm, both > 0");
+    if (grid < 2 || grid > 1024) throw Error(ErrorKind::Usage, "grid must be 2..1024 rays per side");
+    s.grid = grid;
+    s.ns = std::move(ns);
+    s.diffraction = diffraction;
+    s.table = TableArgs{tableGrid, sampling, sensor, coating, maxAngle, tableAngles, tolerance}.settings();
+    if (!(fourierError >= 1e-7 && fourierError <= 0.5))
+        throw Error(ErrorKind::Usage, "fourier_error must be 1e-7..0.5");
+    s.fourier.error = fourierError;
+    s.commandLine = "fourierflare.compare (Python)";
+    Interruptible watch(progress);
+    DeferredReporter reporter;
+    s.loadTable = [&](const optics::Lens& l, const ghosts::TableSettings& t) {
+        return ghosts::tableFor(l, t, true, std::ref(watch), reporter);
+    };
+    s.loadShaped = [&](const optics::Lens& l, const ghosts::ShapedSettings& t) {
+        return ghosts::shapedTableFor(l, t, true, reporter);
+    };
+    const ReportFolder folder(output);
+    nlohmann::json report;
+    try {
+        py::gil_scoped_release nogil;
+        optics::requireTraceable(lens);
+        report = scene::compareFlares(lens, s, folder.path);
+    } catch (const Interrupted&) {
+        reporter.flush();
+        watch.raise();
+    }
+    reporter.flush();
+    return fromJson(report);
+}
+
+} // namespace
+
+void bindCompare(py::module_& m) {
+    m.def("compare", &compare, "lens"_a, "lights"_a, "size"_a = std::make_pair(1920, 1080), "output"_a = py::none(),
+          py::kw_only(), "grid"_a = 32, "fourier_n_sweep"_a = std::vector<int>{16, 32, 64, 128, 256},
+          "diffraction"_a = "off", "sensor_size"_a = py::none(), "table_grid"_a = 32, "sampling"_a = "reaim",
+          "sensor"_a = "file", "coating"_a = "file", "max_angle"_a = 0.0, "table_angles"_a = 64, "tolerance"_a = 0.005,
+          "fourier_error"_a = 1e-3, "progress"_a = py::none(),
+          R"(The flare models of one scene against the traced reference, as `fourierflare compare` does
+(docs/compare.md), returning its report.json as a dict: the reference's own error, shaped vs
+traced, per profile (gaussian, cos2) fitted vs traced, fourier vs fitted and vs traced (relative L2,
+PSNR, max error, flux ratio), the error against N (fourier_n_sweep), the Fourier plans and seconds.
+
+lights: (x, y), (x, y, r, g, b) or dicts, in pixels; size: (width, height), 8..8192 each.
+output: the report folder (images, difference pictures, report.md, error-vs-n.svg); None keeps the
+numbers only (a temporary folder, removed). diffraction: off, physical or traced. The table's
+options are GhostTable.build's. Runs on the CPU, without the GIL.)");
+}
+
+} // namespace ff::python
