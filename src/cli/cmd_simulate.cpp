@@ -9,6 +9,7 @@
 #include "cli/option_parsing.h"
 #include "core/error.h"
 #include "core/file_io.h"
+#include "core/stopwatch.h"
 #include "core/text.h"
 #include "ff/version.h"
 #include "gpu/gl_backend.h"
@@ -50,14 +51,6 @@ struct SimulateOptions {
     std::string frames;
     FourierOptions fourier;
 };
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point& t) {
-    const auto now = Clock::now();
-    const double s = std::chrono::duration<double>(now - t).count();
-    t = now;
-    return s;
-}
 
 // "name.%04d.exr" with frame 7 -> "name.0007.exr"; the pattern must hold exactly one %d or %0Nd.
 std::string frameName(const std::string& pattern, int frame, const char* what) {
@@ -105,7 +98,7 @@ class Simulation {
         limits.checker = checker_;
         const image::Plate plate = image::readPlate(job.plate, limits);
         for (const auto& n : plate.notes) note(job.plate + ": " + n);
-        const double tRead = since(t);
+        const double tRead = lap(t);
         const scene::SimulatedPlate r = sim_->run(plate);
         t = Clock::now();
         const bool given = !manualLights_.empty();
@@ -151,7 +144,7 @@ class Simulation {
             }
             writeFileAtomic(job.lightsOut, j.dump(2) + "\n");
         }
-        const double tWrite = since(t);
+        const double tWrite = lap(t);
         if (g_.quiet) return;
         if (g_.verbose && !r.fourierText.empty()) note("fourier: " + r.fourierText);
         std::string lightsText = given ? std::to_string(lights.size()) + " lights given"
@@ -163,8 +156,7 @@ class Simulation {
                      "fourierflare: %s: %s, %s; read %.2f s, detect %.2f s, table %.2f s, flare %.2f s, diffraction "
                      "%.2f s, write %.2f s, total %.2f s -> %s\n",
                      job.plate.c_str(), lightsText.c_str(), r.flareText.c_str(), tRead, r.detectSeconds, r.tableSeconds,
-                     r.flareSeconds, r.diffractionSeconds, tWrite,
-                     std::chrono::duration<double>(Clock::now() - start).count(), job.output.c_str());
+                     r.flareSeconds, r.diffractionSeconds, tWrite, secondsSince(start), job.output.c_str());
     }
 
   private:

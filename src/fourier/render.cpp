@@ -1,22 +1,10 @@
 #include "fourier/render.h"
 
+#include "core/stopwatch.h"
 #include "fourier/bessel.h"
 #include "fourier/direct.h"
 
-#include <chrono>
-
 namespace ff::fourier {
-
-namespace {
-
-double since(std::chrono::steady_clock::time_point& t) {
-    const auto now = std::chrono::steady_clock::now();
-    const double s = std::chrono::duration<double>(now - t).count();
-    t = now;
-    return s;
-}
-
-} // namespace
 
 std::string FourierRender::describe() const {
     return coarse ? plan.describe() + "; coarse level: " + coarse->describe() : plan.describe();
@@ -26,21 +14,21 @@ namespace {
 
 // Accumulates and evaluates one level into `image` (adding), then draws its direct ghosts.
 void renderLevel(const std::vector<Ghost>& ghosts, const Plan& plan, const FourierSettings& settings, FlareImage& image,
-                 StageSeconds& seconds, std::chrono::steady_clock::time_point& t) {
+                 StageSeconds& seconds, Clock::time_point& t) {
     if (settings.backend) {
         settings.backend->addLevel(ghosts, plan, settings, seconds);
-        t = std::chrono::steady_clock::now();
+        t = Clock::now();
         return;
     }
     const Coefficients z = accumulate(ghosts, plan, settings);
-    seconds.accumulate += since(t);
+    seconds.accumulate += lap(t);
     evaluate(z, plan.evaluation, image, Write::Add);
-    seconds.evaluate += since(t);
+    seconds.evaluate += lap(t);
     std::vector<std::size_t> direct;
     for (std::size_t k = 0; k < ghosts.size(); ++k)
         if (plan.route[k] == Route::Direct) direct.push_back(k);
     drawDirect(ghosts, direct, image);
-    seconds.direct += since(t);
+    seconds.direct += lap(t);
 }
 
 } // namespace
@@ -49,9 +37,9 @@ FourierRender renderFourier(const std::vector<Ghost>& ghosts, int width, int hei
     if (settings.basis == Basis::Bessel) return renderBessel(ghosts, width, height, settings);
     FourierRender r;
     r.image = FlareImage(width, height);
-    auto t = std::chrono::steady_clock::now();
+    auto t = Clock::now();
     r.plan = choosePlan(ghosts, width, height, settings);
-    r.seconds.plan = since(t);
+    r.seconds.plan = lap(t);
     if (settings.backend) settings.backend->begin(width, height);
     renderLevel(ghosts, r.plan, settings, r.image, r.seconds, t);
     if (r.plan.wide > 0) {
@@ -69,12 +57,12 @@ FourierRender renderFourier(const std::vector<Ghost>& ghosts, int width, int hei
             if (route == Route::Wide) route = Route::Direct;
         r.coarse->direct += r.coarse->wide;
         r.coarse->wide = 0;
-        r.seconds.plan += since(t);
+        r.seconds.plan += lap(t);
         renderLevel(wide, *r.coarse, coarse, r.image, r.seconds, t);
     }
     if (settings.backend) {
         settings.backend->finish(r.image);
-        r.seconds.evaluate += since(t); // the read-back
+        r.seconds.evaluate += lap(t); // the read-back
     }
     return r;
 }

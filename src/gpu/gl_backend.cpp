@@ -1,5 +1,6 @@
 #include "gpu/gl_backend.h"
 
+#include "core/stopwatch.h"
 #include "fourier/aggregate.h"
 #include "gpu/gl_transfer.h"
 
@@ -11,12 +12,9 @@ namespace ff::gpu {
 namespace {
 
 // Seconds since t (after the GPU has finished what was queued), and t moved to now.
-double since(std::chrono::steady_clock::time_point& t) {
+double since(Clock::time_point& t) {
     glFinish();
-    const auto now = std::chrono::steady_clock::now();
-    const double s = std::chrono::duration<double>(now - t).count();
-    t = now;
-    return s;
+    return lap(t);
 }
 
 } // namespace

@@ -1,8 +1,6 @@
 // fourierflare.compare: the flare models of one scene against the traced reference.
 
 #include "core/error.h"
-#include "ghosts/shaped_cache.h"
-#include "ghosts/table_cache.h"
 #include "optics/lens_loader.h"
 #include "scene/comparison.h"
 
@@ -74,12 +72,7 @@ py::object compare(const optics::Lens& lens, const py::object& lights, const py:
     s.commandLine = "fourierflare.compare (Python)";
     Interruptible watch(progress);
     DeferredReporter reporter;
-    s.loadTable = [&](const optics::Lens& l, const ghosts::TableSettings& t) {
-        return ghosts::tableFor(l, t, true, std::ref(watch), reporter);
-    };
-    s.loadShaped = [&](const optics::Lens& l, const ghosts::ShapedSettings& t) {
-        return ghosts::shapedTableFor(l, t, true, reporter);
-    };
+    loadTablesThrough(s, watch, reporter);
     const ReportFolder folder(output);
     nlohmann::json report;
     try {

@@ -1,8 +1,6 @@
 // fourierflare.simulate: a lens's flare on a plate held in a numpy array.
 
 #include "core/error.h"
-#include "ghosts/shaped_cache.h"
-#include "ghosts/table_cache.h"
 #include "image/light_detection.h"
 #include "image/plate.h"
 #include "optics/lens_loader.h"
@@ -87,12 +85,7 @@ py::dict simulate(const FloatArray& plateArray, const optics::Lens& lens, const 
     s.fourier.fixedN = fourierN;
     Interruptible watch(progress);
     DeferredReporter reporter;
-    s.loadTable = [&](const optics::Lens& l, const ghosts::TableSettings& t) {
-        return ghosts::tableFor(l, t, true, std::ref(watch), reporter);
-    };
-    s.loadShaped = [&](const optics::Lens& l, const ghosts::ShapedSettings& t) {
-        return ghosts::shapedTableFor(l, t, true, reporter);
-    };
+    loadTablesThrough(s, watch, reporter);
     const bool given = !s.lights.empty();
     scene::SimulatedPlate r;
     try {

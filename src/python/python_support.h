@@ -5,11 +5,14 @@
 
 #include "core/reporter.h"
 #include "ghosts/instancing.h"
+#include "ghosts/shaped_cache.h"
+#include "ghosts/table_cache.h"
 
 #include <nlohmann/json_fwd.hpp>
 
 #include <atomic>
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <pybind11/numpy.h>
@@ -59,6 +62,18 @@ class Interruptible {
     std::unique_ptr<py::error_already_set> error_;
     std::atomic<bool> stopped_{false};
 };
+
+/// Sets the table loaders of scene settings (SimulationSettings, ComparisonSettings): both tables
+/// from the cache or built and cached, a ghost table's build followed by `watch`, notes to `reporter`.
+template <class Settings>
+void loadTablesThrough(Settings& s, Interruptible& watch, DeferredReporter& reporter) {
+    s.loadTable = [&watch, &reporter](const optics::Lens& l, const ghosts::TableSettings& t) {
+        return ghosts::tableFor(l, t, true, std::ref(watch), reporter);
+    };
+    s.loadShaped = [&reporter](const optics::Lens& l, const ghosts::ShapedSettings& t) {
+        return ghosts::shapedTableFor(l, t, true, reporter);
+    };
+}
 
 /// A float32 array of the given shape that owns `data` (moved, not copied).
 py::array_t<float> ownedArray(std::vector<float>&& data, std::vector<py::ssize_t> shape);

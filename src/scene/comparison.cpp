@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/file_io.h"
+#include "core/stopwatch.h"
 #include "core/text.h"
 #include "ff/version.h"
 #include "fourier/backend.h"
@@ -15,18 +16,12 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 
 namespace ff::scene {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds(Clock::time_point t) {
-    return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 nlohmann::json toJson(const image::ImageError& e) {
     auto finite = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
@@ -113,7 +108,7 @@ std::string compareDiffraction(const ComparisonSettings& s, const optics::Lens& 
         double off = 0.0;
         std::string text;
         images.push_back(renderDiffraction(lens, lights, to.frame, z, mode, s.convolver, &off, &text));
-        const double sec = seconds(t0);
+        const double sec = secondsSince(t0);
         double flux = 0.0;
         for (float v : images.back()) flux += v;
         const std::string name = "diffraction-" + mode;
@@ -173,12 +168,12 @@ struct Comparison {
         ss.sensor = to.sensor;
         ss.coating = to.coating;
         const ghosts::ShapedTable shapedTable = s.loadShaped(lens, ss);
-        const double buildSeconds = seconds(t0);
+        const double buildSeconds = secondsSince(t0);
         t0 = Clock::now();
         ghosts::ShapedRender sr;
         const std::vector<float> shapedRgb =
             renderShapedScene(lens, shapedTable, lights, to.frame, to.sensor, &sr, nullptr, s.raster).interleaved();
-        const double drawSeconds = seconds(t0);
+        const double drawSeconds = secondsSince(t0);
         save("shaped", shapedRgb);
         const auto eShaped = image::compareImages(shapedRgb, tracedRgb);
         const double scale = image::differenceQuantile(shapedRgb, tracedRgb, 0.999);
@@ -204,7 +199,7 @@ struct Comparison {
         const auto ghosts = fourierGhosts(ghosts::instantiate(tab, lights, cam, profile));
         auto t0 = Clock::now();
         const fourier::FlareImage fitted = fourier::renderDirect(ghosts, W, H);
-        const double fittedSeconds = seconds(t0);
+        const double fittedSeconds = secondsSince(t0);
         const fourier::FourierRender four = fourier::renderFourier(ghosts, W, H, base);
         const std::vector<float> fittedRgb = fitted.interleaved(), fourierRgb = four.image.interleaved();
         save("fitted-" + name, fittedRgb);
@@ -374,7 +369,7 @@ nlohmann::json compareFlares(const optics::Lens& lens, const ComparisonSettings&
     c.to.sensor = s.table.sensor;
     c.to.coating = s.table.coating;
     const TracedScene tracedScene = renderTracedScene(c.lens, c.lights, c.to);
-    const double tracedSeconds = seconds(t0);
+    const double tracedSeconds = secondsSince(t0);
     c.say("traced " + std::to_string(c.lights.size()) + " light(s) in " + text::fixed(tracedSeconds, 2) + " s (" +
           tracedScene.describeRefinement() + ")");
     // The reference's own error: the traced render against one with the refinement doubled.
@@ -382,11 +377,11 @@ nlohmann::json compareFlares(const optics::Lens& lens, const ComparisonSettings&
     trace::TracedFlareOptions refined = c.to;
     refined.refinement = 2.0;
     const std::vector<float> checkRgb = renderTracedScene(c.lens, c.lights, refined).image.interleaved();
-    const double checkSeconds = seconds(t0);
+    const double checkSeconds = secondsSince(t0);
 
     t0 = Clock::now();
     const ghosts::GhostTable tab = s.loadTable(c.lens, s.table);
-    const double tableSeconds = seconds(t0);
+    const double tableSeconds = secondsSince(t0);
     c.base = s.fourier;
 
     c.tracedRgb = tracedScene.image.interleaved();

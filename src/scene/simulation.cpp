@@ -1,6 +1,7 @@
 #include "scene/simulation.h"
 
 #include "core/error.h"
+#include "core/stopwatch.h"
 #include "core/text.h"
 #include "core/units.h"
 #include "diffraction/wavefront.h"
@@ -12,7 +13,6 @@
 #include "optics/paraxial.h"
 #include "scene/scene.h"
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -20,15 +20,6 @@
 namespace ff::scene {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double since(Clock::time_point& t) {
-    const auto now = Clock::now();
-    const double s = std::chrono::duration<double>(now - t).count();
-    t = now;
-    return s;
-}
 
 constexpr int kZones = 3; ///< --diffraction traced: tiles per side of the frame
 
@@ -92,7 +83,7 @@ SimulatedPlate Simulation::run(const image::Plate& plate) {
             reporter_.note({plate.path}, std::to_string(out.found.emissiveZeroAlpha) +
                                              " bright pixels have alpha 0 (premultiplied emission): counted as light");
     }
-    out.detectSeconds = since(t);
+    out.detectSeconds = lap(t);
     if (s_.ghostModel == "shaped")
         drawShaped(plate, out);
     else
@@ -108,7 +99,7 @@ SimulatedPlate Simulation::run(const image::Plate& plate) {
         out.ghosts = out.flare;
     }
     if (out.composite.empty()) out.composite = image::composite(plate.rgb(), out.flare);
-    out.diffractionSeconds = since(t);
+    out.diffractionSeconds = lap(t);
     return out;
 }
 
@@ -124,7 +115,7 @@ void Simulation::drawShaped(const image::Plate& plate, SimulatedPlate& out) {
         ss.coating = s_.table.coating;
         shaped_ = std::make_unique<ghosts::ShapedTable>(s_.loadShaped(lens_, ss));
     }
-    out.tableSeconds = since(t);
+    out.tableSeconds = lap(t);
     // The axis is at the display window's centre; the frame is the data window.
     trace::ImageFrame frame{plate.width, plate.height, pitch};
     frame.centreXMm = (plate.originX - plate.displayX + 0.5 * plate.width - 0.5 * plate.displayWidth) * pitch;
@@ -152,7 +143,7 @@ void Simulation::drawShaped(const image::Plate& plate, SimulatedPlate& out) {
                      {"fourierflare:backend", s_.raster ? s_.fourier.backend->describe() : std::string("cpu")},
                      {"fourierflare:culled", std::to_string(stats.culled) + " ghost instances, at most " +
                                                  text::scientific(stats.culledShare, 3) + " of a light's ghost flux"}};
-    out.flareSeconds = since(t);
+    out.flareSeconds = lap(t);
 }
 
 void Simulation::drawFitted(const image::Plate& plate, SimulatedPlate& out) {
@@ -161,7 +152,7 @@ void Simulation::drawFitted(const image::Plate& plate, SimulatedPlate& out) {
         table_ = std::make_unique<ghosts::GhostTable>(s_.loadTable(lens_, s_.table));
         tableKey_ = table_->settingsKey;
     }
-    out.tableSeconds = since(t);
+    out.tableSeconds = lap(t);
     const ghosts::Camera cam{plate.displayWidth, plate.displayHeight, s_.sensorWidthMm};
     const auto profile = s_.ghostModel == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
     auto ghosts = fourierGhosts(ghosts::instantiate(*table_, out.lights, cam, profile));
@@ -187,7 +178,7 @@ void Simulation::drawFitted(const image::Plate& plate, SimulatedPlate& out) {
                      {"fourierflare:fourier", flare.describe()},
                      {"fourierflare:backend", s_.fourier.backend ? s_.fourier.backend->describe() : std::string("cpu")},
                      {"fourierflare:table", table_->settingsKey}};
-    out.flareSeconds = since(t);
+    out.flareSeconds = lap(t);
 }
 
 const diffraction::Psf& Simulation::idealPsf(double pitch) {
