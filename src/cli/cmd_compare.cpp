@@ -1,17 +1,13 @@
-// `fourierflare compare`: the traced flare of a scene against the fitted profiles drawn directly and
-// against their Fourier aggregation, with error metrics, difference pictures, error against the
-// number of terms and timings (docs/compare.md).
+// `fourierflare compare`: the options, the lights (given, or found in a plate) and the report folder
+// around scene::compareFlares, the traced flare of a scene against the shaped ghosts and the fitted
+// profiles drawn directly and aggregated through Fourier (docs/compare.md).
 
 #include "cli/commands.h"
 #include "cli/conventions.h"
 #include "cli/fourier_choices.h"
 #include "cli/option_parsing.h"
 #include "core/error.h"
-#include "core/file_io.h"
 #include "core/text.h"
-#include "ff/version.h"
-#include "fourier/render.h"
-#include "image/image_output.h"
 #include "image/light_detection.h"
 #include "image/metrics.h"
 #include "image/plate.h"
@@ -21,7 +17,6 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>

@@ -1,7 +1,7 @@
-// `fourierflare simulate`: a lens against an HDR plate, end to end. Lights are found in the plate (or
-// given), each gets the lens's ghosts from the ghost table, the flare is aggregated through the
-// Fourier path and added to the plate; the EXR keeps every input channel and adds flare.* and
-// composite.* (docs/simulate.md).
+// `fourierflare simulate`: a lens against an HDR plate, end to end. This file reads the plates
+// (frame ranges too), writes the EXR (every input channel plus ghosts.*, diffraction.*, flare.* and
+// composite.*), the previews and the lights, and reports; scene::Simulation makes the layers
+// (docs/simulate.md).
 
 #include "cli/commands.h"
 #include "cli/conventions.h"
