@@ -22,7 +22,7 @@ lens = ff.Lens.load(str(ROOT / "lenses/cooke-triplet-50mm-f5.lens"))
 fo = lens.first_order()
 print(f"{lens.name}: EFL {fo['efl_mm']:.2f} mm, f/{fo['f_number']:.2f}, {fo['two_bounce_ghosts']} ghosts")
 
-# One light, 14 degrees off the axis on a 36 mm wide sensor, in a 640 x 360 frame.
+# One light about 17 degrees off the axis (15 mm on a 36 mm wide sensor), in a 640 x 360 frame.
 size = (640, 360)
 light = [(580.0, 120.0)]
 
