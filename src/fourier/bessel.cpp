@@ -1,6 +1,7 @@
 #include "fourier/bessel.h"
 
 #include "core/error.h"
+#include "core/stopwatch.h"
 #include "core/text.h"
 #include "fourier/direct.h"
 #include "fourier/fftw_planner.h"
@@ -66,25 +67,33 @@ void catmullRom(double t, double w[4]) {
 
 } // namespace
 
-FourierRender renderBessel(const std::vector<Ghost>& ghosts, int W, int H, const FourierSettings& s) {
-    using Clock = std::chrono::steady_clock;
-    auto t = Clock::now();
-    auto lap = [&t] {
-        const auto now = Clock::now();
-        const double d = std::chrono::duration<double>(now - t).count();
-        t = now;
-        return d;
-    };
-    FourierRender r;
-    Plan& p = r.plan;
+namespace {
+
+// What the plan fixes besides the Plan: the ghosts made isotropic, the disc and its Bessel zeros.
+struct BesselSetup {
+    std::vector<Ghost> iso;     ///< geometric-mean width per channel
+    double ox = 0.0, oy = 0.0;  ///< the disc's centre, the frame's centre (px)
+    double rMax = 0.0;          ///< the frame's half-diagonal (px)
+    double R0 = 0.0;            ///< the disc's radius (px)
+    double h = 0.5;             ///< ring spacing (px)
+    std::vector<double> lambda; ///< the first J zeros of J0
+};
+
+// Routes every ghost (culled, direct, Fourier), then J, M and the polar grid, into `p`.
+BesselSetup planBessel(const std::vector<Ghost>& ghosts, int W, int H, const FourierSettings& s, Plan& p) {
+    BesselSetup b;
     p.basis = Basis::Bessel;
     const std::size_t K = ghosts.size();
     p.route.assign(K, Route::Fourier);
     p.termsX.assign(K, 0);
     p.termsY.assign(K, 0);
-    const double ox = 0.5 * W, oy = 0.5 * H, rMax = std::hypot(ox, oy);
+    b.ox = 0.5 * W;
+    b.oy = 0.5 * H;
+    b.rMax = std::hypot(b.ox, b.oy);
+    const double ox = b.ox, oy = b.oy, rMax = b.rMax;
     // Isotropic ghosts (geometric-mean sigma per channel), their distances and the routes.
-    std::vector<Ghost> iso(ghosts);
+    b.iso = ghosts;
+    std::vector<Ghost>& iso = b.iso;
     double dMax = 0.0, sigmaMin = std::numeric_limits<double>::infinity();
     const double kSigma = std::sqrt(2.0 * std::log(1.0 / s.error)); // K sigma for the budget (Hankel tail)
     for (std::size_t k = 0; k < K; ++k) {
@@ -114,6 +123,7 @@ FourierRender renderBessel(const std::vector<Ghost>& ghosts, int W, int H, const
         if (p.route[k] == Route::Fourier)
             widest = std::max({widest, iso[k].widthX[0], iso[k].widthX[1], iso[k].widthX[2]});
     const double R0 = std::max(dMax + rMax, widest * std::sqrt(2.0 * std::log(10.0 / s.error))) + 1.0;
+    b.R0 = R0;
     const int cap = s.fixedN > 0 ? s.fixedN : 256;
     for (std::size_t k = 0; k < K; ++k) {
         if (p.route[k] != Route::Fourier) continue;
@@ -124,8 +134,8 @@ FourierRender renderBessel(const std::vector<Ghost>& ghosts, int W, int H, const
             sigmaMin = std::min(sigmaMin, sg);
     }
     const int J = std::isfinite(sigmaMin) ? (s.fixedN > 0 ? s.fixedN : std::min(cap, termsFor(sigmaMin, R0))) : 0;
-    const std::vector<double> lambda = besselZeros(J);
-    const double kMax = J > 0 ? lambda.back() / R0 : 0.0;
+    b.lambda = besselZeros(J);
+    const double kMax = J > 0 ? b.lambda.back() / R0 : 0.0;
     const double x = kMax * std::min(dMax, rMax);
     const int M = J > 0 ? (s.fixedM > 0 ? s.fixedM : static_cast<int>(std::ceil(x + 4.0 * std::cbrt(x) + 12.0))) : 0;
     p.n = J;
@@ -136,8 +146,7 @@ FourierRender renderBessel(const std::vector<Ghost>& ghosts, int W, int H, const
         p.direct += p.route[k] == Route::Direct;
         p.culled += p.route[k] == Route::Culled;
     }
-    const double h = 0.5; // ring spacing, px
-    const int rings = static_cast<int>(std::ceil(rMax / h)) + 3;
+    const int rings = static_cast<int>(std::ceil(rMax / b.h)) + 3;
     // Even (ring -1 is ring 1 half a turn away), at most 0.75 px apart on the outer ring, above 2M.
     const int angles = 2 * fftFriendly(std::max(M + 1, static_cast<int>(std::ceil(std::numbers::pi * rMax / 0.75))));
     p.polarRings = rings;
@@ -145,127 +154,155 @@ FourierRender renderBessel(const std::vector<Ghost>& ghosts, int W, int H, const
     p.reason = "Fourier-Bessel on a disc of radius " + text::fixed(R0, 0) + " px, J " + std::to_string(J) + " x M " +
                std::to_string(M) + ", polar grid " + std::to_string(rings) + " x " + std::to_string(angles) +
                ", budget " + text::roundTrip(s.error);
-    r.seconds.plan = lap();
+    return b;
+}
 
-    r.image = FlareImage(W, H);
-    if (J > 0 && p.fourier > 0) {
-        // Accumulation: a_jm, b_jm per channel; rows j in parallel, ghosts in order within a row.
-        std::vector<std::size_t> routed;
-        for (std::size_t k = 0; k < K; ++k)
-            if (p.route[k] == Route::Fourier) routed.push_back(k);
-        std::array<std::vector<double>, 3> a, b;
-        for (int c = 0; c < 3; ++c) a[c].assign(static_cast<std::size_t>(J) * M, 0.0), b[c] = a[c];
-        std::vector<double> normJ1(static_cast<std::size_t>(J));
-        for (int j = 0; j < J; ++j) {
-            const double j1 = std::cyl_bessel_j(1.0, lambda[static_cast<std::size_t>(j)]);
-            normJ1[static_cast<std::size_t>(j)] = R0 * R0 * j1 * j1;
-        }
-        tbb::parallel_for(0, J, [&](int j) {
-            const double kj = lambda[static_cast<std::size_t>(j)] / R0;
-            std::vector<double> jm(static_cast<std::size_t>(M));
-            for (std::size_t k : routed) {
-                const Ghost& g = iso[k];
-                const double dx = g.x - ox, dy = g.y - oy, d = std::hypot(dx, dy), th = std::atan2(dy, dx);
-                besselSeries(kj * d, M, jm.data());
-                for (int c = 0; c < 3; ++c) {
-                    const double sg = g.widthX[c];
-                    const double alpha = g.flux[c] / (2.0 * std::numbers::pi * sg * sg);
-                    // c_j of exp(-rho^2 / 2 sigma^2): its Hankel transform sigma^2 exp(-k^2 sigma^2 / 2), times 2 /
-                    // (R0^2 J1^2).
-                    const double cj =
-                        2.0 * sg * sg * std::exp(-0.5 * kj * kj * sg * sg) / normJ1[static_cast<std::size_t>(j)];
-                    double* ar = &a[c][static_cast<std::size_t>(j) * M];
-                    double* br = &b[c][static_cast<std::size_t>(j) * M];
-                    for (int m = 0; m < M; ++m) {
-                        const double v = alpha * cj * (m == 0 ? 1.0 : 2.0) * jm[static_cast<std::size_t>(m)];
-                        ar[m] += v * std::cos(m * th);
-                        br[m] += v * std::sin(m * th);
-                    }
-                }
-            }
-        });
-        r.seconds.accumulate = lap();
+using Channels = std::array<std::vector<double>, 3>;
 
-        // Polar grid per channel: rings in parallel, each a radial contraction and one c2r FFT.
-        const int half = angles / 2 + 1;
-        fftwf_plan plan;
-        std::vector<fftwf_complex> probeIn(static_cast<std::size_t>(half));
-        std::vector<float> probeOut(static_cast<std::size_t>(angles));
-        {
-            std::lock_guard<std::mutex> lock(fftwPlannerMutex());
-            plan = fftwf_plan_dft_c2r_1d(angles, probeIn.data(), probeOut.data(), FFTW_ESTIMATE | FFTW_UNALIGNED);
-        }
-        std::array<std::vector<float>, 3> rings3;
-        for (auto& v : rings3) v.assign(static_cast<std::size_t>(rings) * angles, 0.0f);
-        tbb::parallel_for(0, rings, [&](int i) {
-            const double rr = i * h;
-            std::vector<double> jm(static_cast<std::size_t>(M));
-            std::vector<std::array<double, 2>> acc(static_cast<std::size_t>(3 * M), {0.0, 0.0});
-            for (int j = 0; j < J; ++j) {
-                besselSeries(lambda[static_cast<std::size_t>(j)] / R0 * rr, M, jm.data());
-                for (int c = 0; c < 3; ++c) {
-                    const double* ar = &a[c][static_cast<std::size_t>(j) * M];
-                    const double* br = &b[c][static_cast<std::size_t>(j) * M];
-                    for (int m = 0; m < M; ++m) {
-                        acc[static_cast<std::size_t>(c * M + m)][0] += ar[m] * jm[static_cast<std::size_t>(m)];
-                        acc[static_cast<std::size_t>(c * M + m)][1] += br[m] * jm[static_cast<std::size_t>(m)];
-                    }
-                }
-            }
-            std::vector<fftwf_complex> in(static_cast<std::size_t>(half));
+// The coefficients a_jm, b_jm (J x M per channel) of the routed ghosts: rows j in parallel, ghosts
+// in order within a row.
+void accumulateBessel(const BesselSetup& bs, const Plan& p, Channels& a, Channels& b) {
+    const int J = p.n, M = p.m;
+    const double R0 = bs.R0;
+    std::vector<std::size_t> routed;
+    for (std::size_t k = 0; k < p.route.size(); ++k)
+        if (p.route[k] == Route::Fourier) routed.push_back(k);
+    for (int c = 0; c < 3; ++c) a[c].assign(static_cast<std::size_t>(J) * M, 0.0), b[c] = a[c];
+    std::vector<double> normJ1(static_cast<std::size_t>(J));
+    for (int j = 0; j < J; ++j) {
+        const double j1 = std::cyl_bessel_j(1.0, bs.lambda[static_cast<std::size_t>(j)]);
+        normJ1[static_cast<std::size_t>(j)] = R0 * R0 * j1 * j1;
+    }
+    tbb::parallel_for(0, J, [&](int j) {
+        const double kj = bs.lambda[static_cast<std::size_t>(j)] / R0;
+        std::vector<double> jm(static_cast<std::size_t>(M));
+        for (std::size_t k : routed) {
+            const Ghost& g = bs.iso[k];
+            const double dx = g.x - bs.ox, dy = g.y - bs.oy, d = std::hypot(dx, dy), th = std::atan2(dy, dx);
+            besselSeries(kj * d, M, jm.data());
             for (int c = 0; c < 3; ++c) {
-                for (auto& e : in) e[0] = e[1] = 0.0f;
-                // c2r: out = X0 + 2 Re sum X_m e^{i m theta}; X_m = (a - i b) / 2 gives a cos + b sin.
-                for (int m = 0; m < M && m < half; ++m) {
-                    const auto& v = acc[static_cast<std::size_t>(c * M + m)];
-                    const double f = m == 0 ? 1.0 : 0.5;
-                    in[static_cast<std::size_t>(m)][0] = static_cast<float>(f * v[0]);
-                    in[static_cast<std::size_t>(m)][1] = static_cast<float>(-f * v[1]);
+                const double sg = g.widthX[c];
+                const double alpha = g.flux[c] / (2.0 * std::numbers::pi * sg * sg);
+                // c_j of exp(-rho^2 / 2 sigma^2): its Hankel transform sigma^2 exp(-k^2 sigma^2 / 2), times 2 /
+                // (R0^2 J1^2).
+                const double cj =
+                    2.0 * sg * sg * std::exp(-0.5 * kj * kj * sg * sg) / normJ1[static_cast<std::size_t>(j)];
+                double* ar = &a[c][static_cast<std::size_t>(j) * M];
+                double* br = &b[c][static_cast<std::size_t>(j) * M];
+                for (int m = 0; m < M; ++m) {
+                    const double v = alpha * cj * (m == 0 ? 1.0 : 2.0) * jm[static_cast<std::size_t>(m)];
+                    ar[m] += v * std::cos(m * th);
+                    br[m] += v * std::sin(m * th);
                 }
-                fftwf_execute_dft_c2r(plan, in.data(), &rings3[c][static_cast<std::size_t>(i) * angles]);
             }
-        });
-        {
-            std::lock_guard<std::mutex> lock(fftwPlannerMutex());
-            fftwf_destroy_plan(plan);
         }
-        // Pixels from the polar grid (bicubic, periodic in theta).
-        tbb::parallel_for(0, H, [&](int y) {
-            for (int xpx = 0; xpx < W; ++xpx) {
-                const double dx = xpx + 0.5 - ox, dy = y + 0.5 - oy;
-                const double pr = std::hypot(dx, dy) / h;
-                double th = std::atan2(dy, dx);
-                if (th < 0.0) th += 2.0 * std::numbers::pi;
-                const double pt = th / (2.0 * std::numbers::pi) * angles;
-                const int ir = static_cast<int>(std::floor(pr)), it = static_cast<int>(std::floor(pt));
-                double wr[4], wt[4];
-                catmullRom(pr - ir, wr);
-                catmullRom(pt - it, wt);
-                for (int c = 0; c < 3; ++c) {
-                    double v = 0.0;
-                    for (int u = 0; u < 4; ++u) {
-                        // Ring -1 is ring 1 at the opposite angle; beyond the grid's last ring, the last ring.
-                        int ring = ir - 1 + u;
-                        int shift = 0;
-                        if (ring < 0) ring = -ring, shift = angles / 2;
-                        ring = std::min(ring, rings - 1);
-                        const float* row = &rings3[c][static_cast<std::size_t>(ring) * angles];
-                        double rv = 0.0;
-                        for (int q = 0; q < 4; ++q)
-                            rv += wt[q] * row[((it - 1 + q + shift) % angles + angles) % angles];
-                        v += wr[u] * rv;
-                    }
-                    r.image.channel[c][static_cast<std::size_t>(y) * W + xpx] = static_cast<float>(v);
+    });
+}
+
+// The series on the polar grid, per channel (rings x angles): rings in parallel, each a radial
+// contraction and one c2r FFT.
+std::array<std::vector<float>, 3> polarGrid(const BesselSetup& bs, const Plan& p, const Channels& a,
+                                            const Channels& b) {
+    const int J = p.n, M = p.m, rings = p.polarRings, angles = p.polarAngles;
+    const int half = angles / 2 + 1;
+    fftwf_plan plan;
+    std::vector<fftwf_complex> probeIn(static_cast<std::size_t>(half));
+    std::vector<float> probeOut(static_cast<std::size_t>(angles));
+    {
+        std::lock_guard<std::mutex> lock(fftwPlannerMutex());
+        plan = fftwf_plan_dft_c2r_1d(angles, probeIn.data(), probeOut.data(), FFTW_ESTIMATE | FFTW_UNALIGNED);
+    }
+    std::array<std::vector<float>, 3> rings3;
+    for (auto& v : rings3) v.assign(static_cast<std::size_t>(rings) * angles, 0.0f);
+    tbb::parallel_for(0, rings, [&](int i) {
+        const double rr = i * bs.h;
+        std::vector<double> jm(static_cast<std::size_t>(M));
+        std::vector<std::array<double, 2>> acc(static_cast<std::size_t>(3 * M), {0.0, 0.0});
+        for (int j = 0; j < J; ++j) {
+            besselSeries(bs.lambda[static_cast<std::size_t>(j)] / bs.R0 * rr, M, jm.data());
+            for (int c = 0; c < 3; ++c) {
+                const double* ar = &a[c][static_cast<std::size_t>(j) * M];
+                const double* br = &b[c][static_cast<std::size_t>(j) * M];
+                for (int m = 0; m < M; ++m) {
+                    acc[static_cast<std::size_t>(c * M + m)][0] += ar[m] * jm[static_cast<std::size_t>(m)];
+                    acc[static_cast<std::size_t>(c * M + m)][1] += br[m] * jm[static_cast<std::size_t>(m)];
                 }
             }
-        });
-        r.seconds.evaluate = lap();
+        }
+        std::vector<fftwf_complex> in(static_cast<std::size_t>(half));
+        for (int c = 0; c < 3; ++c) {
+            for (auto& e : in) e[0] = e[1] = 0.0f;
+            // c2r: out = X0 + 2 Re sum X_m e^{i m theta}; X_m = (a - i b) / 2 gives a cos + b sin.
+            for (int m = 0; m < M && m < half; ++m) {
+                const auto& v = acc[static_cast<std::size_t>(c * M + m)];
+                const double f = m == 0 ? 1.0 : 0.5;
+                in[static_cast<std::size_t>(m)][0] = static_cast<float>(f * v[0]);
+                in[static_cast<std::size_t>(m)][1] = static_cast<float>(-f * v[1]);
+            }
+            fftwf_execute_dft_c2r(plan, in.data(), &rings3[c][static_cast<std::size_t>(i) * angles]);
+        }
+    });
+    {
+        std::lock_guard<std::mutex> lock(fftwPlannerMutex());
+        fftwf_destroy_plan(plan);
+    }
+    return rings3;
+}
+
+// The pixels from the polar grid: bicubic, periodic in theta.
+void resamplePolar(const BesselSetup& bs, const Plan& p, const std::array<std::vector<float>, 3>& rings3,
+                   FlareImage& image) {
+    const int W = image.width, H = image.height, rings = p.polarRings, angles = p.polarAngles;
+    tbb::parallel_for(0, H, [&](int y) {
+        for (int xpx = 0; xpx < W; ++xpx) {
+            const double dx = xpx + 0.5 - bs.ox, dy = y + 0.5 - bs.oy;
+            const double pr = std::hypot(dx, dy) / bs.h;
+            double th = std::atan2(dy, dx);
+            if (th < 0.0) th += 2.0 * std::numbers::pi;
+            const double pt = th / (2.0 * std::numbers::pi) * angles;
+            const int ir = static_cast<int>(std::floor(pr)), it = static_cast<int>(std::floor(pt));
+            double wr[4], wt[4];
+            catmullRom(pr - ir, wr);
+            catmullRom(pt - it, wt);
+            for (int c = 0; c < 3; ++c) {
+                double v = 0.0;
+                for (int u = 0; u < 4; ++u) {
+                    // Ring -1 is ring 1 at the opposite angle; beyond the grid's last ring, the last ring.
+                    int ring = ir - 1 + u;
+                    int shift = 0;
+                    if (ring < 0) ring = -ring, shift = angles / 2;
+                    ring = std::min(ring, rings - 1);
+                    const float* row = &rings3[c][static_cast<std::size_t>(ring) * angles];
+                    double rv = 0.0;
+                    for (int q = 0; q < 4; ++q) rv += wt[q] * row[((it - 1 + q + shift) % angles + angles) % angles];
+                    v += wr[u] * rv;
+                }
+                image.channel[c][static_cast<std::size_t>(y) * W + xpx] = static_cast<float>(v);
+            }
+        }
+    });
+}
+
+} // namespace
+
+FourierRender renderBessel(const std::vector<Ghost>& ghosts, int W, int H, const FourierSettings& s) {
+    auto t = Clock::now();
+    FourierRender r;
+    const BesselSetup setup = planBessel(ghosts, W, H, s, r.plan);
+    r.seconds.plan = lap(t);
+    r.image = FlareImage(W, H);
+    if (r.plan.n > 0 && r.plan.fourier > 0) {
+        Channels a, b;
+        accumulateBessel(setup, r.plan, a, b);
+        r.seconds.accumulate = lap(t);
+        resamplePolar(setup, r.plan, polarGrid(setup, r.plan, a, b), r.image);
+        r.seconds.evaluate = lap(t);
     }
     std::vector<std::size_t> direct;
-    for (std::size_t k = 0; k < K; ++k)
-        if (p.route[k] == Route::Direct) direct.push_back(k);
-    drawDirect(iso, direct, r.image);
-    r.seconds.direct = lap();
+    for (std::size_t k = 0; k < ghosts.size(); ++k)
+        if (r.plan.route[k] == Route::Direct) direct.push_back(k);
+    drawDirect(setup.iso, direct, r.image);
+    r.seconds.direct = lap(t);
     return r;
 }
 
