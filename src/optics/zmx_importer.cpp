@@ -90,22 +90,26 @@ std::string decodeZmxText(std::string_view b, const std::string& fileName) {
     return std::string(b);
 }
 
-Lens importZmx(std::string_view bytes, const std::string& fileName, Reporter* reporterIn) {
-    Reporter& reporter = orNull(reporterIn);
-    const std::string textUtf8 = decodeZmxText(bytes, fileName);
-    checkIsText(textUtf8, fileName);
+namespace {
 
-    Lens lens;
-    lens.file = fileName;
-    lens.format = "zmx";
-    double scale = 1.0;
-    std::optional<double> enpd;
+// A ZMX file's directives, as read.
+struct ZmxFile {
+    std::string name;
+    double scale = 1.0;         ///< lens units to mm
+    std::optional<double> enpd; ///< the entrance-pupil diameter, lens units
     std::vector<ZmxSurface> surfs;
-    std::map<std::string, int> ignored;
-    int lineNo = 0;
+    std::map<std::string, int> ignored; ///< directives that do not change the prescription, and how often
+    int lines = 0;
+};
 
+// The directives of a ZMX file's text: the surfaces' blocks, and the name, unit, entrance pupil and
+// the directives ignored. Throws ff::Error (Input) at the directive that cannot be read.
+ZmxFile readZmx(const std::string& textUtf8, const std::string& fileName) {
+    ZmxFile f;
+    int lineNo = 0;
     for (std::string_view line : text::split(textUtf8, '\n')) {
         ++lineNo;
+        f.lines = lineNo;
         const auto t = text::tokenize(line);
         if (t.empty()) continue;
         const std::string key = text::toUpper(t[0].text);
@@ -121,29 +125,28 @@ Lens importZmx(std::string_view bytes, const std::string& fileName, Reporter* re
             return *v;
         };
         auto needSurface = [&]() -> ZmxSurface& {
-            if (surfs.empty()) throwInputError(at, key + " outside a SURF block");
-            return surfs.back();
+            if (f.surfs.empty()) throwInputError(at, key + " outside a SURF block");
+            return f.surfs.back();
         };
 
         if (key == "UNIT") {
             if (t.size() < 2) throwInputError(at, "expected a lens unit after UNIT (MM, CM, IN or METER)");
-            scale = unitScale(t[1].text);
-            if (scale == 0.0)
+            f.scale = unitScale(t[1].text);
+            if (f.scale == 0.0)
                 throwInputError({fileName, lineNo, t[1].column},
                                 "unknown lens unit " + text::quoted(t[1].text) + "; valid units: MM, CM, IN, METER");
-        } else if (key == "NAME" && surfs.empty()) {
-            if (t.size() > 1)
-                lens.name = std::string(text::trim(line.substr(static_cast<std::size_t>(t[1].column - 1))));
+        } else if (key == "NAME" && f.surfs.empty()) {
+            if (t.size() > 1) f.name = std::string(text::trim(line.substr(static_cast<std::size_t>(t[1].column - 1))));
         } else if (key == "ENPD") {
-            enpd = arg(1, "the entrance-pupil diameter");
+            f.enpd = arg(1, "the entrance-pupil diameter");
         } else if (key == "SURF") {
             const double n = arg(1, "the surface number");
-            if (n != static_cast<double>(surfs.size()))
-                throwInputError({fileName, lineNo, t[1].column}, "expected SURF " + std::to_string(surfs.size()) +
+            if (n != static_cast<double>(f.surfs.size()))
+                throwInputError({fileName, lineNo, t[1].column}, "expected SURF " + std::to_string(f.surfs.size()) +
                                                                      " (surfaces in order), got SURF " +
                                                                      std::string(t[1].text));
-            surfs.push_back({});
-            surfs.back().where = at;
+            f.surfs.push_back({});
+            f.surfs.back().where = at;
         } else if (key == "TYPE") {
             ZmxSurface& s = needSurface();
             if (t.size() < 2) throwInputError(at, "expected a surface type after TYPE");
@@ -189,86 +192,110 @@ Lens importZmx(std::string_view bytes, const std::string& fileName, Reporter* re
         } else if (key == "COAT") {
             if (t.size() > 1) needSurface().coat = std::string(t[1].text);
         } else {
-            ++ignored[key];
+            ++f.ignored[key];
         }
     }
 
+    return f;
+}
+
+// One lens surface of the file in mm, its glass and coating resolved (notes for the inline glass and
+// the unknown coating).
+Surface toSurface(const ZmxSurface& z, double scale, Reporter& reporter) {
+    Surface s;
+    s.origin = z.where;
+    if (z.diszInfinite)
+        throwInputError(z.where, "DISZ INFINITY on a lens surface (only the object may be at infinity)");
+    s.radius = z.curv == 0.0 ? 0.0 : 1.0 / (z.curv / scale);
+    s.thickness = z.disz * scale;
+    s.conic = z.conic;
+    s.semiAperture = (z.clap > 0.0 ? z.clap : z.diam) * scale;
+    s.stop = z.stop;
+    if (z.type == "EVENASPH") {
+        if (auto a2 = z.parm.find(1); a2 != z.parm.end() && a2->second != 0.0)
+            throwInputError(z.where, "EVENASPH with an r^2 term (PARM 1) is not supported; only A4 and higher");
+        for (const auto& [idx, val] : z.parm) {
+            if (idx < 2 || idx > 11) continue;
+            s.asphere.resize(std::max<std::size_t>(s.asphere.size(), static_cast<std::size_t>(idx - 1)), 0.0);
+            // A coefficient of r^(2k) scales as length^(1-2k) when lengths are converted.
+            s.asphere[static_cast<std::size_t>(idx - 2)] = val * std::pow(scale, 1 - 2 * idx);
+        }
+        while (!s.asphere.empty() && s.asphere.back() == 0.0) s.asphere.pop_back();
+    }
+    if (z.glass.empty() || text::iequals(z.glass, "AIR")) {
+        s.medium = Medium::air();
+    } else if (GlassCatalog::builtin().find(z.glass)) {
+        s.medium = GlassCatalog::builtin().medium(z.glass, z.glassWhere);
+    } else if (z.inlineNd && *z.inlineNd >= 1.0 && *z.inlineNd <= 4.0) {
+        s.medium = Medium::fromNdVd(*z.inlineNd, z.inlineVd.value_or(0.0) > 0.0 ? *z.inlineVd : 0.0);
+        reporter.note(z.glassWhere,
+                      "glass " + text::quoted(z.glass) + " is not in the catalogue; using its inline nd " +
+                          text::roundTrip(s.medium.nd) + ", Vd " + text::roundTrip(s.medium.vd) + " (Cauchy)");
+    } else {
+        GlassCatalog::builtin().get(z.glass, z.glassWhere); // throws with the closest names
+    }
+    if (!z.coat.empty()) {
+        if (text::iequals(z.coat, "AR")) {
+            s.coating = CoatingSpec::mgf2();
+            s.coatingLayers = 1;
+        } else {
+            reporter.note(z.where, "coating " + text::quoted(z.coat) + " is not known; the surface is left bare");
+        }
+    }
+    return s;
+}
+
+// Aperture: the stop's DIAM, else the system entrance-pupil diameter (ENPD): the stop opening whose
+// paraxial image in object space has that diameter (EPD = 2 r / |yA| at the stop).
+void stopFromEnpd(Lens& lens, const ZmxFile& f, Reporter& reporter) {
+    for (std::size_t i = 0; i < lens.surfaces.size(); ++i) {
+        Surface& s = lens.surfaces[i];
+        if (!s.stop || s.semiAperture > 0.0 || !f.enpd || *f.enpd <= 0.0) continue;
+        const double yA = heightAt(lens, lines::d, {1.0, 0.0}, 0, i);
+        s.semiAperture = 0.5 * *f.enpd * f.scale * std::abs(yA);
+        reporter.note(s.origin, "stop semi-aperture " + text::fixed(s.semiAperture, 4) + " mm from ENPD " +
+                                    text::roundTrip(*f.enpd * f.scale) + " mm");
+    }
+}
+
+} // namespace
+
+Lens importZmx(std::string_view bytes, const std::string& fileName, Reporter* reporterIn) {
+    Reporter& reporter = orNull(reporterIn);
+    const std::string textUtf8 = decodeZmxText(bytes, fileName);
+    checkIsText(textUtf8, fileName);
+    const ZmxFile f = readZmx(textUtf8, fileName);
+    const std::vector<ZmxSurface>& surfs = f.surfs;
+    const double scale = f.scale;
+
+    Lens lens;
+    lens.file = fileName;
+    lens.format = "zmx";
+    lens.name = f.name;
     if (surfs.size() < 3)
-        throwInputError({fileName, lineNo, 0},
+        throwInputError({fileName, f.lines, 0},
                         "expected at least an object surface (SURF 0), one lens surface and an image surface, found " +
                             std::to_string(surfs.size()) + " SURF block(s)");
     if (!surfs.front().diszInfinite)
         reporter.note(surfs.front().where, "the object distance " + text::roundTrip(surfs.front().disz * scale) +
                                                " mm is ignored: FourierFlare images sources at infinity");
 
-    for (std::size_t i = 1; i + 1 < surfs.size(); ++i) {
-        const ZmxSurface& z = surfs[i];
-        Surface s;
-        s.origin = z.where;
-        if (z.diszInfinite)
-            throwInputError(z.where, "DISZ INFINITY on a lens surface (only the object may be at infinity)");
-        s.radius = z.curv == 0.0 ? 0.0 : 1.0 / (z.curv / scale);
-        s.thickness = z.disz * scale;
-        s.conic = z.conic;
-        s.semiAperture = (z.clap > 0.0 ? z.clap : z.diam) * scale;
-        s.stop = z.stop;
-        if (z.type == "EVENASPH") {
-            if (auto a2 = z.parm.find(1); a2 != z.parm.end() && a2->second != 0.0)
-                throwInputError(z.where, "EVENASPH with an r^2 term (PARM 1) is not supported; only A4 and higher");
-            for (const auto& [idx, val] : z.parm) {
-                if (idx < 2 || idx > 11) continue;
-                s.asphere.resize(std::max<std::size_t>(s.asphere.size(), static_cast<std::size_t>(idx - 1)), 0.0);
-                // A coefficient of r^(2k) scales as length^(1-2k) when lengths are converted.
-                s.asphere[static_cast<std::size_t>(idx - 2)] = val * std::pow(scale, 1 - 2 * idx);
-            }
-            while (!s.asphere.empty() && s.asphere.back() == 0.0) s.asphere.pop_back();
-        }
-        if (z.glass.empty() || text::iequals(z.glass, "AIR")) {
-            s.medium = Medium::air();
-        } else if (GlassCatalog::builtin().find(z.glass)) {
-            s.medium = GlassCatalog::builtin().medium(z.glass, z.glassWhere);
-        } else if (z.inlineNd && *z.inlineNd >= 1.0 && *z.inlineNd <= 4.0) {
-            s.medium = Medium::fromNdVd(*z.inlineNd, z.inlineVd.value_or(0.0) > 0.0 ? *z.inlineVd : 0.0);
-            reporter.note(z.glassWhere,
-                          "glass " + text::quoted(z.glass) + " is not in the catalogue; using its inline nd " +
-                              text::roundTrip(s.medium.nd) + ", Vd " + text::roundTrip(s.medium.vd) + " (Cauchy)");
-        } else {
-            GlassCatalog::builtin().get(z.glass, z.glassWhere); // throws with the closest names
-        }
-        if (!z.coat.empty()) {
-            if (text::iequals(z.coat, "AR")) {
-                s.coating = CoatingSpec::mgf2();
-                s.coatingLayers = 1;
-            } else {
-                reporter.note(z.where, "coating " + text::quoted(z.coat) + " is not known; the surface is left bare");
-            }
-        }
-        lens.surfaces.push_back(std::move(s));
-    }
+    for (std::size_t i = 1; i + 1 < surfs.size(); ++i) lens.surfaces.push_back(toSurface(surfs[i], scale, reporter));
     const ZmxSurface& image = surfs.back();
     if (image.curv != 0.0)
         reporter.note(image.where, "the image surface is curved; FourierFlare uses a flat sensor at its vertex");
 
-    if (!ignored.empty()) {
+    if (!f.ignored.empty()) {
         std::vector<std::string> names;
         int total = 0;
-        for (const auto& [k, n] : ignored) {
+        for (const auto& [k, n] : f.ignored) {
             names.push_back(k);
             total += n;
         }
         reporter.note({fileName}, "ignored " + std::to_string(total) +
                                       " directive(s) that do not affect the prescription: " + text::join(names));
     }
-    // Aperture: the stop's DIAM, else the system entrance-pupil diameter (ENPD): the stop opening
-    // whose paraxial image in object space has that diameter (EPD = 2 r / |yA| at the stop).
-    for (std::size_t i = 0; i < lens.surfaces.size(); ++i) {
-        Surface& s = lens.surfaces[i];
-        if (!s.stop || s.semiAperture > 0.0 || !enpd || *enpd <= 0.0) continue;
-        const double yA = heightAt(lens, lines::d, {1.0, 0.0}, 0, i);
-        s.semiAperture = 0.5 * *enpd * scale * std::abs(yA);
-        reporter.note(s.origin, "stop semi-aperture " + text::fixed(s.semiAperture, 4) + " mm from ENPD " +
-                                    text::roundTrip(*enpd * scale) + " mm");
-    }
+    stopFromEnpd(lens, f, reporter);
     validateLens(lens, {fileName, surfs.front().where.line, 0}, reporter);
     return lens;
 }
