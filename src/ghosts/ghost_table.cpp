@@ -1,6 +1,7 @@
 #include "ghosts/ghost_table.h"
 
 #include "core/error.h"
+#include "core/stopwatch.h"
 #include "core/text.h"
 #include "core/units.h"
 #include "ghosts/entry_tracer.h"
@@ -103,9 +104,181 @@ std::size_t GhostTable::entryCount() const {
     return n;
 }
 
+namespace {
+
+// Every ghost on the same 9 uniform angles, 0..maxAngle, its intervals not yet measured.
+std::vector<GhostNodes> traceStart(EntryTracer& tracer, double maxAngle, BuildReport& report, std::size_t& spent) {
+    const std::size_t nG = tracer.pairs().size();
+    std::vector<GhostNodes> nodes(nG);
+    std::vector<Task> tasks;
+    for (std::size_t g = 0; g < nG; ++g)
+        for (int i = 0; i <= 8; ++i) tasks.push_back({g, maxAngle * i / 8.0, {}});
+    Traced traced = timed(report.start, spent, [&] {
+        spent += tasks.size();
+        return tracer.trace(tasks);
+    });
+    for (std::size_t k = 0; k < tasks.size(); ++k) {
+        GhostNodes& n = nodes[tasks[k].ghost];
+        n.angles.push_back(tasks[k].angleDeg);
+        n.rows.push_back(std::move(traced.rows[k]));
+        n.found.push_back(std::move(traced.found[k]));
+    }
+    for (GhostNodes& n : nodes) n.intervals.assign(n.angles.size() - 1, Interval{});
+    return nodes;
+}
+
+// The intervals to measure this round: unmeasured ones wider than the finest step (at the finest step
+// too where their ghost was traced again on a finer grid: Interval::remeasure), of any ghost; when the
+// budget cannot take them all, the ones with the largest estimate x width go first (the rest keep
+// their estimate): a light falls in an interval in proportion to its width, and an interval astride
+// a kink (a part of a ghost vignetted away) cannot take the whole budget.
+std::vector<Todo> intervalsToMeasure(const std::vector<GhostNodes>& nodes, const RefinementLimits& limits,
+                                     std::size_t budget, std::size_t spent) {
+    const std::size_t nG = nodes.size();
+    std::vector<Todo> todo;
+    for (std::size_t g = 0; g < nG; ++g) {
+        const GhostNodes& n = nodes[g];
+        for (std::size_t i = 0; i < n.intervals.size(); ++i) {
+            const double width = n.angles[i + 1] - n.angles[i];
+            const Interval& v = n.intervals[i];
+            if (!v.measured && (width > limits.minStep || v.remeasure)) todo.push_back({g, i, v.error * width});
+        }
+    }
+    const std::size_t room = budget > spent ? budget - spent : 0;
+    if (todo.size() > room) {
+        std::stable_sort(todo.begin(), todo.end(),
+                         [](const Todo& a, const Todo& b) { return a.priority > b.priority; });
+        todo.resize(room);
+        std::sort(todo.begin(), todo.end(), [](const Todo& a, const Todo& b) {
+            return a.ghost != b.ghost ? a.ghost < b.ghost : a.interval < b.interval;
+        });
+    }
+    return todo;
+}
+
+// The mid-angle of each interval to measure; its search looks where its two neighbours' searches
+// found light.
+std::vector<Task> midAngleTasks(const std::vector<GhostNodes>& nodes, const std::vector<Todo>& todo) {
+    std::vector<Task> tasks;
+    for (const Todo& d : todo) {
+        const GhostNodes& n = nodes[d.ghost];
+        trace::PupilHints hints = n.found[d.interval].pieces;
+        const trace::PupilHints& other = n.found[d.interval + 1].pieces;
+        for (std::size_t w = 0; w < hints.size() && w < other.size(); ++w)
+            hints[w].insert(hints[w].end(), other[w].begin(), other[w].end());
+        tasks.push_back(
+            {d.ghost, 0.5 * (n.angles[d.interval] + n.angles[d.interval + 1]), std::move(hints), false, n.gridScale});
+    }
+    return tasks;
+}
+
+// The strongest ghost's flux at each mid-angle and wavelength: traced where this round traced it,
+// interpolated from the ghost's entries elsewhere.
+std::map<double, std::vector<double>> strongestAtMids(const std::vector<GhostNodes>& nodes,
+                                                      const std::vector<Task>& tasks, const Traced& mids,
+                                                      std::size_t nW) {
+    std::map<double, std::vector<double>> strongest;
+    for (const Task& task : tasks)
+        if (!strongest.count(task.angleDeg)) strongest.emplace(task.angleDeg, strongestFlux(nodes, task.angleDeg, nW));
+    for (std::size_t k = 0; k < tasks.size(); ++k)
+        for (std::size_t w = 0; w < nW; ++w) {
+            double& flux = strongest[tasks[k].angleDeg][w];
+            flux = std::max(flux, mids.rows[k][w].flux);
+        }
+    return strongest;
+}
+
+// Every mid-angle becomes an entry of its ghost. A passing interval leaves two halves that keep its
+// error; a failing one leaves two halves to be measured; one beside an entry traced again (with the
+// estimate in `estimates`) is measured again.
+void insertMids(std::vector<GhostNodes>& nodes, const std::vector<Todo>& todo, const std::vector<Task>& tasks,
+                Traced& mids, const std::vector<std::pair<double, bool>>& errors,
+                const std::map<Node, double>& estimates, double tolerance) {
+    for (std::size_t k = 0; k < todo.size();) {
+        const std::size_t g = todo[k].ghost;
+        GhostNodes& n = nodes[g];
+        GhostNodes next;
+        next.gridScale = n.gridScale;
+        for (std::size_t i = 0; i < n.angles.size(); ++i) {
+            next.angles.push_back(n.angles[i]);
+            next.rows.push_back(std::move(n.rows[i]));
+            next.found.push_back(std::move(n.found[i]));
+            if (i + 1 == n.angles.size()) break;
+            if (k < todo.size() && todo[k].ghost == g && todo[k].interval == i) {
+                const auto [e, relevant] = errors[k];
+                const Interval half{e <= tolerance, relevant, e};
+                next.intervals.push_back(half);
+                next.angles.push_back(tasks[k].angleDeg);
+                next.rows.push_back(std::move(mids.rows[k]));
+                next.found.push_back(std::move(mids.found[k]));
+                next.intervals.push_back(half);
+                ++k;
+            } else {
+                Interval kept = n.intervals[i];
+                for (const std::size_t e : {i, i + 1})
+                    if (const auto it = estimates.find({g, e}); it != estimates.end()) {
+                        kept.measured = false;
+                        kept.compared = false;
+                        kept.error = std::max(kept.error, it->second);
+                    }
+                next.intervals.push_back(kept);
+            }
+        }
+        n = std::move(next);
+    }
+}
+
+// The table's interpolation error: over the final intervals of the ghosts that counted there.
+void summariseErrors(const std::vector<GhostNodes>& nodes, const EntryTracer& tracer, double tolerance, GhostTable& t) {
+    BuildReport& report = t.build;
+    const std::size_t nG = nodes.size();
+    std::vector<double> errors;
+    double field = 0.0, fieldWithin = 0.0;
+    for (std::size_t g = 0; g < nG; ++g) {
+        const GhostNodes& n = nodes[g];
+        for (std::size_t i = 0; i < n.intervals.size(); ++i) {
+            if (!n.intervals[i].relevant) continue;
+            errors.push_back(n.intervals[i].error);
+            if (n.intervals[i].error > report.worst.error)
+                report.worst = {tracer.pairs()[g].label(), n.angles[i], n.angles[i + 1], n.intervals[i].error};
+            const double width = n.angles[i + 1] - n.angles[i];
+            field += width;
+            if (n.intervals[i].error <= tolerance) fieldWithin += width;
+        }
+    }
+    t.withinTolerance = field > 0.0 ? fieldWithin / field : 1.0;
+    std::sort(errors.begin(), errors.end());
+    t.interpolationError = errors.empty() ? 0.0 : errors.back();
+    t.interpolationErrorMedian = errors.empty() ? 0.0 : errors[errors.size() / 2];
+    t.interpolationErrorP95 =
+        errors.empty() ? 0.0
+                       : errors[std::min(errors.size() - 1, static_cast<std::size_t>(0.95 * double(errors.size())))];
+}
+
+// The entries: the direct image at every angle any ghost uses, and each ghost's rows.
+void fillEntries(const EntryTracer& tracer, const std::vector<GhostNodes>& nodes, std::size_t nW, GhostTable& t) {
+    const std::size_t nG = nodes.size();
+    t.directY.assign(nW, {});
+    for (const auto& [angle, d] : tracer.directs()) {
+        t.anglesDeg.push_back(angle);
+        for (std::size_t w = 0; w < nW; ++w) t.directY[w].push_back(d.y[w]);
+    }
+    for (std::size_t g = 0; g < nG; ++g) {
+        TableGhost tg;
+        tg.pair = tracer.pairs()[g];
+        tg.anglesDeg = nodes[g].angles;
+        tg.entries.assign(nW, std::vector<TableEntry>(tg.anglesDeg.size()));
+        for (std::size_t a = 0; a < tg.anglesDeg.size(); ++a)
+            for (std::size_t w = 0; w < nW; ++w) tg.entries[w][a] = nodes[g].rows[a][w];
+        t.ghosts.push_back(std::move(tg));
+    }
+}
+
+} // namespace
+
 GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, const Progress& progress) {
     requireSymmetric(lensIn);
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = Clock::now();
     const optics::Lens lens = trace::withCoating(lensIn, s.coating);
     EntryTracer tracer(lens, s, progress);
     GhostTable t;
@@ -131,47 +304,9 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
     BuildReport& report = t.build;
     report.budget = budget;
     std::size_t spent = 0;
-    std::vector<GhostNodes> nodes(nG);
-    {
-        std::vector<Task> tasks;
-        for (std::size_t g = 0; g < nG; ++g)
-            for (int i = 0; i <= 8; ++i) tasks.push_back({g, maxAngle * i / 8.0, {}});
-        Traced traced = timed(report.start, spent, [&] {
-            spent += tasks.size();
-            return tracer.trace(tasks);
-        });
-        for (std::size_t k = 0; k < tasks.size(); ++k) {
-            GhostNodes& n = nodes[tasks[k].ghost];
-            n.angles.push_back(tasks[k].angleDeg);
-            n.rows.push_back(std::move(traced.rows[k]));
-            n.found.push_back(std::move(traced.found[k]));
-        }
-        for (GhostNodes& n : nodes) n.intervals.assign(n.angles.size() - 1, Interval{});
-    }
+    std::vector<GhostNodes> nodes = traceStart(tracer, maxAngle, report, spent);
     for (;; ++report.rounds) {
-        // Unmeasured intervals wider than the finest step (at the finest step too where their ghost
-        // was traced again on a finer grid: Interval::remeasure), of any ghost; when the budget
-        // cannot take them all, the ones with the largest estimate x width go first (the rest keep
-        // their estimate): a light falls in an interval in proportion to its width, and an interval
-        // astride a kink (a part of a ghost vignetted away) cannot take the whole budget.
-        std::vector<Todo> todo;
-        for (std::size_t g = 0; g < nG; ++g) {
-            const GhostNodes& n = nodes[g];
-            for (std::size_t i = 0; i < n.intervals.size(); ++i) {
-                const double width = n.angles[i + 1] - n.angles[i];
-                const Interval& v = n.intervals[i];
-                if (!v.measured && (width > limits.minStep || v.remeasure)) todo.push_back({g, i, v.error * width});
-            }
-        }
-        const std::size_t room = budget > spent ? budget - spent : 0;
-        if (todo.size() > room) {
-            std::stable_sort(todo.begin(), todo.end(),
-                             [](const Todo& a, const Todo& b) { return a.priority > b.priority; });
-            todo.resize(room);
-            std::sort(todo.begin(), todo.end(), [](const Todo& a, const Todo& b) {
-                return a.ghost != b.ghost ? a.ghost < b.ghost : a.interval < b.interval;
-            });
-        }
+        const std::vector<Todo> todo = intervalsToMeasure(nodes, limits, budget, spent);
         if (todo.empty()) {
             // What still fails is at the finest step (table_refinement.h).
             if (spent < budget &&
@@ -181,36 +316,14 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
                 continue;
             break;
         }
-        // Each mid-angle's search looks where its two neighbours' searches found light.
-        std::vector<Task> tasks;
-        for (const Todo& d : todo) {
-            const GhostNodes& n = nodes[d.ghost];
-            trace::PupilHints hints = n.found[d.interval].pieces;
-            const trace::PupilHints& other = n.found[d.interval + 1].pieces;
-            for (std::size_t w = 0; w < hints.size() && w < other.size(); ++w)
-                hints[w].insert(hints[w].end(), other[w].begin(), other[w].end());
-            tasks.push_back({d.ghost, 0.5 * (n.angles[d.interval] + n.angles[d.interval + 1]), std::move(hints), false,
-                             n.gridScale});
-        }
+        std::vector<Task> tasks = midAngleTasks(nodes, todo);
         Traced mids = timed(report.midAngles, spent, [&] {
             spent += tasks.size();
             return tracer.trace(tasks);
         });
         const std::vector<Node> retraced = timed(
             report.neighbours, spent, [&] { return retraceNeighbours(tracer, nodes, todo, mids, budget, spent); });
-
-        // The strongest ghost's flux at each mid-angle and wavelength: traced where this round
-        // traced it, interpolated from the ghost's entries elsewhere.
-        std::map<double, std::vector<double>> strongest;
-        for (const Task& task : tasks)
-            if (!strongest.count(task.angleDeg))
-                strongest.emplace(task.angleDeg, strongestFlux(nodes, task.angleDeg, nW));
-        for (std::size_t k = 0; k < tasks.size(); ++k)
-            for (std::size_t w = 0; w < nW; ++w) {
-                double& flux = strongest[tasks[k].angleDeg][w];
-                flux = std::max(flux, mids.rows[k][w].flux);
-            }
-
+        std::map<double, std::vector<double>> strongest = strongestAtMids(nodes, tasks, mids, nW);
         // The measured intervals' errors; an entry traced again passes its largest to the intervals
         // beside it that are not measured this round, as their estimate until they are.
         std::vector<std::pair<double, bool>> errors(todo.size());
@@ -225,86 +338,14 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
                 if (const auto it = estimates.find({todo[k].ghost, e}); it != estimates.end())
                     it->second = std::max(it->second, errors[k].first);
         }
-
-        // Every mid-angle becomes an entry of its ghost. A passing interval leaves two halves that
-        // keep its error; a failing one leaves two halves to be measured; one beside an entry traced
-        // again is measured again.
-        for (std::size_t k = 0; k < todo.size();) {
-            const std::size_t g = todo[k].ghost;
-            GhostNodes& n = nodes[g];
-            GhostNodes next;
-            next.gridScale = n.gridScale;
-            for (std::size_t i = 0; i < n.angles.size(); ++i) {
-                next.angles.push_back(n.angles[i]);
-                next.rows.push_back(std::move(n.rows[i]));
-                next.found.push_back(std::move(n.found[i]));
-                if (i + 1 == n.angles.size()) break;
-                if (k < todo.size() && todo[k].ghost == g && todo[k].interval == i) {
-                    const auto [e, relevant] = errors[k];
-                    const Interval half{e <= s.interpolationTolerance, relevant, e};
-                    next.intervals.push_back(half);
-                    next.angles.push_back(tasks[k].angleDeg);
-                    next.rows.push_back(std::move(mids.rows[k]));
-                    next.found.push_back(std::move(mids.found[k]));
-                    next.intervals.push_back(half);
-                    ++k;
-                } else {
-                    Interval kept = n.intervals[i];
-                    for (const std::size_t e : {i, i + 1})
-                        if (const auto it = estimates.find({g, e}); it != estimates.end()) {
-                            kept.measured = false;
-                            kept.compared = false;
-                            kept.error = std::max(kept.error, it->second);
-                        }
-                    next.intervals.push_back(kept);
-                }
-            }
-            n = std::move(next);
-        }
+        insertMids(nodes, todo, tasks, mids, errors, estimates, s.interpolationTolerance);
     }
     tracer.finish();
     report.budgetSpent = spent >= budget;
     for (const GhostNodes& n : nodes) report.finerGhosts += n.gridScale > 1;
-
-    // The errors of the final intervals of ghosts that counted there.
-    std::vector<double> errors;
-    double field = 0.0, fieldWithin = 0.0;
-    for (std::size_t g = 0; g < nG; ++g) {
-        const GhostNodes& n = nodes[g];
-        for (std::size_t i = 0; i < n.intervals.size(); ++i) {
-            if (!n.intervals[i].relevant) continue;
-            errors.push_back(n.intervals[i].error);
-            if (n.intervals[i].error > report.worst.error)
-                report.worst = {tracer.pairs()[g].label(), n.angles[i], n.angles[i + 1], n.intervals[i].error};
-            const double width = n.angles[i + 1] - n.angles[i];
-            field += width;
-            if (n.intervals[i].error <= s.interpolationTolerance) fieldWithin += width;
-        }
-    }
-    t.withinTolerance = field > 0.0 ? fieldWithin / field : 1.0;
-    std::sort(errors.begin(), errors.end());
-    t.interpolationError = errors.empty() ? 0.0 : errors.back();
-    t.interpolationErrorMedian = errors.empty() ? 0.0 : errors[errors.size() / 2];
-    t.interpolationErrorP95 =
-        errors.empty() ? 0.0
-                       : errors[std::min(errors.size() - 1, static_cast<std::size_t>(0.95 * double(errors.size())))];
-
-    // The direct image at every angle any ghost uses.
-    t.directY.assign(nW, {});
-    for (const auto& [angle, d] : tracer.directs()) {
-        t.anglesDeg.push_back(angle);
-        for (std::size_t w = 0; w < nW; ++w) t.directY[w].push_back(d.y[w]);
-    }
-    for (std::size_t g = 0; g < nG; ++g) {
-        TableGhost tg;
-        tg.pair = tracer.pairs()[g];
-        tg.anglesDeg = nodes[g].angles;
-        tg.entries.assign(nW, std::vector<TableEntry>(tg.anglesDeg.size()));
-        for (std::size_t a = 0; a < tg.anglesDeg.size(); ++a)
-            for (std::size_t w = 0; w < nW; ++w) tg.entries[w][a] = nodes[g].rows[a][w];
-        t.ghosts.push_back(std::move(tg));
-    }
-    t.buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    summariseErrors(nodes, tracer, s.interpolationTolerance, t);
+    fillEntries(tracer, nodes, nW, t);
+    t.buildSeconds = secondsSince(start);
     return t;
 }
 
