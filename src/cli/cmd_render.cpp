@@ -13,6 +13,7 @@
 #include "ff/version.h"
 #include "fourier/render.h"
 #include "image/image_output.h"
+#include "scene/flare_render.h"
 #include "scene/scene.h"
 #include "trace/ghost_analysis.h"
 #include "trace/traced_flare.h"
@@ -87,116 +88,53 @@ void checkRenderSources(const RenderOptions& o) {
         throw Error(ErrorKind::Usage, "a lens file is required (unless --ghosts gives the ghosts)");
 }
 
-// One render: what the modes share, and what each adds to the header and the summary.
+// One render: the image from scene::renderFlare (or renderGhosts for --ghosts), and what each mode
+// adds to the header and the summary.
 struct RenderJob {
     const RenderOptions& o;
     const GlobalOptions& g;
-    int W = 0, H = 0;
-    fourier::FourierSettings fs;
-    ConsoleReporter& reporter;
     image::Metadata& meta;
     std::string summary;
 
-    // Ghosts drawn directly (--mode fitted) or aggregated (fourier); `kind` and `of` complete the
-    // summary ("drew N<kind> ghosts<of> directly", "aggregated N ghosts<of>: ...").
-    fourier::FlareImage draw(const std::vector<fourier::Ghost>& ghosts, const std::string& kind,
-                             const std::string& of) {
-        if (o.mode == "fitted") {
-            summary = "drew " + std::to_string(ghosts.size()) + kind + " ghosts" + of + " directly";
-            return fourier::renderDirect(ghosts, W, H);
+    // fitted / fourier: "drew N<kind> ghosts<of> directly", "aggregated N ghosts<of>: ...".
+    void drawn(const scene::RenderedFlare& r, const scene::FlareSettings& s, const std::string& kind,
+               const std::string& of) {
+        if (!r.plan) {
+            summary = "drew " + std::to_string(r.ghosts) + kind + " ghosts" + of + " directly";
+            return;
         }
-        fourier::FourierRender r = fourier::renderFourier(ghosts, W, H, fs);
-        meta.push_back({"fourierflare:fourier", r.describe()});
-        meta.push_back({"fourierflare:backend", fs.backend ? fs.backend->describe() : std::string("cpu")});
-        if (g.verbose) printPlan(r);
-        summary = "aggregated " + std::to_string(ghosts.size()) + " ghosts" + of + ": " + r.describe();
-        return std::move(r.image);
+        meta.push_back({"fourierflare:fourier", r.plan->describe()});
+        meta.push_back(
+            {"fourierflare:backend", s.fourier.backend ? s.fourier.backend->describe() : std::string("cpu")});
+        if (g.verbose) printPlan(*r.plan);
+        summary = "aggregated " + std::to_string(r.ghosts) + " ghosts" + of + ": " + r.plan->describe();
     }
 
-    // --ghosts: the ghost list drawn directly (fitted) or aggregated (fourier).
-    fourier::FlareImage ghostList() {
-        const auto ghosts = scene::readGhostsJson(o.ghostsFile);
-        meta.push_back({"fourierflare:ghosts", o.ghostsFile});
-        fourier::FlareImage image = draw(ghosts, "", "");
-        meta.push_back({"fourierflare:units", "flux per pixel, in the ghost list's units"});
-        return image;
-    }
-
-    // --mode traced: every ghost of every light (or of the --angle field) ray-traced.
-    fourier::FlareImage traced(const optics::Lens& lens, const std::vector<ghosts::Light>& lights,
-                               trace::TracedFlareOptions t) {
-        fourier::FlareImage image;
-        scene::TracedScene flare;
-        if (!o.angle.empty()) {
-            const auto [deg, az] = parseAngle(o.angle, "--angle");
-            t.field = {degToRad(deg), degToRad(az)};
-            flare = scene::renderTracedField(lens, t);
-            meta.push_back({"fourierflare:fieldAngleDeg", text::fixed(deg, 6)});
-            meta.push_back({"fourierflare:azimuthDeg", text::fixed(az, 6)});
-        } else {
-            flare = scene::renderTracedScene(lens, lights, t);
-        }
-        image = std::move(flare.image);
+    void traced(const scene::RenderedFlare& r, std::size_t lights) {
+        const scene::TracedScene& flare = r.traced;
         meta.push_back({"fourierflare:grid", std::to_string(o.grid) + " " + o.table.sampling});
         meta.push_back({"fourierflare:refine", text::fixed(o.refine, 3)});
         meta.push_back({"fourierflare:refinement", flare.describeRefinement()});
         summary = "traced " + std::to_string(flare.ghostCount) + " ghosts at " + std::to_string(flare.wavelengths) +
-                  " wavelengths for " + std::to_string(std::max<std::size_t>(lights.size(), 1)) +
+                  " wavelengths for " + std::to_string(std::max<std::size_t>(lights, 1)) +
                   " light(s); ghost flux relative to the direct image, summed "
                   "over wavelengths: " +
                   text::scientific(flare.inFrame, 4) + " in the frame, " + text::scientific(flare.outside, 4) +
                   " outside; " + flare.describeRefinement();
-        return image;
     }
 
-    // --mode diffraction: the lights through the lens's PSF.
-    fourier::FlareImage diffraction(const optics::Lens& lens, const std::vector<ghosts::Light>& lights,
-                                    const trace::TracedFlareOptions& t) {
-        fourier::FlareImage image;
-        double off = 0.0;
-        std::string text;
-        const std::vector<float> spread =
-            scene::renderDiffraction(lens, lights, t.frame, trace::sensorPlaneZ(lens, t.sensor), o.diffraction,
-                                     diffractionDevice(fs), &off, &text);
-        image = fourier::FlareImage(W, H);
-        for (std::size_t p = 0; p < image.pixels(); ++p)
-            for (int c = 0; c < 3; ++c) image.channel[c][p] = spread[p * 3 + c];
-        meta.push_back({"fourierflare:diffraction", text});
-        summary = "the lens's diffraction (" + text + ") of " + std::to_string(lights.size()) + " light(s); " +
-                  text::scientific(off, 3) + " of the flux outside the frame";
-        return image;
+    void diffraction(const scene::RenderedFlare& r, std::size_t lights) {
+        meta.push_back({"fourierflare:diffraction", r.diffractionText});
+        summary = "the lens's diffraction (" + r.diffractionText + ") of " + std::to_string(lights) + " light(s); " +
+                  text::scientific(r.offFrame, 3) + " of the flux outside the frame";
     }
 
-    // --mode shaped: the lens's shaped ghosts.
-    fourier::FlareImage shaped(const optics::Lens& lens, const std::vector<ghosts::Light>& lights,
-                               const trace::TracedFlareOptions& t, std::pair<double, double> sensorMm) {
-        fourier::FlareImage image;
-        ghosts::ShapedSettings ss;
-        ss.sensor = t.sensor;
-        ss.coating = t.coating;
-        ss.sensorSizeMm = sensorMm;
-        const ghosts::ShapedTable tab = loadShapedTable(lens, ss, g, reporter);
-        ghosts::ShapedRender r;
-        image = scene::renderShapedScene(lens, tab, lights, t.frame, t.sensor, &r, nullptr, polygonRaster(fs));
-        summary = "shaped ghosts (" + std::to_string(tab.ghosts.size()) + " of " + std::to_string(tab.ghostCount) +
-                  " ghosts, " + text::fixed(static_cast<double>(tab.bytes()) / 1048576.0, 1) +
-                  " MiB in memory); drew " + std::to_string(r.drawn) + " ghost instances (" +
-                  std::to_string(r.triangles) + " triangles), culled " + std::to_string(r.culled) + " holding " +
-                  text::scientific(r.culledShare, 2) + " of a light's ghost flux";
-        return image;
-    }
-
-    // --mode fitted or fourier: the ghost table's profiles, drawn directly or aggregated.
-    fourier::FlareImage fromTable(const optics::Lens& lens, const std::vector<ghosts::Light>& lights,
-                                  std::pair<double, double> sensorMm) {
-        fourier::FlareImage image;
-        const ghosts::GhostTable tab = loadTable(lens, o.table, g, reporter);
-        const ghosts::Camera cam{W, H, sensorMm.first};
-        const auto profile = o.ghostModel == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
-        const auto ghosts = scene::fourierGhosts(ghosts::instantiate(tab, lights, cam, profile));
-        meta.push_back({"fourierflare:ghostModel", o.ghostModel});
-        image = draw(ghosts, " fitted", " of " + std::to_string(lights.size()) + " light(s)");
-        return image;
+    void shaped(const scene::RenderedFlare& r) {
+        summary = "shaped ghosts (" + std::to_string(r.shapedStored) + " of " + std::to_string(r.shapedGhosts) +
+                  " ghosts, " + text::fixed(static_cast<double>(r.shapedBytes) / 1048576.0, 1) +
+                  " MiB in memory); drew " + std::to_string(r.shaped.drawn) + " ghost instances (" +
+                  std::to_string(r.shaped.triangles) + " triangles), culled " + std::to_string(r.shaped.culled) +
+                  " holding " + text::scientific(r.shaped.culledShare, 2) + " of a light's ghost flux";
     }
 };
 
@@ -217,14 +155,25 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
     image::Metadata meta = {{"Software", std::string("fourierflare ") + kVersion},
                             {"fourierflare:commandLine", g.commandLine},
                             {"fourierflare:mode", o.mode}};
-    RenderJob job{o, g, W, H, fs, reporter, meta, {}};
+    RenderJob job{o, g, meta, {}};
+    scene::FlareSettings s;
+    s.mode = o.mode;
+    s.ghostModel = o.ghostModel;
+    s.diffraction = o.diffraction;
+    s.fourier = fs;
+    s.traced.frame = {W, H, 0.0};
     fourier::FlareImage image;
     if (!o.ghostsFile.empty()) {
-        image = job.ghostList();
+        const auto ghosts = scene::readGhostsJson(o.ghostsFile);
+        meta.push_back({"fourierflare:ghosts", o.ghostsFile});
+        scene::RenderedFlare r = scene::renderGhosts(ghosts, s);
+        job.drawn(r, s, "", "");
+        meta.push_back({"fourierflare:units", "flux per pixel, in the ghost list's units"});
+        image = std::move(r.image);
     } else {
         const optics::Lens lens = loadTraceableLens(o.lens, o.table.zoom, reporter);
-        std::pair<double, double> sensorMm = lens.sensorMm.value_or(std::make_pair(36.0, 24.0));
-        if (!o.sensorSize.empty()) sensorMm = parseSensorSize(o.sensorSize, "--sensor-size");
+        s.sensorMm = lens.sensorMm.value_or(std::make_pair(36.0, 24.0));
+        if (!o.sensorSize.empty()) s.sensorMm = parseSensorSize(o.sensorSize, "--sensor-size");
         meta.push_back({"fourierflare:lens", lens.file});
         meta.push_back({"fourierflare:lensHash", lens.contentHash});
         meta.push_back(
@@ -232,22 +181,41 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
         std::vector<ghosts::Light> lights =
             o.lightsFile.empty() ? std::vector<ghosts::Light>{} : scene::readLightsJson(o.lightsFile);
         for (const std::string& l : o.lights) lights.push_back(scene::parseLight(l));
-        trace::TracedFlareOptions t;
-        t.frame = {W, H, sensorMm.first / W};
+        trace::TracedFlareOptions& t = s.traced;
+        t.frame = {W, H, s.sensorMm.first / W};
         t.spectralSamples = o.spectral;
         t.sampling = samplingFrom(o.table.sampling);
         t.grid = o.grid;
         t.refinement = o.refine;
         t.sensor = sensorFrom(o.table.sensor);
         t.coating = coatingFrom(o.table.coating);
+        s.table = o.table.settings();
+        if (!o.angle.empty()) {
+            const auto [deg, az] = parseAngle(o.angle, "--angle");
+            s.field = trace::Field{degToRad(deg), degToRad(az)};
+            meta.push_back({"fourierflare:fieldAngleDeg", text::fixed(deg, 6)});
+            meta.push_back({"fourierflare:azimuthDeg", text::fixed(az, 6)});
+        }
+        if (o.mode == "shaped") s.raster = polygonRaster(fs);
+        if (o.mode == "diffraction") s.convolver = diffractionDevice(fs);
+        s.loadTable = [&](const optics::Lens& l, const ghosts::TableSettings&) {
+            return loadTable(l, o.table, g, reporter);
+        };
+        s.loadShaped = [&](const optics::Lens& l, const ghosts::ShapedSettings& ss) {
+            return loadShapedTable(l, ss, g, reporter);
+        };
+        scene::RenderedFlare r = scene::renderFlare(lens, lights, s);
         if (o.mode == "traced")
-            image = job.traced(lens, lights, t);
+            job.traced(r, lights.size());
         else if (o.mode == "diffraction")
-            image = job.diffraction(lens, lights, t);
+            job.diffraction(r, lights.size());
         else if (o.mode == "shaped")
-            image = job.shaped(lens, lights, t, sensorMm);
-        else
-            image = job.fromTable(lens, lights, sensorMm);
+            job.shaped(r);
+        else {
+            meta.push_back({"fourierflare:ghostModel", o.ghostModel});
+            job.drawn(r, s, " fitted", " of " + std::to_string(lights.size()) + " light(s)");
+        }
+        image = std::move(r.image);
     }
     const std::string& summary = job.summary;
     const std::vector<float> rgb = image.interleaved();

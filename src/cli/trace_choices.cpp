@@ -56,15 +56,7 @@ void TableOptions::addTo(CLI::App& cmd, bool legacyGrid, bool withSensor) {
 }
 
 ghosts::TableSettings TableOptions::settings() const {
-    ghosts::TableSettings s;
-    s.grid = grid;
-    s.sampling = samplingFrom(sampling);
-    s.sensor = sensorFrom(sensor);
-    s.coating = coatingFrom(coating);
-    s.maxAngleDeg = maxAngle;
-    s.maxAngles = maxAngles;
-    s.interpolationTolerance = tolerance;
-    return s;
+    return ghosts::TableSettings::named(grid, sampling, sensor, coating, maxAngle, maxAngles, tolerance);
 }
 
 ghosts::GhostTable loadTable(const optics::Lens& lens, const TableOptions& table, const GlobalOptions& g,

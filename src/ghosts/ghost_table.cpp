@@ -27,6 +27,30 @@ std::string TableSettings::key() const {
     return k;
 }
 
+TableSettings TableSettings::named(int grid, const std::string& sampling, const std::string& sensor,
+                                   const std::string& coating, double maxAngleDeg, int maxAngles, double tolerance) {
+    auto require = [](bool ok, const std::string& what) {
+        if (!ok) throw Error(ErrorKind::Usage, what);
+    };
+    require(grid >= 4 && grid <= 512,
+            "the table's grid (table_grid, --table-grid) must be 4..512 rays per side, got " + std::to_string(grid));
+    require(maxAngleDeg >= 0.0 && maxAngleDeg <= 85.0,
+            "the table's largest field angle (max_angle, --max-angle) must be 0..85 degrees");
+    require(maxAngles >= 9 && maxAngles <= 513,
+            "the table's angles per ghost (table_angles, --table-angles) must be 9..513, got " +
+                std::to_string(maxAngles));
+    require(tolerance >= 1e-6 && tolerance <= 1.0, "the table's tolerance (tolerance, --tolerance) must be 1e-6..1");
+    TableSettings s;
+    s.grid = grid;
+    s.sampling = trace::samplingNamed(sampling);
+    s.sensor = trace::sensorPlaneNamed(sensor);
+    s.coating = trace::coatingNamed(coating);
+    s.maxAngleDeg = maxAngleDeg;
+    s.maxAngles = maxAngles;
+    s.interpolationTolerance = tolerance;
+    return s;
+}
+
 namespace {
 
 void requireSymmetric(const optics::Lens& lens) {

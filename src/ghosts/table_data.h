@@ -32,6 +32,13 @@ struct TableSettings {
 
     /// Every setting that changes the table, as text (part of the cache key).
     std::string key() const;
+
+    /// The settings from the choices' names (trace::samplingNamed, sensorPlaneNamed, coatingNamed),
+    /// each value checked against its documented range (ff::Error, Usage, naming the Python
+    /// argument and the CLI option): grid 4..512 rays per
+    /// side, maxAngleDeg 0..85 (0: the default), maxAngles 9..513, tolerance 1e-6..1.
+    static TableSettings named(int grid, const std::string& sampling, const std::string& sensor,
+                               const std::string& coating, double maxAngleDeg, int maxAngles, double tolerance);
 };
 
 struct TableEntry {

@@ -65,7 +65,7 @@ py::object compare(const optics::Lens& lens, const py::object& lights, const py:
     s.grid = grid;
     s.ns = std::move(ns);
     s.diffraction = diffraction;
-    s.table = TableArgs{tableGrid, sampling, sensor, coating, maxAngle, tableAngles, tolerance}.settings();
+    s.table = ghosts::TableSettings::named(tableGrid, sampling, sensor, coating, maxAngle, tableAngles, tolerance);
     if (!(fourierError >= 1e-7 && fourierError <= 0.5))
         throw Error(ErrorKind::Usage, "fourier_error must be 1e-7..0.5");
     s.fourier.error = fourierError;

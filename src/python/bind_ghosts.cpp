@@ -19,28 +19,8 @@ namespace ff::python {
 
 using namespace pybind11::literals;
 
-ghosts::TableSettings TableArgs::settings() const {
-    auto require = [](bool ok, const std::string& what) {
-        if (!ok) throw Error(ErrorKind::Usage, what);
-    };
-    require(grid >= 4 && grid <= 512, "table_grid must be 4..512 rays per side, got " + std::to_string(grid));
-    require(maxAngle >= 0.0 && maxAngle <= 85.0, "max_angle must be 0..85 degrees");
-    require(angles >= 9 && angles <= 513, "table_angles must be 9..513, got " + std::to_string(angles));
-    require(tolerance >= 1e-6 && tolerance <= 1.0, "tolerance must be 1e-6..1");
-    ghosts::TableSettings s;
-    s.grid = grid;
-    s.sampling = trace::samplingNamed(sampling);
-    s.sensor = trace::sensorPlaneNamed(sensor);
-    s.coating = trace::coatingNamed(coating);
-    s.maxAngleDeg = maxAngle;
-    s.maxAngles = angles;
-    s.interpolationTolerance = tolerance;
-    return s;
-}
-
-std::shared_ptr<ghosts::GhostTable> buildTable(const optics::Lens& lens, const TableArgs& args, bool useCache,
-                                               const py::object& progress) {
-    const ghosts::TableSettings settings = args.settings();
+std::shared_ptr<ghosts::GhostTable> buildTable(const optics::Lens& lens, const ghosts::TableSettings& settings,
+                                               bool useCache, const py::object& progress) {
     Interruptible watch(progress);
     DeferredReporter reporter;
     std::shared_ptr<ghosts::GhostTable> table;
@@ -163,7 +143,9 @@ centroid, spreads, flux and Gaussian and cos² fits at R, G, B wavelengths (docs
             [](const optics::Lens& lens, int tableGrid, const std::string& sampling, const std::string& sensor,
                const std::string& coating, double maxAngle, int tableAngles, double tolerance, bool useCache,
                const py::object& progress) {
-                return buildTable(lens, {tableGrid, sampling, sensor, coating, maxAngle, tableAngles, tolerance},
+                return buildTable(lens,
+                                  ghosts::TableSettings::named(tableGrid, sampling, sensor, coating, maxAngle,
+                                                               tableAngles, tolerance),
                                   useCache, progress);
             },
             "lens"_a, py::kw_only(), "table_grid"_a = 32, "sampling"_a = "reaim", "sensor"_a = "file",

@@ -2,10 +2,9 @@
 
 #include "core/error.h"
 #include "core/units.h"
-#include "fourier/render.h"
 #include "ghosts/shaped_cache.h"
 #include "optics/lens_loader.h"
-#include "scene/scene.h"
+#include "scene/flare_render.h"
 #include "trace/traced_flare.h"
 
 #include <cmath>
@@ -26,7 +25,7 @@ struct RenderArgs {
     std::optional<std::pair<double, double>> sensorSizeMm; ///< default: the lens file's, else 36 x 24
     int grid = 32, spectral = 0;
     double refine = 1.0;
-    TableArgs table;
+    ghosts::TableSettings table;
     bool useCache = true;
     double fourierError = 1e-3;
     int fourierN = 0;
@@ -67,64 +66,6 @@ known:
         usage("a GhostTable renders with mode='fitted' or 'fourier'; give the Lens for mode='" + a.mode + "'");
 }
 
-fourier::FlareImage fromTable(const ghosts::GhostTable& table, const std::vector<ghosts::Light>& lights, int W, int H,
-                              double sensorWidthMm, const RenderArgs& a) {
-    const ghosts::Camera cam{W, H, sensorWidthMm};
-    const auto profile = a.ghostModel == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
-    const auto ghosts = scene::fourierGhosts(ghosts::instantiate(table, lights, cam, profile));
-    if (a.mode == "fitted") return fourier::renderDirect(ghosts, W, H);
-    fourier::FourierSettings fs;
-    fs.error = a.fourierError;
-    fs.fixedN = a.fourierN;
-    fs.hybrid = a.hybrid;
-    return fourier::renderFourier(ghosts, W, H, fs).image;
-}
-
-fourier::FlareImage fromLens(const optics::Lens& lens, const std::vector<ghosts::Light>& lights, int W, int H,
-                             const RenderArgs& a, const py::object& progress) {
-    const std::pair<double, double> sensorMm =
-        a.sensorSizeMm.value_or(lens.sensorMm.value_or(std::make_pair(36.0, 24.0)));
-    if (a.mode == "fitted" || a.mode == "fourier") {
-        std::shared_ptr<ghosts::GhostTable> table;
-        {
-            py::gil_scoped_acquire gil;
-            table = buildTable(lens, a.table, a.useCache, progress);
-        }
-        return fromTable(*table, lights, W, H, sensorMm.first, a);
-    }
-    optics::requireTraceable(lens);
-    trace::TracedFlareOptions t;
-    t.frame = {W, H, sensorMm.first / W};
-    t.spectralSamples = a.spectral;
-    t.sampling = trace::samplingNamed(a.table.sampling);
-    t.grid = a.grid;
-    t.refinement = a.refine;
-    t.sensor = trace::sensorPlaneNamed(a.table.sensor);
-    t.coating = trace::coatingNamed(a.table.coating);
-    if (a.mode == "traced") {
-        if (a.angle) {
-            t.field = {degToRad(a.angle->first), degToRad(a.angle->second)};
-            return std::move(scene::renderTracedField(lens, t).image);
-        }
-        return std::move(scene::renderTracedScene(lens, lights, t).image);
-    }
-    if (a.mode == "diffraction") {
-        const std::vector<float> spread = scene::renderDiffraction(
-            lens, lights, t.frame, trace::sensorPlaneZ(lens, t.sensor), a.diffraction, nullptr, nullptr, nullptr);
-        fourier::FlareImage image(W, H);
-        for (std::size_t p = 0; p < image.pixels(); ++p)
-            for (int c = 0; c < 3; ++c) image.channel[c][p] = spread[p * 3 + c];
-        return image;
-    }
-    ghosts::ShapedSettings ss;
-    ss.sensor = t.sensor;
-    ss.coating = t.coating;
-    ss.sensorSizeMm = sensorMm;
-    NullReporter quiet;
-    const ghosts::ShapedTable tab = ghosts::shapedTableFor(lens, ss, a.useCache, quiet);
-    return scene::renderShapedScene(lens, tab, lights, t.frame, t.sensor);
-}
-
 py::array_t<float> render(const py::object& source, const py::object& lightsIn, const py::object& size,
                           const std::string& mode, const py::object& angle, const std::string& ghostModel,
                           const std::string& diffraction, const py::object& sensorSize, int grid, double refine,
@@ -140,8 +81,7 @@ py::array_t<float> render(const py::object& source, const py::object& lightsIn, 
     a.grid = grid;
     a.refine = refine;
     a.spectral = spectral;
-    a.table = {tableGrid, sampling, sensor, coating, maxAngle, tableAngles, tolerance};
-    a.table.settings(); // checks the table's options whatever the mode
+    a.table = ghosts::TableSettings::named(tableGrid, sampling, sensor, coating, maxAngle, tableAngles, tolerance);
     a.useCache = useCache;
     a.fourierError = fourierError;
     a.fourierN = fourierN;
@@ -154,15 +94,39 @@ py::array_t<float> render(const py::object& source, const py::object& lightsIn, 
         throw py::type_error("render's source is a fourierflare.Lens or a fourierflare.GhostTable");
     const auto* lens = table ? nullptr : &py::cast<const optics::Lens&>(source);
     check(a, table != nullptr, !lights.empty());
+
+    scene::FlareSettings s;
+    s.mode = a.mode;
+    s.ghostModel = a.ghostModel;
+    s.diffraction = a.diffraction;
+    s.sensorMm =
+        a.sensorSizeMm.value_or(table ? table->sensorSizeMm : lens->sensorMm.value_or(std::make_pair(36.0, 24.0)));
+    trace::TracedFlareOptions& t = s.traced;
+    t.frame = {W, H, s.sensorMm.first / W};
+    t.spectralSamples = a.spectral;
+    t.sampling = a.table.sampling;
+    t.grid = a.grid;
+    t.refinement = a.refine;
+    t.sensor = a.table.sensor;
+    t.coating = a.table.coating;
+    if (a.angle) s.field = trace::Field{degToRad(a.angle->first), degToRad(a.angle->second)};
+    s.table = a.table;
+    s.fourier.error = a.fourierError;
+    s.fourier.fixedN = a.fourierN;
+    s.fourier.hybrid = a.hybrid;
+    s.loadTable = [&](const optics::Lens& l, const ghosts::TableSettings& ts) {
+        py::gil_scoped_acquire gil;
+        return std::move(*buildTable(l, ts, a.useCache, progress)); // the only owner
+    };
+    s.loadShaped = [&](const optics::Lens& l, const ghosts::ShapedSettings& ss) {
+        return ghosts::shapedTableFor(l, ss, a.useCache, orNull(nullptr));
+    };
     fourier::FlareImage image;
     {
         py::gil_scoped_release nogil;
-        if (table) {
-            const double width = a.sensorSizeMm ? a.sensorSizeMm->first : table->sensorSizeMm.first;
-            image = fromTable(*table, lights, W, H, width, a);
-        } else {
-            image = fromLens(*lens, lights, W, H, a, progress);
-        }
+        if (!table) optics::requireTraceable(*lens);
+        image =
+            std::move((table ? scene::renderFromTable(*table, lights, s) : scene::renderFlare(*lens, lights, s)).image);
     }
     return ownedArray(image.interleaved(), {H, W, 3});
 }

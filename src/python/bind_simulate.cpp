@@ -77,7 +77,7 @@ py::dict simulate(const FloatArray& plateArray, const optics::Lens& lens, const 
     if (block < 2 || block > 4096) throw Error(ErrorKind::Usage, "block must be 2..4096 pixels");
     s.detection.blockSize = block;
     s.lights = lightsFrom(lights);
-    s.table = TableArgs{tableGrid, sampling, sensor, coating, maxAngle, tableAngles, tolerance}.settings();
+    s.table = ghosts::TableSettings::named(tableGrid, sampling, sensor, coating, maxAngle, tableAngles, tolerance);
     if (!(fourierError >= 1e-7 && fourierError <= 0.5))
         throw Error(ErrorKind::Usage, "fourier_error must be 1e-7..0.5");
     if (fourierN < 0 || fourierN > 2048) throw Error(ErrorKind::Usage, "fourier_n must be 0 or 1..2048");

@@ -1,0 +1,76 @@
+#include "scene/flare_render.h"
+
+#include "core/error.h"
+#include "fourier/render.h"
+#include "ghosts/shaped_cache.h"
+#include "ghosts/table_cache.h"
+
+namespace ff::scene {
+
+RenderedFlare renderGhosts(const std::vector<fourier::Ghost>& ghosts, const FlareSettings& s) {
+    const int W = s.traced.frame.width, H = s.traced.frame.height;
+    RenderedFlare r;
+    r.ghosts = ghosts.size();
+    if (s.mode == "fitted") {
+        r.image = fourier::renderDirect(ghosts, W, H);
+        return r;
+    }
+    r.plan = fourier::renderFourier(ghosts, W, H, s.fourier);
+    r.image = std::move(r.plan->image);
+    r.plan->image = {};
+    return r;
+}
+
+RenderedFlare renderFromTable(const ghosts::GhostTable& table, const std::vector<ghosts::Light>& lights,
+                              const FlareSettings& s) {
+    if (s.mode != "fitted" && s.mode != "fourier")
+        throw Error(ErrorKind::Usage, "a ghost table renders its fits (fitted or fourier), not " + s.mode);
+    const ghosts::Camera cam{s.traced.frame.width, s.traced.frame.height, s.sensorMm.first};
+    const auto profile = s.ghostModel == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
+    return renderGhosts(fourierGhosts(ghosts::instantiate(table, lights, cam, profile)), s);
+}
+
+RenderedFlare renderFlare(const optics::Lens& lens, const std::vector<ghosts::Light>& lights, const FlareSettings& s) {
+    const trace::TracedFlareOptions& t = s.traced;
+    if (s.mode == "fitted" || s.mode == "fourier") {
+        const ghosts::GhostTable table =
+            s.loadTable ? s.loadTable(lens, s.table) : ghosts::tableFor(lens, s.table, true, {}, orNull(nullptr));
+        return renderFromTable(table, lights, s);
+    }
+    RenderedFlare r;
+    if (s.mode == "traced") {
+        if (s.field) {
+            trace::TracedFlareOptions one = t;
+            one.field = *s.field;
+            r.traced = renderTracedField(lens, one);
+        } else {
+            r.traced = renderTracedScene(lens, lights, t);
+        }
+        r.image = std::move(r.traced.image);
+        r.traced.image = {};
+    } else if (s.mode == "diffraction") {
+        const std::vector<float> spread =
+            renderDiffraction(lens, lights, t.frame, trace::sensorPlaneZ(lens, t.sensor), s.diffraction, s.convolver,
+                              &r.offFrame, &r.diffractionText);
+        r.image = fourier::FlareImage(t.frame.width, t.frame.height);
+        for (std::size_t p = 0; p < r.image.pixels(); ++p)
+            for (int c = 0; c < 3; ++c) r.image.channel[c][p] = spread[p * 3 + c];
+    } else if (s.mode == "shaped") {
+        ghosts::ShapedSettings ss;
+        ss.sensor = t.sensor;
+        ss.coating = t.coating;
+        ss.sensorSizeMm = s.sensorMm;
+        const ghosts::ShapedTable tab =
+            s.loadShaped ? s.loadShaped(lens, ss) : ghosts::shapedTableFor(lens, ss, true, orNull(nullptr));
+        r.image = renderShapedScene(lens, tab, lights, t.frame, t.sensor, &r.shaped, nullptr, s.raster);
+        r.shapedStored = tab.ghosts.size();
+        r.shapedGhosts = tab.ghostCount;
+        r.shapedBytes = tab.bytes();
+    } else {
+        throw Error(ErrorKind::Usage,
+                    "the render mode is traced, shaped, fitted, fourier or diffraction, got '" + s.mode + "'");
+    }
+    return r;
+}
+
+} // namespace ff::scene
