@@ -85,18 +85,6 @@ std::vector<int> parseSweep(const std::string& list) {
     return ns;
 }
 
-// The report folder, created if missing.
-std::filesystem::path reportFolder(const std::string& output) {
-    namespace fs = std::filesystem;
-    const fs::path dir(output);
-    if (fs::exists(dir) && !fs::is_directory(dir))
-        throw Error(ErrorKind::Usage, "the report folder '" + output + "' exists and is not a folder");
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec) throw Error(ErrorKind::Runtime, "cannot create the report folder '" + output + "': " + ec.message());
-    return dir;
-}
-
 void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     if (int(!o.lights.empty()) + int(!o.lightsFile.empty()) + int(!o.plate.empty()) != 1)
         throw Error(ErrorKind::Usage,
@@ -110,7 +98,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     scene::ComparisonSettings cs;
     std::tie(cs.width, cs.height) = parseFrameSize(size, "--size", 8, 8192);
     cs.ns = parseSweep(o.ns);
-    const std::filesystem::path dir = reportFolder(o.output);
+    const std::filesystem::path dir = scene::reportFolder(o.output);
     const optics::Lens lens = loadTraceableLens(o.lens, o.table.zoom, reporter);
     cs.sensorMm = lens.sensorMm.value_or(std::make_pair(36.0, 24.0));
     if (!o.sensorSize.empty()) cs.sensorMm = parseSensorSize(o.sensorSize, "--sensor-size");

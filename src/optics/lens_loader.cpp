@@ -44,9 +44,14 @@ Lens loadLens(const std::filesystem::path& path, Reporter* reporter) {
     return parseLensBytes(bytes, format, path.string(), reporter);
 }
 
-Lens loadTraceableLens(const std::filesystem::path& path, const std::string& zoom, Reporter* reporter) {
+Lens loadLensAt(const std::filesystem::path& path, const std::string& zoom, Reporter* reporter) {
     Lens lens = loadLens(path, reporter);
     if (!zoom.empty()) lens = atZoom(lens, findZoomPosition(lens, zoom));
+    return lens;
+}
+
+Lens loadTraceableLens(const std::filesystem::path& path, const std::string& zoom, Reporter* reporter) {
+    Lens lens = loadLensAt(path, zoom, reporter);
     requireTraceable(lens);
     return lens;
 }

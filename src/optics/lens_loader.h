@@ -22,6 +22,9 @@ Lens parseLensBytes(std::string_view bytes, const std::string& format, const std
 /// anamorphic surfaces.
 void requireTraceable(const Lens& lens);
 
+/// The lens at the zoom position `zoom` (a label or 1-based index; "" = as loaded).
+Lens loadLensAt(const std::filesystem::path& path, const std::string& zoom, Reporter* reporter = nullptr);
+
 /// The lens at the zoom position `zoom` (a label or 1-based index; "" = as loaded), refusing an
 /// anamorphic lens, which the ghost tracer cannot trace (ff::Error, Input, naming the file).
 Lens loadTraceableLens(const std::filesystem::path& path, const std::string& zoom, Reporter* reporter = nullptr);

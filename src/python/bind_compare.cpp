@@ -25,18 +25,14 @@ namespace fs = std::filesystem;
 struct ReportFolder {
     explicit ReportFolder(const py::object& output) {
         if (!output.is_none()) {
-            path = py::cast<std::string>(py::str(output));
-            if (fs::exists(path) && !fs::is_directory(path))
-                throw Error(ErrorKind::Usage, "the report folder '" + path.string() + "' exists and is not a folder");
-        } else {
-            std::random_device rd;
-            path = fs::temp_directory_path() / ("fourierflare-compare-" + std::to_string(rd()) + std::to_string(rd()));
-            temporary = true;
+            path = scene::reportFolder(py::cast<std::string>(py::str(output)));
+            return;
         }
-        std::error_code ec;
-        fs::create_directories(path, ec);
-        if (ec)
-            throw Error(ErrorKind::Runtime, "cannot create the report folder '" + path.string() + "': " + ec.message());
+        std::random_device rd;
+        path = scene::reportFolder(
+            (fs::temp_directory_path() / ("fourierflare-compare-" + std::to_string(rd()) + std::to_string(rd())))
+                .string());
+        temporary = true;
     }
     ~ReportFolder() {
         std::error_code ec;

@@ -2,7 +2,6 @@
 
 #include "core/units.h"
 #include "optics/lens_loader.h"
-#include "optics/zoom.h"
 
 #include <nlohmann/json.hpp>
 
@@ -26,9 +25,7 @@ std::string zoomText(const py::object& zoom) {
 
 optics::Lens load(const std::string& path, const py::object& zoom) {
     DeferredReporter reporter;
-    optics::Lens lens = optics::loadLens(path, &reporter);
-    const std::string z = zoomText(zoom);
-    if (!z.empty()) lens = optics::atZoom(lens, optics::findZoomPosition(lens, z));
+    optics::Lens lens = optics::loadLensAt(path, zoomText(zoom), &reporter);
     reporter.flush();
     return lens;
 }

@@ -330,6 +330,17 @@ struct Comparison {
 
 } // namespace
 
+std::filesystem::path reportFolder(const std::string& output) {
+    namespace fs = std::filesystem;
+    const fs::path dir(output);
+    if (fs::exists(dir) && !fs::is_directory(dir))
+        throw Error(ErrorKind::Usage, "the report folder '" + output + "' exists and is not a folder");
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) throw Error(ErrorKind::Runtime, "cannot create the report folder '" + output + "': " + ec.message());
+    return dir;
+}
+
 nlohmann::json compareFlares(const optics::Lens& lens, const ComparisonSettings& settings,
                              const std::filesystem::path& dir) {
     ComparisonSettings s = settings;

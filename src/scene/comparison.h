@@ -42,6 +42,10 @@ struct ComparisonSettings {
     std::string lightsNote;                      ///< where the lights came from, for report.md ("" none)
 };
 
+/// The report folder, created if missing; ff::Error (Usage) where it exists as something else,
+/// (Runtime) where it cannot be made.
+std::filesystem::path reportFolder(const std::string& path);
+
 /// Runs the comparison and writes into `dir` (which must exist): traced, shaped, fitted-* and
 /// fourier-* as EXR and PNG, diff-*.png, error-vs-n.svg, report.md and report.json; returns the
 /// report's JSON (the numbers: relative L2, PSNR, flux ratios, the error against N, seconds).
