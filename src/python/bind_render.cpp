@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <pybind11/stl.h>
+#include <set>
 
 #include "bindings.h"
 #include "python_support.h"
@@ -43,10 +44,9 @@ std::optional<std::pair<double, double>> angleFrom(const py::object& angle) {
 
 void check(const RenderArgs& a, bool fromTable, bool haveLights) {
     auto usage = [](const std::string& s) { throw Error(ErrorKind::Usage, s); };
-    for (const char* m : {"traced", "shaped", "fitted", "fourier", "diffraction"})
-        if (a.mode == m) goto known;
-    usage("mode must be traced, shaped, fitted, fourier or diffraction, got '" + a.mode + "'");
-known:
+    const std::set<std::string> modes = {"traced", "shaped", "fitted", "fourier", "diffraction"};
+    if (!modes.count(a.mode))
+        usage("mode must be traced, shaped, fitted, fourier or diffraction, got '" + a.mode + "'");
     if (a.ghostModel != "gaussian" && a.ghostModel != "cos2") usage("ghost_model must be gaussian or cos2");
     if (a.diffraction != "physical" && a.diffraction != "traced") usage("diffraction must be physical or traced");
     if (a.grid < 2 || a.grid > 1024) usage("grid must be 2..1024 rays per side");
