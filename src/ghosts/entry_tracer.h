@@ -7,6 +7,7 @@
 #include "trace/bundle_moments.h"
 #include "trace/embree_tracer.h"
 #include "trace/pupil_sampling.h"
+#include "trace/pupil_search.h"
 
 #include <atomic>
 #include <map>

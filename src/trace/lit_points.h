@@ -1,5 +1,5 @@
 #pragma once
-// The region search's lit points (internal to pupil_sampling.cpp): passes of analytic rays over a
+// The region search's lit points (internal to ff_trace: trace/region_search.h): passes of analytic rays over a
 // square of the pupil plane, which of their points are lit, the boxes over lit points, and the pieces
 // (groups of neighbouring lit points) they fall in.
 

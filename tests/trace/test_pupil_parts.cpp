@@ -5,6 +5,7 @@
 
 #include "core/units.h"
 #include "trace/ghost_path.h"
+#include "trace/pupil_search.h"
 
 #include <gtest/gtest.h>
 
