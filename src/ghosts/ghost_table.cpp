@@ -67,17 +67,6 @@ void requireSymmetric(const optics::Lens& lens) {
 // pieces of light an entry's search lost are carried to it from its neighbour, and kinks get a knot.
 constexpr double kFinestDivision = 131072.0;
 
-double defaultMaxAngle(const optics::Lens& lens, const TableSettings& s, double sensorZ) {
-    const auto size = lens.sensorMm.value_or(s.sensorSizeMm);
-    const double halfDiagonal = 0.5 * std::hypot(size.first, size.second) * 1.05;
-    try {
-        return radToDeg(trace::fieldForSensorPoint(lens, sensorZ, 0.0, halfDiagonal).angleRad);
-    } catch (const Error&) {
-        // The chief ray cannot reach the corner: fall back to the paraxial field.
-        return std::min(80.0, radToDeg(std::atan(halfDiagonal / std::abs(optics::paraxialEfl(lens, lines::d)))));
-    }
-}
-
 // Runs one step of the refinement, adding the traces it spent and its time to the report's step.
 template <typename F>
 auto timed(BuildReport::Step& step, std::size_t& spent, F&& f) {
@@ -316,7 +305,9 @@ GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, c
     t.apertureBlades = lens.apertureBlades;
     t.bladeRotationDeg = lens.bladeRotationDeg;
     t.wavelengthsNm = s.wavelengthsNm;
-    const double maxAngle = s.maxAngleDeg > 0.0 ? s.maxAngleDeg : defaultMaxAngle(lens, s, t.sensorZ);
+    const double maxAngle = s.maxAngleDeg > 0.0
+                                ? s.maxAngleDeg
+                                : trace::sensorCornerFieldDeg(lens, t.sensorZ, lens.sensorMm.value_or(s.sensorSizeMm));
     const std::size_t nW = s.wavelengthsNm.size(), nG = tracer.pairs().size();
     // The budget counts traced entries (traced again too): maxAngles per ghost on average.
     const std::size_t budget = static_cast<std::size_t>(std::max(s.maxAngles, 9)) * nG;

@@ -26,15 +26,6 @@ constexpr int kCoarse = 48;     // points per side of the pass that finds where 
 constexpr int kMinGrid = 16;    // the coarsest grid a ghost's mesh gets
 constexpr int kDirectGrid = 96; // cells per side of the direct path's mesh (its flux normalises)
 
-double defaultMaxAngle(const optics::Lens& lens, std::pair<double, double> size, double sensorZ) {
-    const double halfDiagonal = 0.5 * std::hypot(size.first, size.second) * 1.05;
-    try {
-        return radToDeg(trace::fieldForSensorPoint(lens, sensorZ, 0.0, halfDiagonal).angleRad);
-    } catch (const Error&) {
-        return std::min(80.0, radToDeg(std::atan(halfDiagonal / std::abs(optics::paraxialEfl(lens, lines::d)))));
-    }
-}
-
 // A rectangle of the entrance-pupil plane, mm.
 struct Rect {
     double x0 = 0.0, y0 = 0.0, x1 = 0.0, y1 = 0.0;
@@ -197,8 +188,8 @@ ShapedTable buildShapedTable(const optics::Lens& lensIn, const ShapedSettings& s
     table.maxAngleDeg =
         s.maxAngleDeg > 0.0
             ? s.maxAngleDeg
-            : defaultMaxAngle(lens, s.sensorSizeMm.value_or(lens.sensorMm.value_or(std::make_pair(36.0, 24.0))),
-                              sensorZ);
+            : trace::sensorCornerFieldDeg(lens, sensorZ,
+                                          s.sensorSizeMm.value_or(lens.sensorMm.value_or(std::make_pair(36.0, 24.0))));
     table.iris = trace::LensAtWavelength(lens, lines::d, sensorZ).iris;
     const trace::PupilFrame pupil = trace::pupilFrame(lens);
     const auto pairs = trace::enumerateGhosts(lens);

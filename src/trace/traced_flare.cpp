@@ -280,4 +280,13 @@ Field fieldForSensorPoint(const optics::Lens& lens, double sensorZ, double xMm, 
     return f;
 }
 
+double sensorCornerFieldDeg(const optics::Lens& lens, double sensorZ, std::pair<double, double> sensorMm) {
+    const double reach = 0.5 * std::hypot(sensorMm.first, sensorMm.second) * 1.05;
+    try {
+        return radToDeg(fieldForSensorPoint(lens, sensorZ, 0.0, reach).angleRad);
+    } catch (const Error&) {
+        return std::min(80.0, radToDeg(std::atan(reach / std::abs(optics::paraxialEfl(lens, lines::d)))));
+    }
+}
+
 } // namespace ff::trace

@@ -14,6 +14,7 @@
 #include "trace/ghost_analysis.h"
 
 #include <array>
+#include <utility>
 #include <vector>
 
 namespace ff::trace {
@@ -65,5 +66,10 @@ TracedFlare renderTracedFlare(const optics::Lens& lens, const TracedFlareOptions
 /// traced exactly at the d line with the apertures open) lands at sensor point (x, y) mm. Throws
 /// ff::Error (Input) when no field angle below 89 deg reaches that far.
 Field fieldForSensorPoint(const optics::Lens& lens, double sensorZ, double xMm, double yMm);
+
+/// The field angle (deg) that a flare over a sensor of sensorMm (width, height) must reach: the field
+/// whose direct image lands 5 % beyond the half-diagonal (fieldForSensorPoint); where no field
+/// reaches that far, the paraxial one, atan(1.05 x half-diagonal / EFL), at most 80 deg.
+double sensorCornerFieldDeg(const optics::Lens& lens, double sensorZ, std::pair<double, double> sensorMm);
 
 } // namespace ff::trace
