@@ -7,6 +7,7 @@
 #include "cli/trace_choices.h"
 #include "core/error.h"
 #include "core/file_io.h"
+#include "core/stopwatch.h"
 #include "core/text.h"
 #include "core/units.h"
 #include "diffraction/convolution.h"
@@ -20,7 +21,6 @@
 
 #include <CLI/CLI.hpp>
 
-#include <chrono>
 #include <cstdio>
 #include <memory>
 
@@ -138,10 +138,8 @@ struct RenderJob {
     }
 };
 
-void runRender(const RenderOptions& o, const GlobalOptions& g) {
-    const auto start = std::chrono::steady_clock::now();
-    checkRenderSources(o);
-    const auto [W, H] = parseFrameSize(o.size, "--size", 1, 16384);
+// The --probe pixels, each inside the W x H frame.
+std::vector<std::pair<double, double>> parseProbes(const RenderOptions& o, int W, int H) {
     std::vector<std::pair<double, double>> probes;
     for (const std::string& p : o.probes) {
         const auto xy = parsePair(p, ',', "--probe X,Y in pixels");
@@ -149,7 +147,71 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
             throw Error(ErrorKind::Usage, "--probe " + p + " lies outside the " + o.size + " frame");
         probes.push_back(xy);
     }
-    const fourier::FourierSettings fs = o.fourier.settings(g);
+    return probes;
+}
+
+// The settings a lens's flare takes from the options (sensor, traced renderer, table, field angle),
+// with their metadata.
+void lensSettings(const RenderOptions& o, const optics::Lens& lens, int W, int H, scene::FlareSettings& s,
+                  image::Metadata& meta) {
+    s.sensorMm = lens.sensorMm.value_or(std::make_pair(36.0, 24.0));
+    if (!o.sensorSize.empty()) s.sensorMm = parseSensorSize(o.sensorSize, "--sensor-size");
+    meta.push_back({"fourierflare:lens", lens.file});
+    meta.push_back({"fourierflare:lensHash", lens.contentHash});
+    meta.push_back(
+        {"fourierflare:units", "flux per pixel relative to the direct image of a unit light (= 1 per channel)"});
+    trace::TracedFlareOptions& t = s.traced;
+    t.frame = {W, H, s.sensorMm.first / W};
+    t.spectralSamples = o.spectral;
+    t.sampling = samplingFrom(o.table.sampling);
+    t.grid = o.grid;
+    t.refinement = o.refine;
+    t.sensor = sensorFrom(o.table.sensor);
+    t.coating = coatingFrom(o.table.coating);
+    s.table = o.table.settings();
+    if (!o.angle.empty()) {
+        const auto [deg, az] = parseAngle(o.angle, "--angle");
+        s.field = trace::Field{degToRad(deg), degToRad(az)};
+        meta.push_back({"fourierflare:fieldAngleDeg", text::fixed(deg, 6)});
+        meta.push_back({"fourierflare:azimuthDeg", text::fixed(az, 6)});
+    }
+}
+
+// The lens's flare of the options' lights, its summary and metadata in job.
+fourier::FlareImage renderLensFlare(const RenderOptions& o, const GlobalOptions& g, int W, int H,
+                                    scene::FlareSettings& s, RenderJob& job, Reporter& reporter) {
+    const optics::Lens lens = loadTraceableLens(o.lens, o.table.zoom, reporter);
+    lensSettings(o, lens, W, H, s, job.meta);
+    std::vector<ghosts::Light> lights =
+        o.lightsFile.empty() ? std::vector<ghosts::Light>{} : scene::readLightsJson(o.lightsFile);
+    for (const std::string& l : o.lights) lights.push_back(scene::parseLight(l));
+    if (o.mode == "shaped") s.raster = polygonRaster(s.fourier);
+    if (o.mode == "diffraction") s.convolver = diffractionDevice(s.fourier);
+    s.loadTable = [&](const optics::Lens& l, const ghosts::TableSettings&) {
+        return loadTable(l, o.table, g, reporter);
+    };
+    s.loadShaped = [&](const optics::Lens& l, const ghosts::ShapedSettings& ss) {
+        return loadShapedTable(l, ss, g, reporter);
+    };
+    scene::RenderedFlare r = scene::renderFlare(lens, lights, s);
+    if (o.mode == "traced")
+        job.traced(r, lights.size());
+    else if (o.mode == "diffraction")
+        job.diffraction(r, lights.size());
+    else if (o.mode == "shaped")
+        job.shaped(r);
+    else {
+        job.meta.push_back({"fourierflare:ghostModel", o.ghostModel});
+        job.drawn(r, s, " fitted", " of " + std::to_string(lights.size()) + " light(s)");
+    }
+    return std::move(r.image);
+}
+
+void runRender(const RenderOptions& o, const GlobalOptions& g) {
+    const auto start = Clock::now();
+    checkRenderSources(o);
+    const auto [W, H] = parseFrameSize(o.size, "--size", 1, 16384);
+    const std::vector<std::pair<double, double>> probes = parseProbes(o, W, H);
 
     ConsoleReporter reporter(g);
     image::Metadata meta = {{"Software", std::string("fourierflare ") + kVersion},
@@ -160,7 +222,7 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
     s.mode = o.mode;
     s.ghostModel = o.ghostModel;
     s.diffraction = o.diffraction;
-    s.fourier = fs;
+    s.fourier = o.fourier.settings(g);
     s.traced.frame = {W, H, 0.0};
     fourier::FlareImage image;
     if (!o.ghostsFile.empty()) {
@@ -171,53 +233,8 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
         meta.push_back({"fourierflare:units", "flux per pixel, in the ghost list's units"});
         image = std::move(r.image);
     } else {
-        const optics::Lens lens = loadTraceableLens(o.lens, o.table.zoom, reporter);
-        s.sensorMm = lens.sensorMm.value_or(std::make_pair(36.0, 24.0));
-        if (!o.sensorSize.empty()) s.sensorMm = parseSensorSize(o.sensorSize, "--sensor-size");
-        meta.push_back({"fourierflare:lens", lens.file});
-        meta.push_back({"fourierflare:lensHash", lens.contentHash});
-        meta.push_back(
-            {"fourierflare:units", "flux per pixel relative to the direct image of a unit light (= 1 per channel)"});
-        std::vector<ghosts::Light> lights =
-            o.lightsFile.empty() ? std::vector<ghosts::Light>{} : scene::readLightsJson(o.lightsFile);
-        for (const std::string& l : o.lights) lights.push_back(scene::parseLight(l));
-        trace::TracedFlareOptions& t = s.traced;
-        t.frame = {W, H, s.sensorMm.first / W};
-        t.spectralSamples = o.spectral;
-        t.sampling = samplingFrom(o.table.sampling);
-        t.grid = o.grid;
-        t.refinement = o.refine;
-        t.sensor = sensorFrom(o.table.sensor);
-        t.coating = coatingFrom(o.table.coating);
-        s.table = o.table.settings();
-        if (!o.angle.empty()) {
-            const auto [deg, az] = parseAngle(o.angle, "--angle");
-            s.field = trace::Field{degToRad(deg), degToRad(az)};
-            meta.push_back({"fourierflare:fieldAngleDeg", text::fixed(deg, 6)});
-            meta.push_back({"fourierflare:azimuthDeg", text::fixed(az, 6)});
-        }
-        if (o.mode == "shaped") s.raster = polygonRaster(fs);
-        if (o.mode == "diffraction") s.convolver = diffractionDevice(fs);
-        s.loadTable = [&](const optics::Lens& l, const ghosts::TableSettings&) {
-            return loadTable(l, o.table, g, reporter);
-        };
-        s.loadShaped = [&](const optics::Lens& l, const ghosts::ShapedSettings& ss) {
-            return loadShapedTable(l, ss, g, reporter);
-        };
-        scene::RenderedFlare r = scene::renderFlare(lens, lights, s);
-        if (o.mode == "traced")
-            job.traced(r, lights.size());
-        else if (o.mode == "diffraction")
-            job.diffraction(r, lights.size());
-        else if (o.mode == "shaped")
-            job.shaped(r);
-        else {
-            meta.push_back({"fourierflare:ghostModel", o.ghostModel});
-            job.drawn(r, s, " fitted", " of " + std::to_string(lights.size()) + " light(s)");
-        }
-        image = std::move(r.image);
+        image = renderLensFlare(o, g, W, H, s, job, reporter);
     }
-    const std::string& summary = job.summary;
     const std::vector<float> rgb = image.interleaved();
     image::writeExr(o.output, W, H, {"R", "G", "B"}, rgb, meta);
     double ev = o.exposure;
@@ -230,14 +247,14 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
         std::printf("probe %g,%g: %.9g %.9g %.9g\n", px, py, image.channel[0][p], image.channel[1][p],
                     image.channel[2][p]);
     }
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!g.quiet) {
-        std::fprintf(stderr, "fourierflare: %s\n", summary.c_str());
+        std::fprintf(stderr, "fourierflare: %s\n", job.summary.c_str());
         std::fprintf(stderr, "fourierflare: flux in the frame (R, G, B): %.4e %.4e %.4e\n", image.sum(0), image.sum(1),
                      image.sum(2));
-        std::fprintf(
-            stderr, "fourierflare: wrote %s%s%s in %.2f s\n", o.output.c_str(), o.preview.empty() ? "" : " and ",
-            o.preview.empty() ? "" : (o.preview + " (exposure " + text::fixed(ev, 2) + " EV)").c_str(), seconds);
+        std::fprintf(stderr, "fourierflare: wrote %s%s%s in %.2f s\n", o.output.c_str(),
+                     o.preview.empty() ? "" : " and ",
+                     o.preview.empty() ? "" : (o.preview + " (exposure " + text::fixed(ev, 2) + " EV)").c_str(),
+                     secondsSince(start));
     }
 }
 
