@@ -68,7 +68,7 @@ const ghosts::GhostTable& cachedTable() {
 // The shaped table for the bench's 16:9 sensor, 36 mm wide, as a run stores and loads it.
 const std::string& shapedBytes() {
     static const std::string bytes = [] {
-        ghosts::ShapedSettings s;
+        ghosts::TableSettings s;
         s.sensorSizeMm = {36.0, 36.0 * kH / kW};
         return ghosts::shapedTableToBytes(ghosts::buildShapedTable(lens(), s), "bench");
     }();
@@ -172,7 +172,7 @@ void BM_ShapedPolygonsOnly(benchmark::State& state) {
 BENCHMARK(BM_ShapedPolygonsOnly)->Arg(3)->Arg(30)->Arg(300)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_ShapedTableBuild(benchmark::State& state) {
-    ghosts::ShapedSettings s;
+    ghosts::TableSettings s;
     s.sensorSizeMm = {36.0, 36.0 * kH / kW};
     for (auto _ : state) {
         const ghosts::ShapedTable t = ghosts::buildShapedTable(lens(), s);

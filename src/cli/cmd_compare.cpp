@@ -110,12 +110,13 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
                         ").";
     cs.grid = o.grid;
     cs.table = o.table.settings();
+    cs.sampling = samplingFrom(o.table.sampling);
     cs.diffraction = o.diffraction;
     cs.commandLine = g.commandLine;
     cs.loadTable = [&](const optics::Lens& l, const ghosts::TableSettings&) {
         return loadTable(l, o.table, g, reporter);
     };
-    cs.loadShaped = [&](const optics::Lens& l, const ghosts::ShapedSettings& ss) {
+    cs.loadShaped = [&](const optics::Lens& l, const ghosts::TableSettings& ss) {
         return loadShapedTable(l, ss, g, reporter);
     };
     cs.say = [&](const std::string& line) {

@@ -72,7 +72,7 @@ void addExportCommand(CLI::App& app, GlobalOptions& global) {
     addDeprecated(*cmd, "--field-angle", o->fieldAngle, "--angle");
     cmd->add_option("--top", o->top, "Only the K strongest ghosts (csv, unity; 0 = all; unreal always takes 8)")
         ->check(CLI::Range(0, 100000));
-    o->table.addTo(*cmd, true);
+    o->table.addTo(*cmd, true, true, false);
     cmd->footer("The ghost table comes from the cache when it is there (see 'fourierflare table').\n"
                 "Example: fourierflare export lenses/double-gauss-50mm-f2.lens --format unity -o dg.asset");
     cmd->callback([o, &global] {

@@ -190,7 +190,7 @@ fourier::FlareImage renderLensFlare(const RenderOptions& o, const GlobalOptions&
     s.loadTable = [&](const optics::Lens& l, const ghosts::TableSettings&) {
         return loadTable(l, o.table, g, reporter);
     };
-    s.loadShaped = [&](const optics::Lens& l, const ghosts::ShapedSettings& ss) {
+    s.loadShaped = [&](const optics::Lens& l, const ghosts::TableSettings& ss) {
         return loadShapedTable(l, ss, g, reporter);
     };
     scene::RenderedFlare r = scene::renderFlare(lens, lights, s);

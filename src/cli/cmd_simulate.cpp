@@ -230,7 +230,7 @@ class Simulation {
         s.loadTable = [this, table](const optics::Lens& l, const ghosts::TableSettings&) {
             return loadTable(l, table, g_, reporter_);
         };
-        s.loadShaped = [this](const optics::Lens& l, const ghosts::ShapedSettings& ss) {
+        s.loadShaped = [this](const optics::Lens& l, const ghosts::TableSettings& ss) {
             return loadShapedTable(l, ss, g_, reporter_);
         };
         return s;
@@ -349,7 +349,7 @@ void addSimulateCommand(CLI::App& app, GlobalOptions& global) {
                     "Ghost model: shaped (each ghost's traced mesh), gaussian or cos2 (the ghost table's fits, "
                     "aggregated through Fourier)")
         ->check(CLI::IsMember({"shaped", "gaussian", "cos2"}));
-    o->table.addTo(*cmd, false, false);
+    o->table.addTo(*cmd, false, false, false);
     cmd->add_option("--max-pixels", o->maxPixels,
                     "Refuse plates with more pixels than this (checked before reading them)")
         ->check(CLI::Range(1.0, 1e10));

@@ -35,9 +35,8 @@ void runTable(const TableCommandOptions& o, const GlobalOptions& g) {
     writeFileAtomic(o.output, ghosts::tableToJson(t));
 
     if (g.quiet) return;
-    // Fit quality over every ghost, wavelength and angle with flux (median and worst). A ghost's
-    // angles gather where it changes fast, so each entry weighs as much of the field as it stands
-    // for (half of each neighbouring interval) and the median is the field's, not the entries'.
+    // Fit quality over every ghost, wavelength and angle with flux (median and worst), each entry
+    // weighed by the field it stands for (half of each neighbouring interval).
     std::vector<std::pair<double, double>> ge, ce; // (error, weight)
     for (const auto& gh : t.ghosts) {
         const auto& a = gh.anglesDeg;
@@ -63,20 +62,11 @@ void runTable(const TableCommandOptions& o, const GlobalOptions& g) {
         return w;
     };
     // (How long the build took was said by loadTable.)
-    std::size_t fewest = t.anglesDeg.size(), most = 0;
-    for (const auto& gh : t.ghosts)
-        fewest = std::min(fewest, gh.anglesDeg.size()), most = std::max(most, gh.anglesDeg.size());
     std::fprintf(stderr,
-                 "fourierflare: %s ghost table: %zu ghosts x %zu wavelengths, 0..%.2f deg; %zu entries per wavelength, "
-                 "%zu to %zu field angles per ghost (%zu in all)\n",
-                 cached ? "cached" : "built", t.ghosts.size(), t.wavelengthsNm.size(), t.anglesDeg.back(),
-                 t.entryCount(), fewest, most, t.anglesDeg.size());
-    std::fprintf(
-        stderr,
-        "fourierflare: interpolation error at mid-angles: median %.2f %%, 95th percentile %.2f %%, worst %.2f %%; "
-        "%.2f %% of the field within %.2g %%\n",
-        100.0 * t.interpolationErrorMedian, 100.0 * t.interpolationErrorP95, 100.0 * t.interpolationError,
-        100.0 * t.withinTolerance, 100.0 * o.table.tolerance);
+                 "fourierflare: %s table: %zu ghosts x %zu wavelengths at %zu field angles, 0..%.2f deg (every entry "
+                 "measured on its ghost's shaped mesh; linear between angles)\n",
+                 cached ? "cached" : "built", t.ghosts.size(), t.wavelengthsNm.size(), t.anglesDeg.size(),
+                 t.anglesDeg.back());
     std::fprintf(stderr,
                  "fourierflare: fit error (relative L2) over the field: Gaussian median %.3f, worst %.3f; cos2 median "
                  "%.3f, worst %.3f\n",
@@ -93,7 +83,7 @@ void addTableCommand(CLI::App& app, GlobalOptions& global) {
     addLensArgument(*cmd, o->lens);
     cmd->add_option("-o,--output", o->output, "JSON file to write (the canonical table, docs/ghost-table.md)")
         ->required();
-    o->table.addTo(*cmd, true);
+    o->table.addTo(*cmd, true, true, false);
     cmd->add_flag("--no-cache", o->noCache, "Build the table even if a cached one exists, and do not store it");
     cmd->footer("The table is cached under $FF_CACHE_DIR, $XDG_CACHE_HOME/fourierflare or ~/.cache/fourierflare.\n"
                 "Example: fourierflare table lenses/double-gauss-50mm-f2.lens -o dg.ghosts.json");

@@ -27,4 +27,13 @@ CLI::Option* addDeprecated(CLI::App& cmd, const std::string& old, T& target, con
     });
 }
 
+/// An option that no longer has an effect, accepted for one release with a warning saying why (not
+/// hidden by --quiet). Its value is read and ignored. Hidden from the help.
+inline CLI::Option* addRetired(CLI::App& cmd, const std::string& old, const std::string& why) {
+    return cmd.add_option(old)->group("")->each([old, why](const std::string&) {
+        std::fprintf(stderr, "fourierflare: warning: %s no longer has an effect (%s); it goes in the next release\n",
+                     old.c_str(), why.c_str());
+    });
+}
+
 } // namespace ff::cli

@@ -3,7 +3,6 @@
 #include "cli/conventions.h"
 #include "core/error.h"
 #include "ghosts/shaped_cache.h"
-#include "ghosts/table_cache.h"
 #include "optics/lens_loader.h"
 
 #include <CLI/CLI.hpp>
@@ -30,12 +29,21 @@ trace::CoatingChoice coatingFrom(const std::string& s) {
     return trace::coatingNamed(s);
 }
 
-void TableOptions::addTo(CLI::App& cmd, bool legacyGrid, bool withSensor) {
-    cmd.add_option("--table-grid", grid, "Rays per side of each ghost's pupil grid for the ghost table")
+void TableOptions::addTo(CLI::App& cmd, bool legacyGrid, bool withSensor, bool traced) {
+    cmd.add_option("--table-grid", grid,
+                   "Cells per side of the table's pupil mesh for its most concentrated ghost (the others get fewer, "
+                   "at least 16)")
         ->check(CLI::Range(4, 512));
     if (legacyGrid) addDeprecated(cmd, "--grid", grid, "--table-grid")->check(CLI::Range(4, 512));
-    cmd.add_option("--sampling", sampling, "Pupil sampling: reaim or paraxial-grid")
-        ->check(CLI::IsMember({"reaim", "paraxial-grid"}));
+    cmd.add_option("--table-angles", angles, "Field angles of the table, uniform from 0 to --max-angle")
+        ->check(CLI::Range(2, 1024));
+    if (traced)
+        cmd.add_option("--sampling", sampling, "Pupil sampling of the traced paths: reaim or paraxial-grid")
+            ->check(CLI::IsMember({"reaim", "paraxial-grid"}));
+    else
+        addRetired(cmd, "--sampling", "the table's meshes cover each ghost's light wherever it is");
+    addRetired(cmd, "--tolerance", "the table's angles are uniform; give --table-angles");
+    addRetired(cmd, "--max-angles", "the table's angles are uniform; give --table-angles");
     if (withSensor)
         cmd.add_option("--sensor", sensor, "Sensor plane: file (the last thickness) or paraxial (the d line's focus)")
             ->check(CLI::IsMember({"file", "paraxial"}));
@@ -44,19 +52,11 @@ void TableOptions::addTo(CLI::App& cmd, bool legacyGrid, bool withSensor) {
     cmd.add_option("--max-angle", maxAngle,
                    "Largest field angle of the ghost table in degrees (0: the sensor's half-diagonal plus 5 %)")
         ->check(CLI::Range(0.0, 85.0));
-    cmd.add_option("--table-angles", maxAngles,
-                   "Field angles the ghost table's refinement may trace per ghost, on average (more: finer steps "
-                   "where ghosts change fast)")
-        ->check(CLI::Range(9, 513));
-    addDeprecated(cmd, "--max-angles", maxAngles, "--table-angles")->check(CLI::Range(9, 513));
-    cmd.add_option("--tolerance", tolerance,
-                   "Interpolation error of centroid and spreads the ghost table's refinement aims at (relative)")
-        ->check(CLI::Range(1e-6, 1.0));
     cmd.add_option("--zoom", zoom, "Zoom position (label or 1-based index)");
 }
 
 ghosts::TableSettings TableOptions::settings() const {
-    return ghosts::TableSettings::named(grid, sampling, sensor, coating, maxAngle, maxAngles, tolerance);
+    return ghosts::TableSettings::named(grid, angles, sensor, coating, maxAngle);
 }
 
 ghosts::GhostTable loadTable(const optics::Lens& lens, const TableOptions& table, const GlobalOptions& g,
@@ -74,32 +74,14 @@ ghosts::GhostTable loadTable(const optics::Lens& lens, const TableOptions& table
     ghosts::GhostTable t = ghosts::tableFor(lens, table.settings(), useCache, progress, reporter, &cached);
     if (bar) std::fprintf(stderr, "\n");
     if (!g.quiet && !cached) {
-        std::fprintf(stderr, "fourierflare: built the ghost table in %.1f s%s\n", t.buildSeconds,
-                     useCache ? " (cached for next time)" : "");
-        const ghosts::BuildReport& b = t.build;
-        std::fprintf(stderr, "fourierflare: %zu traces of a budget of %zu%s in %zu rounds:", b.traces(), b.budget,
-                     b.budgetSpent ? " (spent)" : "", b.rounds);
-        const char* separator = " ";
-        for (const auto& [name, step] : {std::pair{"start", b.start},
-                                         {"mid-angles", b.midAngles},
-                                         {"neighbours", b.neighbours},
-                                         {"carried", b.carried},
-                                         {"knots", b.knots},
-                                         {"finer grids", b.finer}}) {
-            std::fprintf(stderr, "%s%s %zu (%.0f s)", separator, name, step.traces, step.seconds);
-            separator = ", ";
-        }
-        if (b.finerGhosts > 0) std::fprintf(stderr, " for %zu ghost%s", b.finerGhosts, b.finerGhosts == 1 ? "" : "s");
-        std::fprintf(stderr, "\n");
-        if (!b.worst.ghost.empty())
-            std::fprintf(stderr, "fourierflare: the worst interval: %s at %.7f to %.7f deg (%.2f %%)\n",
-                         b.worst.ghost.c_str(), b.worst.fromDeg, b.worst.toDeg, 100.0 * b.worst.error);
+        std::fprintf(stderr, "fourierflare: built the table (shaped ghosts and their fits) in %.1f s%s\n",
+                     t.buildSeconds, useCache ? " (cached for next time)" : "");
     }
     if (fromCache) *fromCache = cached;
     return t;
 }
 
-ghosts::ShapedTable loadShapedTable(const optics::Lens& lens, const ghosts::ShapedSettings& settings,
+ghosts::ShapedTable loadShapedTable(const optics::Lens& lens, const ghosts::TableSettings& settings,
                                     const GlobalOptions& g, Reporter& reporter) {
     bool cached = false;
     ghosts::ShapedTable t = ghosts::shapedTableFor(lens, settings, true, reporter, &cached);

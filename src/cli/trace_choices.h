@@ -23,20 +23,21 @@ trace::Sampling samplingFrom(const std::string& s);     ///< reaim | paraxial-gr
 trace::SensorPlane sensorFrom(const std::string& s);    ///< file | paraxial
 trace::CoatingChoice coatingFrom(const std::string& s); ///< file | none | mgf2
 
-/// The options that decide a ghost table, shared by every command that builds one (table, export,
-/// render, compare, simulate), so that the same values find the same cache entry.
+/// The options that decide the table (the shaped ghosts and their fits), shared by every command that
+/// builds one (table, export, render, compare, simulate), so that the same values find the same cache
+/// entry; and the traced paths' pupil sampling, which the table does not use.
 struct TableOptions {
-    int grid = 32;
+    int grid = ghosts::TableSettings{}.grid;
+    int angles = ghosts::TableSettings{}.angles;
     std::string sampling = "reaim", sensor = "file", coating = "file";
     double maxAngle = 0.0;
-    int maxAngles = ghosts::TableSettings{}.maxAngles;
-    double tolerance = ghosts::TableSettings{}.interpolationTolerance;
     std::string zoom;
 
-    /// --table-grid, --sampling, --sensor (the plane; unless !withSensor), --coating, --max-angle,
-    /// --table-angles, --tolerance, --zoom. legacyGrid: also --grid for the table's grid (table and
-    /// export, which have no traced grid), deprecated; --max-angles is the deprecated --table-angles.
-    void addTo(CLI::App& cmd, bool legacyGrid = false, bool withSensor = true);
+    /// --table-grid, --table-angles, --sampling (where the command traces paths: traced), --sensor (the
+    /// plane; unless !withSensor), --coating, --max-angle, --zoom. legacyGrid: also --grid for the
+    /// table's grid (table and export, which have no traced grid), deprecated. The refined moment
+    /// table's --tolerance and --max-angles (and --sampling where nothing is traced) are retired.
+    void addTo(CLI::App& cmd, bool legacyGrid = false, bool withSensor = true, bool traced = true);
     ghosts::TableSettings settings() const;
 };
 
@@ -47,7 +48,7 @@ ghosts::GhostTable loadTable(const optics::Lens& lens, const TableOptions& table
 
 /// The lens's shaped ghosts from the cache, else built and stored, saying so with the time, size and
 /// ghosts kept (unless -q).
-ghosts::ShapedTable loadShapedTable(const optics::Lens& lens, const ghosts::ShapedSettings& settings,
+ghosts::ShapedTable loadShapedTable(const optics::Lens& lens, const ghosts::TableSettings& settings,
                                     const GlobalOptions& g, Reporter& reporter);
 
 } // namespace ff::cli

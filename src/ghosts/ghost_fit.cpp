@@ -1,9 +1,9 @@
 #include "ghosts/ghost_fit.h"
 
-#include "trace/bundle_moments.h"
-#include "trace/flare_raster.h"
+#include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -33,40 +33,143 @@ double profileArea(Profile p, double wr, double wt) {
     return p == Profile::Gaussian ? 2.0 * std::numbers::pi * wr * wt : wr * wt;
 }
 
+PolygonMoments polygonMoments(const ShapedPolygons& ps, const trace::ImageFrame& frame, double maxRadius) {
+    // Sums about a reference point (the first vertex), in mm, so that the second moments of a small
+    // ghost far from the axis do not cancel.
+    std::array<double, 6> s{}; // energy, x, y, xx, yy, xy
+    glm::dvec2 ref(0.0);
+    bool haveRef = false;
+    std::vector<glm::dvec2> q;
+    for (const ShapedPolygons::Poly& poly : ps.polys) {
+        if (!(poly.energy > 0.0) || poly.count == 0) continue;
+        q.resize(poly.count);
+        glm::dvec2 mean(0.0);
+        for (std::uint32_t i = 0; i < poly.count; ++i) {
+            const glm::vec2& v = ps.vertices[poly.first + i];
+            q[i] = frame.pixelToSensor(v.x, v.y);
+            mean += q[i];
+        }
+        mean /= static_cast<double>(poly.count);
+        if (maxRadius > 0.0 && glm::dot(mean, mean) > maxRadius * maxRadius) continue;
+        if (!haveRef) ref = q[0], haveRef = true;
+        // Green's theorem over the edges (x_i, y_i) -> (x_j, y_j), c = x_i y_j - x_j y_i:
+        // A = sum c / 2, int x = sum (x_i + x_j) c / 6, int x^2 = sum (x_i^2 + x_i x_j + x_j^2) c / 12,
+        // int xy = sum (x_i y_j + 2 x_i y_i + 2 x_j y_j + x_j y_i) c / 24.
+        double a = 0.0, ix = 0.0, iy = 0.0, ixx = 0.0, iyy = 0.0, ixy = 0.0;
+        for (std::uint32_t i = 0; i < poly.count; ++i) {
+            const glm::dvec2 p = q[i] - ref, r = q[(i + 1) % poly.count] - ref;
+            const double c = p.x * r.y - r.x * p.y;
+            a += c;
+            ix += (p.x + r.x) * c;
+            iy += (p.y + r.y) * c;
+            ixx += (p.x * p.x + p.x * r.x + r.x * r.x) * c;
+            iyy += (p.y * p.y + p.y * r.y + r.y * r.y) * c;
+            ixy += (p.x * r.y + 2.0 * p.x * p.y + 2.0 * r.x * r.y + r.x * p.y) * c;
+        }
+        a *= 0.5;
+        const double e = poly.energy;
+        // A sliver whose area vanishes in rounding is a point mass at its vertices' mean.
+        double size2 = 0.0;
+        for (std::uint32_t i = 0; i < poly.count; ++i) size2 = std::max(size2, glm::dot(q[i] - mean, q[i] - mean));
+        if (!(std::abs(a) > 1e-12 * size2) || size2 == 0.0) {
+            const glm::dvec2 m = mean - ref;
+            s[0] += e, s[1] += e * m.x, s[2] += e * m.y, s[3] += e * m.x * m.x, s[4] += e * m.y * m.y,
+                s[5] += e * m.x * m.y;
+            continue;
+        }
+        const double d = e / a; // density, with the orientation's sign
+        s[0] += e;
+        s[1] += d * ix / 6.0;
+        s[2] += d * iy / 6.0;
+        s[3] += d * ixx / 12.0;
+        s[4] += d * iyy / 12.0;
+        s[5] += d * ixy / 24.0;
+    }
+    PolygonMoments m;
+    if (!(s[0] > 0.0)) return m;
+    m.energy = s[0];
+    const double cx = s[1] / s[0], cy = s[2] / s[0];
+    m.centroidX = ref.x + cx;
+    m.centroidY = ref.y + cy;
+    m.mxx = std::max(0.0, s[3] / s[0] - cx * cx);
+    m.myy = std::max(0.0, s[4] / s[0] - cy * cy);
+    m.mxy = s[5] / s[0] - cx * cy;
+    return m;
+}
+
 namespace {
 
-// The traced irradiance (flux per pixel) on a local square frame around the centroid.
+// The ghost's irradiance (flux per pixel) on a local square frame around the centroid.
 struct LocalImage {
     trace::ImageFrame frame;
     std::vector<double> flux;
 };
 
-// Sum of squared differences between the flux-normalised profile and the image, pixel by pixel
-// (the profile sampled at pixel centres times the pixel area). The profile is separable and the
-// image's axes are the radial (rows) and tangential (columns) ones, so it is sampled once per row
-// and once per column.
-double misfit(const LocalImage& img, Profile p, double flux, double wr, double wt) {
-    const double a = img.frame.pitchMm * img.frame.pitchMm * flux / profileArea(p, wr, wt);
-    std::vector<double> rows(static_cast<std::size_t>(img.frame.height)),
-        columns(static_cast<std::size_t>(img.frame.width));
-    for (int y = 0; y < img.frame.height; ++y)
-        rows[y] = a * profileFactor(p, wr, img.frame.pixelToSensor(0.0, y + 0.5).y - img.frame.centreYMm);
-    for (int x = 0; x < img.frame.width; ++x)
-        columns[x] = profileFactor(p, wt, img.frame.pixelToSensor(x + 0.5, 0.0).x - img.frame.centreXMm);
-    double sum = 0.0;
-    for (int y = 0; y < img.frame.height; ++y) {
-        const double* line = img.flux.data() + static_cast<std::size_t>(y) * img.frame.width;
-        for (int x = 0; x < img.frame.width; ++x) {
-            const double d = rows[y] * columns[x] - line[x];
-            sum += d * d;
-        }
+// Sum of squared differences between the flux-normalised profile and the image, pixel by pixel (the
+// profile sampled at pixel centres times the pixel area). The profile is separable, a R_y C_x with
+// the image's rows radial and columns tangential, so
+//   sum (a R_y C_x - I_yx)^2 = a^2 (sum R^2)(sum C^2) - 2 a sum_y R_y (sum_x C_x I_yx) + sum I^2,
+// and with one width held, the other's search costs one pass over a row or column of the image.
+class Misfit {
+  public:
+    Misfit(const LocalImage& img, Profile p, double flux) : img_(img), p_(p), flux_(flux) {
+        for (double v : img.flux) norm2_ += v * v;
     }
-    return sum;
-}
+    double norm2() const { return norm2_; }
+
+    /// Holds the tangential width: returns the misfit as a function of the radial one.
+    auto radial(double wt) const {
+        std::vector<double> c = columns(wt), u(rows());
+        double c2 = 0.0;
+        for (double v : c) c2 += v * v;
+        for (std::size_t y = 0; y < u.size(); ++y) u[y] = dot(&img_.flux[y * c.size()], 1, c);
+        return [this, c2, wt, u = std::move(u)](double wr) { return value(wr, wt, rowFactors(wr), u, c2); };
+    }
+    /// Holds the radial width: returns the misfit as a function of the tangential one.
+    auto tangential(double wr) const {
+        std::vector<double> r = rowFactors(wr), u(columnsCount());
+        double r2 = 0.0;
+        for (double v : r) r2 += v * v;
+        for (std::size_t x = 0; x < u.size(); ++x) u[x] = dot(&img_.flux[x], u.size(), r);
+        return [this, r2, wr, u = std::move(u)](double wt) { return value(wr, wt, columns(wt), u, r2); };
+    }
+
+  private:
+    std::size_t rows() const { return static_cast<std::size_t>(img_.frame.height); }
+    std::size_t columnsCount() const { return static_cast<std::size_t>(img_.frame.width); }
+    std::vector<double> rowFactors(double wr) const {
+        std::vector<double> r(rows());
+        for (std::size_t y = 0; y < r.size(); ++y)
+            r[y] = profileFactor(p_, wr, img_.frame.pixelToSensor(0.0, static_cast<double>(y) + 0.5).y - img_.frame.centreYMm);
+        return r;
+    }
+    std::vector<double> columns(double wt) const {
+        std::vector<double> c(columnsCount());
+        for (std::size_t x = 0; x < c.size(); ++x)
+            c[x] = profileFactor(p_, wt, img_.frame.pixelToSensor(static_cast<double>(x) + 0.5, 0.0).x - img_.frame.centreXMm);
+        return c;
+    }
+    static double dot(const double* a, std::size_t stride, const std::vector<double>& b) {
+        double s = 0.0;
+        for (std::size_t i = 0; i < b.size(); ++i) s += a[i * stride] * b[i];
+        return s;
+    }
+    // The misfit from the free axis's factors f, the held axis's projections u and its sum of squares.
+    double value(double wr, double wt, const std::vector<double>& f, const std::vector<double>& u, double held2) const {
+        const double a = img_.frame.pitchMm * img_.frame.pitchMm * flux_ / profileArea(p_, wr, wt);
+        double f2 = 0.0, cross = 0.0;
+        for (std::size_t i = 0; i < f.size(); ++i) f2 += f[i] * f[i], cross += f[i] * u[i];
+        return std::max(0.0, a * a * f2 * held2 - 2.0 * a * cross + norm2_);
+    }
+
+    const LocalImage& img_;
+    Profile p_;
+    double flux_, norm2_ = 0.0;
+};
 
 // Golden-section search of f over log(x) in [lo, hi].
 template <typename F>
-double goldenLog(F f, double lo, double hi, int iterations) {
+double goldenLog(const F& f, double lo, double hi, int iterations) {
     const double g = 0.5 * (std::sqrt(5.0) - 1.0);
     double a = std::log(lo), b = std::log(hi);
     double c = b - g * (b - a), d = a + g * (b - a);
@@ -85,76 +188,61 @@ double goldenLog(F f, double lo, double hi, int iterations) {
     return std::exp(0.5 * (a + b));
 }
 
-ProfileFit fitProfile(const LocalImage& img, Profile p, double flux, double startR, double startT, double imageNorm2) {
+ProfileFit fitProfile(const LocalImage& img, Profile p, double flux, double startR, double startT) {
     // Least squares over the two widths: alternate one-dimensional searches over a factor of 4
     // around the current value, three rounds (the misfit is smooth and unimodal near the moments).
+    const Misfit misfit(img, p, flux);
     double wr = startR, wt = startT;
     for (int round = 0; round < 3; ++round) {
-        wr = goldenLog([&](double x) { return misfit(img, p, flux, x, wt); }, 0.5 * wr, 2.0 * wr, 24);
-        wt = goldenLog([&](double x) { return misfit(img, p, flux, wr, x); }, 0.5 * wt, 2.0 * wt, 24);
+        wr = goldenLog(misfit.radial(wt), 0.5 * wr, 2.0 * wr, 24);
+        wt = goldenLog(misfit.tangential(wr), 0.5 * wt, 2.0 * wt, 24);
     }
     ProfileFit f;
     f.widthR = wr;
     f.widthT = wt;
     f.peak = flux / profileArea(p, wr, wt);
-    f.error = imageNorm2 > 0.0 ? std::sqrt(misfit(img, p, flux, wr, wt) / imageNorm2) : 0.0;
+    f.error = misfit.norm2() > 0.0 ? std::sqrt(misfit.radial(wt)(wr) / misfit.norm2()) : 0.0;
     return f;
 }
 
 } // namespace
 
-GhostFit fitGhost(const trace::Bundle& b, const std::vector<trace::RayResult>& c,
-                  const std::vector<trace::RayResult>& k, double scale, const FitOptions& o,
-                  const trace::BundleMoments* moments) {
-    const BundlePart part{&b, &c, &k};
-    return fitGhost(std::span<const BundlePart>(&part, 1), scale, o, moments);
-}
-
-GhostFit fitGhost(std::span<const BundlePart> parts, double scale, const FitOptions& o,
-                  const trace::BundleMoments* moments) {
+GhostFit fitGhost(const ShapedPolygons& ps, const trace::ImageFrame& frame, const FitOptions& o) {
     GhostFit fit;
-    trace::BundleMoments m;
-    if (moments) {
-        m = *moments;
-    } else {
-        std::vector<trace::BundleMoments> each;
-        for (const BundlePart& p : parts)
-            each.push_back(trace::measureBundle(*p.centres, *p.centreHits, scale, o.maxRadiusMm));
-        m = trace::combineMoments(each);
-    }
-    fit.survivingFraction = m.launched ? double(m.surviving) / double(m.launched) : 0.0;
-    if (m.energy <= 0.0) return fit;
-    const double e = m.energy;
-    fit.flux = e;
+    const PolygonMoments m = polygonMoments(ps, frame, o.maxRadiusMm);
+    if (!(m.energy > 0.0)) return fit;
+    fit.flux = m.energy;
     fit.centroidX = m.centroidX;
     fit.centroidY = m.centroidY;
     fit.sigmaT = std::sqrt(m.mxx);
     fit.sigmaR = std::sqrt(m.myy);
     fit.covRT = m.mxy;
 
-    // The traced image around the centroid; spreads below 1 micron are treated as 1 micron.
+    // The ghost's image around the centroid; spreads below 1 micron are treated as 1 micron.
     const double sR = std::max(fit.sigmaR, 1e-3), sT = std::max(fit.sigmaT, 1e-3);
     LocalImage img;
     img.frame = {o.imageSize, o.imageSize, 2.0 * o.extentSigmas * std::max(sR, sT) / o.imageSize, fit.centroidX,
                  fit.centroidY};
-    img.flux.assign(static_cast<std::size_t>(o.imageSize) * o.imageSize, 0.0);
+    trace::CoverageRaster raster(img.frame);
     trace::RasterStats stats;
-    for (const BundlePart& p : parts) {
-        // The rays drawn into the fit image are the ones that counted (see FitOptions::maxRadiusMm).
-        std::vector<trace::RayResult> cc = *p.centreHits;
-        if (o.maxRadiusMm > 0.0)
-            for (auto& r : cc)
-                if (r.status == optics::RayStatus::Ok &&
-                    r.sensorPoint.x * r.sensorPoint.x + r.sensorPoint.y * r.sensorPoint.y >
-                        o.maxRadiusMm * o.maxRadiusMm)
-                    r.status = optics::RayStatus::Missed;
-        trace::rasterizeCells(*p.centres, cc, *p.cornerHits, scale, img.frame, img.flux, stats);
+    std::vector<glm::dvec2> q;
+    for (const ShapedPolygons::Poly& poly : ps.polys) {
+        if (!(poly.energy > 0.0) || poly.count == 0) continue;
+        q.resize(poly.count);
+        glm::dvec2 mean(0.0);
+        for (std::uint32_t i = 0; i < poly.count; ++i) {
+            const glm::vec2& v = ps.vertices[poly.first + i];
+            const glm::dvec2 s = frame.pixelToSensor(v.x, v.y);
+            mean += s;
+            q[i] = img.frame.sensorToPixel(s.x, s.y);
+        }
+        mean /= static_cast<double>(poly.count);
+        if (o.maxRadiusMm > 0.0 && glm::dot(mean, mean) > o.maxRadiusMm * o.maxRadiusMm) continue;
+        raster.polygon(q, poly.energy, stats);
     }
-    double norm2 = 0.0;
-    for (double v : img.flux) norm2 += v * v;
-
-    fit.gaussian = fitProfile(img, Profile::Gaussian, e, sR, sT, norm2);
-    fit.cos2 = fitProfile(img, Profile::Cos2, e, 2.766 * sR, 2.766 * sT, norm2);
+    img.flux = std::move(raster).release();
+    fit.gaussian = fitProfile(img, Profile::Gaussian, m.energy, sR, sT);
+    fit.cos2 = fitProfile(img, Profile::Cos2, m.energy, 2.766 * sR, 2.766 * sT);
     return fit;
 }
 

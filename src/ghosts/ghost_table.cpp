@@ -1,84 +1,87 @@
 #include "ghosts/ghost_table.h"
+#include "ghosts/shaped_ghosts.h"
 
 #include "core/error.h"
-#include "core/stopwatch.h"
-#include "core/text.h"
 #include "core/units.h"
-#include "ghosts/entry_tracer.h"
-#include "ghosts/table_refinement.h"
+#include "ghosts/shaped_mesh.h"
 #include "optics/paraxial.h"
-#include "trace/traced_flare.h"
+
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <chrono>
+#include <atomic>
 #include <cmath>
-#include <map>
+#include <limits>
+#include <mutex>
+#include <numbers>
 
 namespace ff::ghosts {
 
-std::string TableSettings::key() const {
-    std::string k = "table-v23 lambda";
-    for (double l : wavelengthsNm) k += " " + text::roundTrip(l);
-    k += " sampling " + std::to_string(static_cast<int>(sampling)) + " grid " + std::to_string(grid) + " sensor " +
-         std::to_string(static_cast<int>(sensor)) + " coating " + std::to_string(static_cast<int>(coating)) + " max " +
-         text::roundTrip(maxAngleDeg) + " tol " + text::roundTrip(interpolationTolerance) + " angles " +
-         std::to_string(maxAngles) + " sensorsize " + text::roundTrip(sensorSizeMm.first) + "x" +
-         text::roundTrip(sensorSizeMm.second) + " edges " + std::to_string(edgeSubdivisions);
-    return k;
-}
-
-TableSettings TableSettings::named(int grid, const std::string& sampling, const std::string& sensor,
-                                   const std::string& coating, double maxAngleDeg, int maxAngles, double tolerance) {
+TableSettings TableSettings::named(int grid, int angles, const std::string& sensor, const std::string& coating,
+                                   double maxAngleDeg) {
     auto require = [](bool ok, const std::string& what) {
         if (!ok) throw Error(ErrorKind::Usage, what);
     };
     require(grid >= 4 && grid <= 512,
-            "the table's grid (table_grid, --table-grid) must be 4..512 rays per side, got " + std::to_string(grid));
+            "the table's grid (table_grid, --table-grid) must be 4..512 cells per side, got " + std::to_string(grid));
+    require(angles >= 2 && angles <= 1024,
+            "the table's field angles (table_angles, --table-angles) must be 2..1024, got " + std::to_string(angles));
     require(maxAngleDeg >= 0.0 && maxAngleDeg <= 85.0,
             "the table's largest field angle (max_angle, --max-angle) must be 0..85 degrees");
-    require(maxAngles >= 9 && maxAngles <= 513,
-            "the table's angles per ghost (table_angles, --table-angles) must be 9..513, got " +
-                std::to_string(maxAngles));
-    require(tolerance >= 1e-6 && tolerance <= 1.0, "the table's tolerance (tolerance, --tolerance) must be 1e-6..1");
     TableSettings s;
     s.grid = grid;
-    s.sampling = trace::samplingNamed(sampling);
+    s.angles = angles;
     s.sensor = trace::sensorPlaneNamed(sensor);
     s.coating = trace::coatingNamed(coating);
     s.maxAngleDeg = maxAngleDeg;
-    s.maxAngles = maxAngles;
-    s.interpolationTolerance = tolerance;
     return s;
+}
+
+std::pair<std::size_t, double> locate(const std::vector<double>& angles, double a) {
+    if (angles.size() < 2 || a <= angles.front()) return {0, 0.0};
+    if (a >= angles.back()) return {angles.size() - 2, 1.0};
+    const auto it = std::upper_bound(angles.begin(), angles.end(), a);
+    const std::size_t i = static_cast<std::size_t>(it - angles.begin()) - 1;
+    return {i, (a - angles[i]) / (angles[i + 1] - angles[i])};
 }
 
 namespace {
 
-void requireSymmetric(const optics::Lens& lens) {
-    if (!lens.rotationallySymmetric())
-        throw Error(ErrorKind::Input, SourceLocation{lens.file},
-                    "the lens has anamorphic surfaces; a ghost table needs a rotationally symmetric lens");
+double lerp(double a, double b, double t) {
+    return a + (b - a) * t;
 }
 
-// Intervals are not split below maxAngle / kFinestDivision (0.0002 deg on a 25 deg field). A ghost
-// refines alone, so following one of its kinks deeper costs about two traces per halving, and the
-// square-root kinks (a part of a ghost vignetted away) improve by only sqrt(2) per halving
-// (docs/sampling-cases.md, "Square-root kinks"). What fails at this floor is then handled there
-// (table_refinement.h):
-// pieces of light an entry's search lost are carried to it from its neighbour, and kinks get a knot.
-constexpr double kFinestDivision = 131072.0;
-
-// Runs one step of the refinement, adding the traces it spent and its time to the report's step.
-template <typename F>
-auto timed(BuildReport::Step& step, std::size_t& spent, F&& f) {
-    const auto start = std::chrono::steady_clock::now();
-    const std::size_t before = spent;
-    auto result = f();
-    step.traces += spent - before;
-    step.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return result;
+ProfileFit lerp(const ProfileFit& a, const ProfileFit& b, double t) {
+    return {lerp(a.widthR, b.widthR, t), lerp(a.widthT, b.widthT, t), lerp(a.peak, b.peak, t),
+            lerp(a.error, b.error, t)};
 }
 
 } // namespace
+
+TableEntry interpolate(const TableEntry& a, const TableEntry& b, double t) {
+    // Where the ghost is dark at one end of the interval (it is switched on or off within it), its
+    // shape is the lit end's and only its light fades: interpolating its centroid and widths towards
+    // those of no light would shrink it onto the axis.
+    if ((a.flux <= 0.0) != (b.flux <= 0.0)) {
+        const bool fromB = a.flux <= 0.0;
+        TableEntry e = fromB ? b : a;
+        const double fade = fromB ? t : 1.0 - t;
+        e.flux *= fade;
+        e.gaussian.peak *= fade;
+        e.cos2.peak *= fade;
+        e.surviving = lerp(a.surviving, b.surviving, t);
+        return e;
+    }
+    TableEntry e;
+    e.centroidY = lerp(a.centroidY, b.centroidY, t);
+    e.sigmaR = lerp(a.sigmaR, b.sigmaR, t);
+    e.sigmaT = lerp(a.sigmaT, b.sigmaT, t);
+    e.flux = lerp(a.flux, b.flux, t);
+    e.surviving = lerp(a.surviving, b.surviving, t);
+    e.gaussian = lerp(a.gaussian, b.gaussian, t);
+    e.cos2 = lerp(a.cos2, b.cos2, t);
+    return e;
+}
 
 TableEntry GhostTable::at(std::size_t ghost, std::size_t w, double a) const {
     const TableGhost& g = ghosts[ghost];
@@ -119,276 +122,86 @@ std::size_t GhostTable::entryCount() const {
 
 namespace {
 
-// Every ghost on the same 9 uniform angles, 0..maxAngle, its intervals not yet measured.
-std::vector<GhostNodes> traceStart(EntryTracer& tracer, double maxAngle, BuildReport& report, std::size_t& spent) {
-    const std::size_t nG = tracer.pairs().size();
-    std::vector<GhostNodes> nodes(nG);
-    std::vector<Task> tasks;
-    for (std::size_t g = 0; g < nG; ++g)
-        for (int i = 0; i <= 8; ++i) tasks.push_back({g, maxAngle * i / 8.0, {}});
-    Traced traced = timed(report.start, spent, [&] {
-        spent += tasks.size();
-        return tracer.trace(tasks);
-    });
-    for (std::size_t k = 0; k < tasks.size(); ++k) {
-        GhostNodes& n = nodes[tasks[k].ghost];
-        n.angles.push_back(tasks[k].angleDeg);
-        n.rows.push_back(std::move(traced.rows[k]));
-        n.found.push_back(std::move(traced.found[k]));
-    }
-    for (GhostNodes& n : nodes) n.intervals.assign(n.angles.size() - 1, Interval{});
-    return nodes;
-}
-
-// The intervals to measure this round: unmeasured ones wider than the finest step (at the finest step
-// too where their ghost was traced again on a finer grid: Interval::remeasure), of any ghost; when the
-// budget cannot take them all, the ones with the largest estimate x width go first (the rest keep
-// their estimate): a light falls in an interval in proportion to its width, and an interval astride
-// a kink (a part of a ghost vignetted away) cannot take the whole budget.
-std::vector<Todo> intervalsToMeasure(const std::vector<GhostNodes>& nodes, const RefinementLimits& limits,
-                                     std::size_t budget, std::size_t spent) {
-    const std::size_t nG = nodes.size();
-    std::vector<Todo> todo;
-    for (std::size_t g = 0; g < nG; ++g) {
-        const GhostNodes& n = nodes[g];
-        for (std::size_t i = 0; i < n.intervals.size(); ++i) {
-            const double width = n.angles[i + 1] - n.angles[i];
-            const Interval& v = n.intervals[i];
-            if (!v.measured && (width > limits.minStep || v.remeasure)) todo.push_back({g, i, v.error * width});
-        }
-    }
-    const std::size_t room = budget > spent ? budget - spent : 0;
-    if (todo.size() > room) {
-        std::stable_sort(todo.begin(), todo.end(),
-                         [](const Todo& a, const Todo& b) { return a.priority > b.priority; });
-        todo.resize(room);
-        std::sort(todo.begin(), todo.end(), [](const Todo& a, const Todo& b) {
-            return a.ghost != b.ghost ? a.ghost < b.ghost : a.interval < b.interval;
-        });
-    }
-    return todo;
-}
-
-// The mid-angle of each interval to measure; its search looks where its two neighbours' searches
-// found light.
-std::vector<Task> midAngleTasks(const std::vector<GhostNodes>& nodes, const std::vector<Todo>& todo) {
-    std::vector<Task> tasks;
-    for (const Todo& d : todo) {
-        const GhostNodes& n = nodes[d.ghost];
-        trace::PupilHints hints = n.found[d.interval].pieces;
-        const trace::PupilHints& other = n.found[d.interval + 1].pieces;
-        for (std::size_t w = 0; w < hints.size() && w < other.size(); ++w)
-            hints[w].insert(hints[w].end(), other[w].begin(), other[w].end());
-        tasks.push_back(
-            {d.ghost, 0.5 * (n.angles[d.interval] + n.angles[d.interval + 1]), std::move(hints), false, n.gridScale});
-    }
-    return tasks;
-}
-
-// The strongest ghost's flux at each mid-angle and wavelength: traced where this round traced it,
-// interpolated from the ghost's entries elsewhere.
-std::map<double, std::vector<double>> strongestAtMids(const std::vector<GhostNodes>& nodes,
-                                                      const std::vector<Task>& tasks, const Traced& mids,
-                                                      std::size_t nW) {
-    std::map<double, std::vector<double>> strongest;
-    for (const Task& task : tasks)
-        if (!strongest.count(task.angleDeg)) strongest.emplace(task.angleDeg, strongestFlux(nodes, task.angleDeg, nW));
-    for (std::size_t k = 0; k < tasks.size(); ++k)
-        for (std::size_t w = 0; w < nW; ++w) {
-            double& flux = strongest[tasks[k].angleDeg][w];
-            flux = std::max(flux, mids.rows[k][w].flux);
-        }
-    return strongest;
-}
-
-// Every mid-angle becomes an entry of its ghost. A passing interval leaves two halves that keep its
-// error; a failing one leaves two halves to be measured; one beside an entry traced again (with the
-// estimate in `estimates`) is measured again.
-void insertMids(std::vector<GhostNodes>& nodes, const std::vector<Todo>& todo, const std::vector<Task>& tasks,
-                Traced& mids, const std::vector<std::pair<double, bool>>& errors,
-                const std::map<Node, double>& estimates, double tolerance) {
-    for (std::size_t k = 0; k < todo.size();) {
-        const std::size_t g = todo[k].ghost;
-        GhostNodes& n = nodes[g];
-        GhostNodes next;
-        next.gridScale = n.gridScale;
-        for (std::size_t i = 0; i < n.angles.size(); ++i) {
-            next.angles.push_back(n.angles[i]);
-            next.rows.push_back(std::move(n.rows[i]));
-            next.found.push_back(std::move(n.found[i]));
-            if (i + 1 == n.angles.size()) break;
-            if (k < todo.size() && todo[k].ghost == g && todo[k].interval == i) {
-                const auto [e, relevant] = errors[k];
-                const Interval half{e <= tolerance, relevant, e};
-                next.intervals.push_back(half);
-                next.angles.push_back(tasks[k].angleDeg);
-                next.rows.push_back(std::move(mids.rows[k]));
-                next.found.push_back(std::move(mids.found[k]));
-                next.intervals.push_back(half);
-                ++k;
-            } else {
-                Interval kept = n.intervals[i];
-                for (const std::size_t e : {i, i + 1})
-                    if (const auto it = estimates.find({g, e}); it != estimates.end()) {
-                        kept.measured = false;
-                        kept.compared = false;
-                        kept.error = std::max(kept.error, it->second);
-                    }
-                next.intervals.push_back(kept);
-            }
-        }
-        n = std::move(next);
-    }
-}
-
-// The table's interpolation error: over the final intervals of the ghosts that counted there.
-void summariseErrors(const std::vector<GhostNodes>& nodes, const EntryTracer& tracer, double tolerance, GhostTable& t) {
-    BuildReport& report = t.build;
-    const std::size_t nG = nodes.size();
-    std::vector<double> errors;
-    double field = 0.0, fieldWithin = 0.0;
-    for (std::size_t g = 0; g < nG; ++g) {
-        const GhostNodes& n = nodes[g];
-        for (std::size_t i = 0; i < n.intervals.size(); ++i) {
-            if (!n.intervals[i].relevant) continue;
-            errors.push_back(n.intervals[i].error);
-            if (n.intervals[i].error > report.worst.error)
-                report.worst = {tracer.pairs()[g].label(), n.angles[i], n.angles[i + 1], n.intervals[i].error};
-            const double width = n.angles[i + 1] - n.angles[i];
-            field += width;
-            if (n.intervals[i].error <= tolerance) fieldWithin += width;
-        }
-    }
-    t.withinTolerance = field > 0.0 ? fieldWithin / field : 1.0;
-    std::sort(errors.begin(), errors.end());
-    t.interpolationError = errors.empty() ? 0.0 : errors.back();
-    t.interpolationErrorMedian = errors.empty() ? 0.0 : errors[errors.size() / 2];
-    t.interpolationErrorP95 =
-        errors.empty() ? 0.0
-                       : errors[std::min(errors.size() - 1, static_cast<std::size_t>(0.95 * double(errors.size())))];
-}
-
-// The entries: the direct image at every angle any ghost uses, and each ghost's rows.
-void fillEntries(const EntryTracer& tracer, const std::vector<GhostNodes>& nodes, std::size_t nW, GhostTable& t) {
-    const std::size_t nG = nodes.size();
-    t.directY.assign(nW, {});
-    for (const auto& [angle, d] : tracer.directs()) {
-        t.anglesDeg.push_back(angle);
-        for (std::size_t w = 0; w < nW; ++w) t.directY[w].push_back(d.y[w]);
-    }
-    for (std::size_t g = 0; g < nG; ++g) {
-        TableGhost tg;
-        tg.pair = tracer.pairs()[g];
-        tg.anglesDeg = nodes[g].angles;
-        tg.entries.assign(nW, std::vector<TableEntry>(tg.anglesDeg.size()));
-        for (std::size_t a = 0; a < tg.anglesDeg.size(); ++a)
-            for (std::size_t w = 0; w < nW; ++w) tg.entries[w][a] = nodes[g].rows[a][w];
-        t.ghosts.push_back(std::move(tg));
-    }
+// One ghost's entry at table angle a and wavelength w: its mesh cut into polygons at azimuth 0,
+// first flat (to learn its spreads), then subdivided to a tenth of a pixel of the image it is
+// fitted to (FitOptions: the larger spread over an eighth of its pixels), which sets the moments.
+TableEntry fitEntry(const ShapedTable& table, std::size_t g, std::size_t w, int a, const FitOptions& options) {
+    const ShapedGhost& gh = table.ghosts[g];
+    const ShapedMesh& mesh = gh.meshes[w][static_cast<std::size_t>(a)];
+    TableEntry e;
+    if (mesh.data.empty() || !(mesh.flux > 0.0)) return e;
+    // Pass 1: a frame of 1 um pixels on the axis; no subdivision.
+    ShapedRenderSettings flat;
+    flat.subcellPx = std::numeric_limits<double>::infinity();
+    const trace::ImageFrame micron{0, 0, 1e-3};
+    ShapedPolygons coarse;
+    meshPolygons(table, {g, a, 0.0, std::numeric_limits<double>::infinity()}, w, 0.0, 1.0, micron, flat, coarse);
+    const PolygonMoments m = polygonMoments(coarse, micron, options.maxRadiusMm);
+    if (!(m.energy > 0.0)) return e;
+    // Pass 2: pixels of the fit's image, centred on the ghost.
+    const double spread = std::max({std::sqrt(m.mxx), std::sqrt(m.myy), 1e-3});
+    const trace::ImageFrame local{options.imageSize, options.imageSize,
+                                  2.0 * options.extentSigmas * spread / options.imageSize, m.centroidX, m.centroidY};
+    ShapedRenderSettings fine;
+    fine.subcellPx = 1.0;
+    ShapedPolygons polys;
+    meshPolygons(table, {g, a, 0.0, 0.1}, w, 0.0, 1.0, local, fine, polys);
+    const GhostFit f = fitGhost(polys, local, options);
+    e.centroidY = f.centroidY;
+    e.sigmaR = f.sigmaR;
+    e.sigmaT = f.sigmaT;
+    e.flux = f.flux;
+    e.gaussian = f.gaussian;
+    e.cos2 = f.cos2;
+    const double cell = (gh.pupilX1 - gh.pupilX0) * (gh.pupilY1 - gh.pupilY0) / (double(gh.grid) * gh.grid);
+    const double pupil = std::numbers::pi * table.pupilRadiusMm * table.pupilRadiusMm;
+    e.surviving = pupil > 0.0 ? std::min(1.0, polys.pupilCells * cell / pupil) : 0.0;
+    return e;
 }
 
 } // namespace
 
-GhostTable buildGhostTable(const optics::Lens& lensIn, const TableSettings& s, const Progress& progress) {
-    requireSymmetric(lensIn);
-    const auto start = Clock::now();
-    const optics::Lens lens = trace::withCoating(lensIn, s.coating);
-    EntryTracer tracer(lens, s, progress);
+GhostTable fitShapedTable(const ShapedTable& table, const optics::Lens& lens, const Progress& progress) {
     GhostTable t;
-    t.lensName = lens.name;
+    t.lensName = table.lensName;
     t.lensFile = lens.file;
-    t.lensHash = lens.contentHash;
-    t.settingsKey = s.key();
+    t.lensHash = table.lensHash;
     t.efl = optics::paraxialEfl(lens, lines::d);
-    t.sensorZ = tracer.sensorZ();
-    t.sensorSizeMm = lens.sensorMm.value_or(s.sensorSizeMm);
+    t.sensorZ = table.sensorZ;
+    t.sensorSizeMm = table.sensorSizeMm;
     t.apertureBlades = lens.apertureBlades;
     t.bladeRotationDeg = lens.bladeRotationDeg;
-    t.wavelengthsNm = s.wavelengthsNm;
-    const double maxAngle = s.maxAngleDeg > 0.0
-                                ? s.maxAngleDeg
-                                : trace::sensorCornerFieldDeg(lens, t.sensorZ, lens.sensorMm.value_or(s.sensorSizeMm));
-    const std::size_t nW = s.wavelengthsNm.size(), nG = tracer.pairs().size();
-    // The budget counts traced entries (traced again too): maxAngles per ghost on average.
-    const std::size_t budget = static_cast<std::size_t>(std::max(s.maxAngles, 9)) * nG;
-    const RefinementLimits limits{s.interpolationTolerance, maxAngle / kFinestDivision,
-                                  0.01 * 0.5 * t.sensorSizeMm.second, budget};
-
-    // Every ghost starts on the same 9 uniform angles; each then refines its own intervals.
-    tracer.setTotalWork(budget);
-    BuildReport& report = t.build;
-    report.budget = budget;
-    std::size_t spent = 0;
-    std::vector<GhostNodes> nodes = traceStart(tracer, maxAngle, report, spent);
-    for (;; ++report.rounds) {
-        const std::vector<Todo> todo = intervalsToMeasure(nodes, limits, budget, spent);
-        if (todo.empty()) {
-            // What still fails is at the finest step (table_refinement.h).
-            if (spent < budget &&
-                (timed(report.carried, spent, [&] { return carryPieces(tracer, nodes, limits, spent); }) ||
-                 timed(report.knots, spent, [&] { return splitAtKinks(tracer, nodes, limits, spent); }) ||
-                 timed(report.finer, spent, [&] { return traceFiner(tracer, nodes, limits, spent); })))
-                continue;
-            break;
-        }
-        std::vector<Task> tasks = midAngleTasks(nodes, todo);
-        Traced mids = timed(report.midAngles, spent, [&] {
-            spent += tasks.size();
-            return tracer.trace(tasks);
-        });
-        const std::vector<Node> retraced = timed(
-            report.neighbours, spent, [&] { return retraceNeighbours(tracer, nodes, todo, mids, budget, spent); });
-        std::map<double, std::vector<double>> strongest = strongestAtMids(nodes, tasks, mids, nW);
-        // The measured intervals' errors; an entry traced again passes its largest to the intervals
-        // beside it that are not measured this round, as their estimate until they are.
-        std::vector<std::pair<double, bool>> errors(todo.size());
-        std::map<Node, double> estimates;
-        for (const Node& e : retraced) estimates.emplace(e, 0.0);
-        for (std::size_t k = 0; k < todo.size(); ++k) {
-            const GhostNodes& n = nodes[todo[k].ghost];
-            const std::size_t i = todo[k].interval;
-            errors[k] =
-                midError(n.rows[i], n.rows[i + 1], mids.rows[k], 0.5, strongest[tasks[k].angleDeg], limits.floorMm);
-            for (const std::size_t e : {i, i + 1})
-                if (const auto it = estimates.find({todo[k].ghost, e}); it != estimates.end())
-                    it->second = std::max(it->second, errors[k].first);
-        }
-        insertMids(nodes, todo, tasks, mids, errors, estimates, s.interpolationTolerance);
+    t.wavelengthsNm = table.wavelengthsNm;
+    const int A = table.angles();
+    for (int a = 0; a < A; ++a) t.anglesDeg.push_back(table.angleStep() * a);
+    t.directY = table.directY;
+    const std::size_t W = table.wavelengthsNm.size(), G = table.ghosts.size();
+    FitOptions options;
+    options.maxRadiusMm = std::hypot(table.sensorSizeMm.first, table.sensorSizeMm.second);
+    t.ghosts.resize(G);
+    for (std::size_t g = 0; g < G; ++g) {
+        t.ghosts[g].pair = table.ghosts[g].pair;
+        t.ghosts[g].anglesDeg = t.anglesDeg;
+        t.ghosts[g].entries.assign(W, std::vector<TableEntry>(static_cast<std::size_t>(A)));
     }
-    tracer.finish();
-    report.budgetSpent = spent >= budget;
-    for (const GhostNodes& n : nodes) report.finerGhosts += n.gridScale > 1;
-    summariseErrors(nodes, tracer, s.interpolationTolerance, t);
-    fillEntries(tracer, nodes, nW, t);
-    t.buildSeconds = secondsSince(start);
+    const std::size_t total = G * W * static_cast<std::size_t>(A);
+    std::atomic<std::size_t> done = 0;
+    std::mutex mutex;
+    tbb::parallel_for(std::size_t(0), total, [&](std::size_t k) {
+        const std::size_t g = k / (W * A), w = (k / A) % W;
+        const int a = static_cast<int>(k % A);
+        t.ghosts[g].entries[w][static_cast<std::size_t>(a)] = fitEntry(table, g, w, a, options);
+        if (progress) {
+            const std::size_t d = ++done;
+            std::lock_guard<std::mutex> lock(mutex);
+            progress(d, total);
+        }
+    });
     return t;
 }
 
-std::vector<std::vector<std::vector<TableEntry>>> traceEntries(const optics::Lens& lensIn, const TableSettings& s,
-                                                               const std::vector<double>& anglesDeg,
-                                                               const std::vector<std::string>& onlyGhosts) {
-    requireSymmetric(lensIn);
-    const optics::Lens lens = trace::withCoating(lensIn, s.coating);
-    const Progress none;
-    EntryTracer tracer(lens, s, none);
-    std::vector<std::size_t> ghosts;
-    for (std::size_t g = 0; g < tracer.pairs().size(); ++g)
-        if (onlyGhosts.empty()) ghosts.push_back(g);
-    for (const std::string& label : onlyGhosts) {
-        const auto& pairs = tracer.pairs();
-        const auto it =
-            std::find_if(pairs.begin(), pairs.end(), [&](const trace::GhostPair& p) { return p.label() == label; });
-        if (it == pairs.end())
-            throw Error(ErrorKind::Input, SourceLocation{lens.file}, "the lens has no ghost " + label);
-        ghosts.push_back(static_cast<std::size_t>(it - pairs.begin()));
-    }
-    std::vector<Task> tasks;
-    for (double a : anglesDeg)
-        for (std::size_t g : ghosts) tasks.push_back({g, a, {}});
-    std::vector<std::vector<TableEntry>> rows = tracer.trace(tasks).rows;
-    std::vector<std::vector<std::vector<TableEntry>>> out(anglesDeg.size());
-    for (std::size_t k = 0; k < tasks.size(); ++k) out[k / ghosts.size()].push_back(std::move(rows[k]));
-    return out;
+GhostTable buildGhostTable(const optics::Lens& lens, const TableSettings& settings, const Progress& progress) {
+    return buildShapedTable(lens, settings, progress).fitted;
 }
 
 } // namespace ff::ghosts

@@ -7,7 +7,7 @@
 // onto e: centre m r e, widths along e (radial) and across it (tangential), flux = the light's flux x
 // the ghost's relative flux per channel.
 
-#include "ghosts/ghost_table.h"
+#include "ghosts/table_data.h"
 
 #include <array>
 #include <vector>

@@ -3,12 +3,14 @@
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/text.h"
-#include "ghosts/table_cache.h"
+#include "ghosts/table_json.h"
 
 #include <nlohmann/json.hpp>
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -21,12 +23,13 @@ namespace ff::ghosts {
 namespace {
 
 constexpr char kMagic[8] = {'F', 'F', 'S', 'H', 'A', 'P', 'E', 'D'};
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;
 /// Changes whenever buildShapedTable's result changes for the same settings.
-constexpr int kBuildVersion = 3;
+constexpr int kBuildVersion = 4;
 constexpr std::uint16_t kLost = 65535;
 constexpr double kLevels = 65534.0;
 constexpr std::uintmax_t kMaxEntryBytes = std::uintmax_t(4) << 30;
+constexpr std::uint64_t kMaxHeaderBytes = std::uint64_t(1) << 30;
 
 template <class T>
 void put(std::string& out, T v) {
@@ -135,7 +138,7 @@ std::uint32_t crc(std::string_view s) {
 
 } // namespace
 
-std::string shapedCacheKey(const optics::Lens& lens, const ShapedSettings& s) {
+std::string shapedCacheKey(const optics::Lens& lens, const TableSettings& s) {
     const auto sensor = s.sensorSizeMm.value_or(lens.sensorMm.value_or(std::make_pair(36.0, 24.0)));
     std::string k = "shaped " + std::to_string(kBuildVersion) + "|lens " + lens.contentHash + "|zoom " +
                     std::to_string(lens.activeZoom) + "|wavelengths";
@@ -162,6 +165,11 @@ std::string shapedTableToBytes(const ShapedTable& t, const std::string& key) {
     h["max_angle_deg"] = t.maxAngleDeg;
     h["wavelengths_nm"] = t.wavelengthsNm;
     h["iris"] = {{"blades", t.iris.blades}, {"rotation_rad", t.iris.rotationRad}, {"radius", t.iris.radius}};
+    h["sensor_z_mm"] = t.sensorZ;
+    h["sensor_size_mm"] = {t.sensorSizeMm.first, t.sensorSizeMm.second};
+    h["pupil_radius_mm"] = t.pupilRadiusMm;
+    h["direct_y_mm"] = t.directY;
+    h["fitted"] = tableToJson(t.fitted);
     h["ghost_count"] = t.ghostCount;
     h["rays"] = t.rays;
     h["build_seconds"] = t.buildSeconds;
@@ -172,6 +180,7 @@ std::string shapedTableToBytes(const ShapedTable& t, const std::string& key) {
         nlohmann::json j = {{"first", gh.pair.first},
                             {"second", gh.pair.second},
                             {"grid", gh.grid},
+                            {"pupil_rect_mm", {gh.pupilX0, gh.pupilY0, gh.pupilX1, gh.pupilY1}},
                             {"aperture_steps", gh.apertureSteps},
                             {"stop_crossings", gh.stopCrossings},
                             {"raw_bytes", rawSize[g]},
@@ -195,16 +204,35 @@ std::string shapedTableToBytes(const ShapedTable& t, const std::string& key) {
     return out;
 }
 
-ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file, std::string& key) {
-    Reader r{bytes, 0, file};
+namespace {
+
+// The entry's header (magic, format version, JSON with its CRC), checked; r is left after it.
+std::string_view readHeader(Reader& r, const std::string& file) {
     if (r.take(sizeof kMagic) != std::string_view(kMagic, sizeof kMagic))
         throw Error(ErrorKind::Input, SourceLocation{file}, "not a shaped-table entry");
     if (const auto v = r.get<std::uint32_t>(); v != kVersion)
         throw Error(ErrorKind::Input, SourceLocation{file},
                     "shaped-table format version " + std::to_string(v) + ", expected " + std::to_string(kVersion));
-    const std::string_view header = r.take(r.get<std::uint64_t>());
+    const std::uint64_t n = r.get<std::uint64_t>();
+    if (n > kMaxHeaderBytes) throw Error(ErrorKind::Input, SourceLocation{file}, "shaped-table header too large");
+    const std::string_view header = r.take(n);
     if (r.get<std::uint32_t>() != crc(header))
         throw Error(ErrorKind::Input, SourceLocation{file}, "shaped-table header fails its CRC");
+    return header;
+}
+
+// The fitted table stored in a header.
+GhostTable fittedFrom(const nlohmann::json& h, const std::string& file) {
+    GhostTable t = tableFromJson(h.at("fitted").get<std::string>(), file);
+    t.settingsKey = h.at("key").get<std::string>();
+    return t;
+}
+
+} // namespace
+
+ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file, std::string& key) {
+    Reader r{bytes, 0, file};
+    const std::string_view header = readHeader(r, file);
     ShapedTable t;
     std::vector<std::string_view> chunks;
     std::vector<std::uint64_t> rawSize;
@@ -224,19 +252,33 @@ ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file
             throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table iris or field");
         t.iris = trace::Iris(iris.at("blades").get<int>(), iris.at("rotation_rad").get<double>(),
                              iris.at("radius").get<double>());
+        t.sensorZ = h.at("sensor_z_mm").get<double>();
+        const auto size = h.at("sensor_size_mm").get<std::vector<double>>();
+        if (size.size() != 2) throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table sensor");
+        t.sensorSizeMm = {size[0], size[1]};
+        t.pupilRadiusMm = h.at("pupil_radius_mm").get<double>();
+        t.directY = h.at("direct_y_mm").get<std::vector<std::vector<double>>>();
+        t.fitted = fittedFrom(h, file);
         t.ghostCount = h.at("ghost_count").get<std::size_t>();
         t.rays = h.at("rays").get<std::size_t>();
         t.buildSeconds = h.at("build_seconds").get<double>();
         const int A = h.at("angles").get<int>();
         const std::size_t W = t.wavelengthsNm.size();
-        if (A < 1 || A > 10000 || W < 1 || W > 64)
+        if (A < 1 || A > 10000 || W < 1 || W > 64 || t.directY.size() != W ||
+            t.fitted.wavelengthsNm.size() != W || t.fitted.anglesDeg.size() != static_cast<std::size_t>(A))
             throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table dimensions");
+        for (const auto& row : t.directY)
+            if (row.size() != static_cast<std::size_t>(A))
+                throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table dimensions");
         for (const auto& j : h.at("ghosts")) {
             ShapedGhost g;
             g.pair = {j.at("first").get<std::size_t>(), j.at("second").get<std::size_t>()};
             g.grid = j.at("grid").get<int>();
             g.apertureSteps = j.at("aperture_steps").get<std::vector<std::size_t>>();
             g.stopCrossings = j.at("stop_crossings").get<std::size_t>();
+            const auto rect = j.at("pupil_rect_mm").get<std::vector<double>>();
+            if (rect.size() != 4) throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-ghost layout");
+            g.pupilX0 = rect[0], g.pupilY0 = rect[1], g.pupilX1 = rect[2], g.pupilY1 = rect[3];
             if (g.grid < 1 || g.grid > 4096 || g.apertureSteps.size() > 1024 || g.stopCrossings > 16)
                 throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-ghost layout");
             const auto& flux = j.at("flux");
@@ -269,6 +311,8 @@ ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file
     }
     if (r.at != bytes.size())
         throw Error(ErrorKind::Input, SourceLocation{file}, "shaped-table entry has trailing bytes");
+    if (t.fitted.ghosts.size() != t.ghosts.size())
+        throw Error(ErrorKind::Input, SourceLocation{file}, "the fitted ghosts do not match the shaped ones");
     std::vector<std::string> errors(t.ghosts.size());
     tbb::parallel_for(std::size_t(0), t.ghosts.size(), [&](std::size_t g) {
         try {
@@ -292,16 +336,28 @@ ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file
     return t;
 }
 
-ShapedTable shapedTableFor(const optics::Lens& lens, const ShapedSettings& s, bool useCache, Reporter& reporter,
-                           bool* fromCache) {
+fs::path cacheDirectory() {
+    if (const char* d = std::getenv("FF_CACHE_DIR"); d && *d) return d;
+    if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return fs::path(x) / "fourierflare";
+    if (const char* h = std::getenv("HOME"); h && *h) return fs::path(h) / ".cache" / "fourierflare";
+    return fs::temp_directory_path() / "fourierflare-cache";
+}
+
+fs::path cacheFile(const optics::Lens& lens, const TableSettings& s) {
+    return cacheDirectory() / (hashHex(shapedCacheKey(lens, s)) + ".shaped");
+}
+
+ShapedTable shapedTableFor(const optics::Lens& lens, const TableSettings& s, bool useCache, Reporter& reporter,
+                           bool* fromCache, const Progress& progress) {
     if (fromCache) *fromCache = false;
     const std::string key = shapedCacheKey(lens, s);
-    const fs::path file = cacheDirectory() / (hashHex(key) + ".shaped");
+    const fs::path file = cacheFile(lens, s);
     if (useCache && fs::exists(file)) {
         try {
             std::string stored;
             ShapedTable t = shapedTableFromBytes(readFileBytes(file, kMaxEntryBytes), file.string(), stored);
             if (stored == key) {
+                t.fitted.lensFile = lens.file;
                 if (fromCache) *fromCache = true;
                 return t;
             }
@@ -312,11 +368,13 @@ ShapedTable shapedTableFor(const optics::Lens& lens, const ShapedSettings& s, bo
         }
     }
     // The table as stored, whether or not it is cached: a run draws the same ghosts cold and warm.
-    const ShapedTable built = buildShapedTable(lens, s);
+    const ShapedTable built = buildShapedTable(lens, s, progress);
     const std::string bytes = shapedTableToBytes(built, key);
     std::string stored;
     ShapedTable t = shapedTableFromBytes(bytes, file.string(), stored);
     t.buildSeconds = built.buildSeconds;
+    t.fitted.buildSeconds = built.buildSeconds;
+    t.fitted.lensFile = lens.file;
     if (useCache) {
         std::error_code ec;
         fs::create_directories(file.parent_path(), ec);
@@ -328,6 +386,45 @@ ShapedTable shapedTableFor(const optics::Lens& lens, const ShapedSettings& s, bo
         }
     }
     return t;
+}
+
+GhostTable tableFor(const optics::Lens& lens, const TableSettings& s, bool useCache, const Progress& progress,
+                    Reporter& reporter, bool* fromCache) {
+    if (fromCache) *fromCache = false;
+    const std::string key = shapedCacheKey(lens, s);
+    const fs::path file = cacheFile(lens, s);
+    // The fits are in the entry's header: only it is read.
+    if (useCache && fs::exists(file)) {
+        try {
+            std::ifstream in(file, std::ios::binary);
+            std::string head(sizeof kMagic + 12, '\0');
+            in.read(head.data(), static_cast<std::streamsize>(head.size()));
+            if (in.gcount() == static_cast<std::streamsize>(head.size())) {
+                std::uint64_t n = 0;
+                std::memcpy(&n, head.data() + sizeof kMagic + 4, sizeof n);
+                if (n <= kMaxHeaderBytes) {
+                    head.resize(head.size() + static_cast<std::size_t>(n) + 4);
+                    in.read(head.data() + sizeof kMagic + 12, static_cast<std::streamsize>(n + 4));
+                }
+            }
+            Reader r{head, 0, file.string()};
+            const nlohmann::json h = nlohmann::json::parse(readHeader(r, file.string()));
+            if (h.at("key").get<std::string>() == key) {
+                GhostTable t = fittedFrom(h, file.string());
+                t.lensFile = lens.file;
+                if (fromCache) *fromCache = true;
+                return t;
+            }
+            reporter.note({file.string()}, "cached shaped table does not match the lens or settings; rebuilding it");
+        } catch (const nlohmann::json::exception& e) {
+            reporter.note({file.string()},
+                          std::string("cached shaped table is unreadable (") + e.what() + "); rebuilding it");
+        } catch (const Error& e) {
+            reporter.note({file.string()},
+                          std::string("cached shaped table is unreadable (") + e.message() + "); rebuilding it");
+        }
+    }
+    return shapedTableFor(lens, s, useCache, reporter, nullptr, progress).fitted;
 }
 
 } // namespace ff::ghosts

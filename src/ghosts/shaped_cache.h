@@ -1,26 +1,32 @@
 #pragma once
-// Shaped tables on disk, in the ghost-table cache folder (table_cache.h), keyed by a hash of the lens
-// file's bytes, its zoom position and every setting of the build. A missing entry is built; an
-// unreadable, corrupt or mismatching one is rebuilt with a note, never trusted. Entries are written
-// atomically.
+// The table cache: shaped tables on disk (with the fits derived from them in their headers), keyed by
+// a hash of the lens file's bytes, its zoom position and every setting of the build. Folder:
+// $FF_CACHE_DIR, else $XDG_CACHE_HOME/fourierflare, else ~/.cache/fourierflare. A missing entry is
+// built; an unreadable, corrupt, older-format or mismatching one is rebuilt with a note, never
+// trusted. Entries are written atomically.
 //
-// Format (docs/ghost-table.md, "Shaped ghosts on disk"): the magic "FFSHAPED", a format version, a
-// JSON header (the key, the table's scalars, every ghost's layout and flux), then the meshes
-// quantised to 16 bits per value, each attribute of each mesh over its own range [lo, hi] (step
-// (hi - lo) / 65534; 65535 marks a lost ray's value), stored as differences from the previous
-// vertex of the row (the row above for a row's first) and deflated (zlib) with a CRC-32. Loading
-// gives back every value within half a step.
+// Format (docs/ghost-table.md, "The table on disk"): the magic "FFSHAPED", a format version, a JSON
+// header (the key, the table's scalars, the direct image's centroids, the fitted table as
+// tableToJson's text, every ghost's layout and flux) with its CRC-32, then the meshes quantised to 16
+// bits per value, each attribute of each mesh over its own range [lo, hi] (step (hi - lo) / 65534;
+// 65535 marks a lost ray's value), stored as differences from the previous vertex of the row (the row
+// above for a row's first) and deflated (zlib) with a CRC-32. Loading gives back every value within
+// half a step.
 
 #include "core/reporter.h"
+#include "ghosts/ghost_table.h"
 #include "ghosts/shaped_ghosts.h"
 
+#include <filesystem>
 #include <string>
 #include <string_view>
 
 namespace ff::ghosts {
 
+std::filesystem::path cacheDirectory();
+
 /// Every input of buildShapedTable as text, the lens's hash and zoom position included.
-std::string shapedCacheKey(const optics::Lens& lens, const ShapedSettings& settings);
+std::string shapedCacheKey(const optics::Lens& lens, const TableSettings& settings);
 
 /// The table as the cache stores it.
 std::string shapedTableToBytes(const ShapedTable& table, const std::string& key);
@@ -30,7 +36,12 @@ ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file
 
 /// The shaped table of the lens: from the cache when a valid entry with the same key exists, else
 /// built (and stored when useCache). `fromCache` tells which happened.
-ShapedTable shapedTableFor(const optics::Lens& lens, const ShapedSettings& settings, bool useCache, Reporter& reporter,
-                           bool* fromCache = nullptr);
+ShapedTable shapedTableFor(const optics::Lens& lens, const TableSettings& settings, bool useCache, Reporter& reporter,
+                           bool* fromCache = nullptr, const Progress& progress = {});
+
+/// The fitted table of the lens: from a valid cache entry's header when there is one (the meshes are
+/// not read), else the shaped table is built (and stored when useCache). `fromCache` tells which.
+GhostTable tableFor(const optics::Lens& lens, const TableSettings& settings, bool useCache, const Progress& progress,
+                    Reporter& reporter, bool* fromCache = nullptr);
 
 } // namespace ff::ghosts

@@ -2,7 +2,9 @@
 
 #include "core/error.h"
 #include "core/units.h"
+#include "ghosts/ghost_table.h"
 #include "ghosts/mesh_clip.h"
+#include "ghosts/shaped_cache.h"
 #include "optics/paraxial.h"
 #include "trace/sequential_tracer.h"
 #include "trace/traced_flare.h"
@@ -80,13 +82,15 @@ OpenMesh traceMesh(const trace::LensAtWavelength& L, const std::vector<trace::Pa
 }
 
 // The flux of a mesh: the weight integrated over the lit part of every traced triangle of every
-// cell (cellTriangles; in cells, the caller scales by the cell's area).
+// cell (cellTriangles; in cells, the caller scales by the cell's area). With `land`, also the flux's
+// first moment of the landing y (each clipped triangle's weight spread uniformly over its image, as
+// drawn: its share times the landing y at the clipped polygon's centroid).
 template <typename Constraints>
 double meshFlux(int n, const std::vector<char>& ok, const std::vector<double>& weight, std::size_t constraints,
-                Constraints&& value) {
+                Constraints&& value, const std::vector<glm::dvec2>* land = nullptr, double* momentY = nullptr) {
     TriangleClipper clipper;
     std::vector<std::array<double, 3>> c(constraints);
-    double sum = 0.0;
+    double sum = 0.0, sumY = 0.0;
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
             const std::size_t v00 = static_cast<std::size_t>(j) * (n + 1) + i, v10 = v00 + 1, v01 = v00 + n + 1,
@@ -98,9 +102,24 @@ double meshFlux(int n, const std::vector<char>& ok, const std::vector<double>& w
                 for (std::size_t k = 0; k < constraints; ++k)
                     for (int q = 0; q < 3; ++q) c[k][q] = value(t[q], k);
                 const double share = clipper.clip(c.data(), constraints);
-                sum += share * 0.5 * (weight[t[0]] + weight[t[1]] + weight[t[2]]) / 3.0;
+                const double e = share * 0.5 * (weight[t[0]] + weight[t[1]] + weight[t[2]]) / 3.0;
+                sum += e;
+                if (!land || !(e > 0.0)) continue;
+                // The clipped polygon's centroid in barycentrics (the area-weighted mean of a fan).
+                glm::dvec3 centroid(0.0);
+                double area = 0.0;
+                for (std::size_t q = 1; q + 1 < clipper.size(); ++q) {
+                    const glm::dvec3 &A = clipper[0], &B = clipper[q], &C = clipper[q + 1];
+                    const double a = std::abs((B.y - A.y) * (C.z - A.z) - (C.y - A.y) * (B.z - A.z));
+                    centroid += a * (A + B + C) / 3.0;
+                    area += a;
+                }
+                if (area > 0.0) centroid /= area;
+                else centroid = glm::dvec3(1.0 / 3.0);
+                sumY += e * (centroid.x * (*land)[t[0]].y + centroid.y * (*land)[t[1]].y + centroid.z * (*land)[t[2]].y);
             }
         }
+    if (momentY) *momentY = sumY;
     return sum;
 }
 
@@ -150,17 +169,23 @@ Probe probe(const trace::LensAtWavelength& L, const std::vector<trace::PathStep>
     return out;
 }
 
-// The direct image's flux at one field and wavelength (pupil mm^2 x weight), its apertures' edges
-// clipped as the ghosts' are.
-double directFlux(const trace::LensAtWavelength& L, const std::vector<trace::PathStep>& steps,
-                  const trace::PupilFrame& pupil, const trace::Field& field, std::size_t& rays) {
+// The direct image at one field and wavelength: its flux (pupil mm^2 x weight), its apertures' edges
+// clipped as the ghosts' are, and its centroid's y (mm).
+struct Direct {
+    double flux = 0.0, y = 0.0;
+};
+
+Direct directImage(const trace::LensAtWavelength& L, const std::vector<trace::PathStep>& steps,
+                   const trace::PupilFrame& pupil, const trace::Field& field, std::size_t& rays) {
     const Rect r = probe(L, steps, pupil, field).rect;
     rays += (kCoarse + 1) * (kCoarse + 1);
-    if (r.empty()) return 0.0;
+    if (r.empty()) return {};
     const OpenMesh m = traceMesh(L, steps, RayMaker(pupil, field), r, kDirectGrid);
     rays += m.ok.size();
     const double cellArea = (r.x1 - r.x0) * (r.y1 - r.y0) / (double(kDirectGrid) * kDirectGrid);
-    return cellArea * meshFlux(kDirectGrid, m.ok, m.weight, m.steps, marginsOf(m));
+    double momentY = 0.0;
+    const double flux = meshFlux(kDirectGrid, m.ok, m.weight, m.steps, marginsOf(m), &m.land, &momentY);
+    return {cellArea * flux, flux > 0.0 ? momentY / flux : 0.0};
 }
 
 } // namespace
@@ -173,9 +198,11 @@ std::size_t ShapedTable::bytes() const {
     return b;
 }
 
-ShapedTable buildShapedTable(const optics::Lens& lensIn, const ShapedSettings& s,
-                             const std::function<void(std::size_t, std::size_t)>& progress) {
+ShapedTable buildShapedTable(const optics::Lens& lensIn, const TableSettings& s, const Progress& progress) {
     const auto start = std::chrono::steady_clock::now();
+    if (!lensIn.rotationallySymmetric())
+        throw Error(ErrorKind::Input, SourceLocation{lensIn.file},
+                    "the lens has anamorphic surfaces; a ghost table needs a rotationally symmetric lens");
     if (s.grid < 2 || s.grid > 512)
         throw Error(ErrorKind::Usage, "the shaped ghosts' grid must be 2 to 512 cells per side");
     if (s.angles < 2 || s.angles > 1024) throw Error(ErrorKind::Usage, "the shaped ghosts need 2 to 1024 field angles");
@@ -185,13 +212,13 @@ ShapedTable buildShapedTable(const optics::Lens& lensIn, const ShapedSettings& s
     table.lensName = lens.name;
     table.lensHash = lens.contentHash;
     table.wavelengthsNm = s.wavelengthsNm;
+    table.sensorZ = sensorZ;
+    table.sensorSizeMm = s.sensorSizeMm.value_or(lens.sensorMm.value_or(std::make_pair(36.0, 24.0)));
     table.maxAngleDeg =
-        s.maxAngleDeg > 0.0
-            ? s.maxAngleDeg
-            : trace::sensorCornerFieldDeg(lens, sensorZ,
-                                          s.sensorSizeMm.value_or(lens.sensorMm.value_or(std::make_pair(36.0, 24.0))));
+        s.maxAngleDeg > 0.0 ? s.maxAngleDeg : trace::sensorCornerFieldDeg(lens, sensorZ, table.sensorSizeMm);
     table.iris = trace::LensAtWavelength(lens, lines::d, sensorZ).iris;
     const trace::PupilFrame pupil = trace::pupilFrame(lens);
+    table.pupilRadiusMm = pupil.radius;
     const auto pairs = trace::enumerateGhosts(lens);
     table.ghostCount = pairs.size();
     std::vector<trace::LensAtWavelength> Ls;
@@ -201,12 +228,15 @@ ShapedTable buildShapedTable(const optics::Lens& lensIn, const ShapedSettings& s
         return trace::Field{degToRad(table.maxAngleDeg * double(a) / double(A - 1)), 0.0};
     };
 
-    // The direct image's flux per wavelength and angle.
+    // The direct image's flux and centroid per wavelength and angle.
     const auto directSteps = trace::pathSteps(lens, std::nullopt);
     std::vector<double> direct(W * A, 0.0);
     std::vector<std::size_t> rays(G + W * A, 0);
+    table.directY.assign(W, std::vector<double>(A, 0.0));
     tbb::parallel_for(std::size_t(0), W * A, [&](std::size_t t) {
-        direct[t] = directFlux(Ls[t / A], directSteps, pupil, fieldAt(t % A), rays[G + t]);
+        const Direct d = directImage(Ls[t / A], directSteps, pupil, fieldAt(t % A), rays[G + t]);
+        direct[t] = d.flux;
+        table.directY[t / A][t % A] = d.y;
     });
 
     // Where each ghost's light is at each angle, probed at the middle wavelength. A ghost's meshes
@@ -264,6 +294,8 @@ ShapedTable buildShapedTable(const optics::Lens& lensIn, const ShapedSettings& s
         const int n = grids[g];
         if (n == 0) return;
         out.grid = n;
+        out.pupilX0 = rects[g][0].x0, out.pupilY0 = rects[g][0].y0;
+        out.pupilX1 = rects[g][0].x1, out.pupilY1 = rects[g][0].y1;
         const auto steps = trace::pathSteps(lens, pairs[g]);
         std::vector<std::size_t> stopSteps;
         for (std::size_t k = 0; k < steps.size(); ++k)
@@ -323,13 +355,20 @@ ShapedTable buildShapedTable(const optics::Lens& lensIn, const ShapedSettings& s
                 }
                 mesh.data = std::move(d);
             }
-        if (progress) progress(++done, G);
+        if (progress) progress(++done, 2 * G);
     });
     const double strongest = G ? *std::max_element(peak.begin(), peak.end()) : 0.0;
     for (std::size_t g = 0; g < G; ++g)
         if (peak[g] > 0.0 && peak[g] >= s.storeFraction * strongest) table.ghosts.push_back(std::move(ghosts[g]));
     table.rays = rayCount + std::accumulate(rays.begin(), rays.end(), std::size_t(0));
+    // The fits, derived from the meshes; their progress is the second half.
+    Progress fitProgress;
+    if (progress)
+        fitProgress = [&](std::size_t d, std::size_t total) { progress(G + G * d / std::max<std::size_t>(total, 1), 2 * G); };
+    table.fitted = fitShapedTable(table, lensIn, fitProgress);
+    table.fitted.settingsKey = shapedCacheKey(lensIn, s);
     table.buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    table.fitted.buildSeconds = table.buildSeconds;
     return table;
 }
 

@@ -22,6 +22,8 @@
 // points by phi and the iris by -phi in the table's frame.
 
 #include "ghosts/instancing.h"
+#include "ghosts/polygons.h"
+#include "ghosts/table_data.h"
 #include "optics/lens.h"
 #include "trace/flare_raster.h"
 #include "trace/ghost_analysis.h"
@@ -38,22 +40,6 @@
 
 namespace ff::ghosts {
 
-struct ShapedSettings {
-    std::vector<double> wavelengthsNm = {650.0, 550.0, 450.0}; ///< R, G, B
-    /// Cells per side of the pupil mesh of the ghost that is most concentrated on the sensor (flux^2 /
-    /// area); the others get fewer, growing as that ratio^(1/4), at least 16.
-    int grid = 48;
-    int angles = 25;          ///< field angles, uniform over 0..maxAngleDeg
-    double maxAngleDeg = 0.0; ///< 0: the field of the sensor's half-diagonal plus 5 %
-    trace::SensorPlane sensor = trace::SensorPlane::File;
-    trace::CoatingChoice coating = trace::CoatingChoice::File;
-    /// The sensor the images span, mm (default: the lens file's, else 36 x 24).
-    std::optional<std::pair<double, double>> sensorSizeMm;
-    /// Ghosts whose flux stays under this share of the strongest ghost's at every angle and
-    /// wavelength are not stored.
-    double storeFraction = 1e-5;
-};
-
 /// One ghost at one wavelength and field angle.
 struct ShapedMesh {
     double flux = 0.0;       ///< relative to the direct image (iris at the table's orientation)
@@ -63,6 +49,8 @@ struct ShapedMesh {
 struct ShapedGhost {
     trace::GhostPair pair;
     int grid = 0;                                ///< cells per side of its pupil meshes
+    double pupilX0 = 0.0, pupilY0 = 0.0;         ///< the square of the pupil plane its meshes cover, mm:
+    double pupilX1 = 0.0, pupilY1 = 0.0;         ///< corners (x0, y0) .. (x1, y1), the same at every angle
     std::vector<std::size_t> apertureSteps;      ///< path steps whose clear-aperture margin is stored
     std::size_t stopCrossings = 0;               ///< times the path crosses the stop (hit points stored)
     std::vector<std::vector<ShapedMesh>> meshes; ///< [wavelength][angle]
@@ -75,6 +63,13 @@ struct ShapedTable {
     std::string lensName, lensHash;
     double maxAngleDeg = 0.0;
     std::vector<double> wavelengthsNm;
+    double sensorZ = 0.0;                     ///< mm from the first vertex
+    std::pair<double, double> sensorSizeMm;   ///< the sensor the table covers
+    double pupilRadiusMm = 0.0;               ///< the paraxial entrance pupil's (d line)
+    std::vector<std::vector<double>> directY; ///< [wavelength][angle] the direct image's centroid, mm
+    /// What the fitted models use, derived from the meshes (shaped_fits.h): every stored ghost's
+    /// flux, moments and fits at the table's angles, in the same order as `ghosts`.
+    GhostTable fitted;
     trace::Iris iris; ///< the lens's iris at the working opening (d line)
     std::vector<ShapedGhost> ghosts;
     std::size_t ghostCount = 0; ///< every two-bounce ghost of the lens, stored or not
@@ -87,8 +82,8 @@ struct ShapedTable {
     std::size_t bytes() const;
 };
 
-ShapedTable buildShapedTable(const optics::Lens& lens, const ShapedSettings& settings,
-                             const std::function<void(std::size_t, std::size_t)>& progress = {});
+/// Traces the table and derives its fits (shaped_fits.h). Progress counts ghosts traced, then fitted.
+ShapedTable buildShapedTable(const optics::Lens& lens, const TableSettings& settings, const Progress& progress = {});
 
 /// A light for the shaped renderer: its field (trace::fieldForSensorPoint) and RGB flux.
 struct ShapedLight {
@@ -120,21 +115,6 @@ struct ShapedRender {
     double culledShare = 0.0;                   ///< largest share of a light's ghost flux culled
     double deposited = 0.0, offImage = 0.0;     ///< flux summed over the channels
     std::size_t triangles = 0;
-};
-
-/// Clipped polygons of uniform density (one ghost instance at one wavelength), in the order drawn.
-struct ShapedPolygons {
-    struct Poly {
-        std::uint32_t first = 0, count = 0; ///< its vertices: vertices[first .. first + count), in order
-        float yMin = 0.0f, yMax = 0.0f;     ///< rows it spans, pixels
-        double energy = 0.0;                ///< flux spread uniformly over it
-    };
-    std::vector<glm::vec2> vertices; ///< pixels (origin top-left, pixel centres at +0.5)
-    std::vector<Poly> polys;
-    double energy = 0.0; ///< drawn, in and out of the frame
-    std::size_t triangles = 0;
-
-    void add(const glm::dvec2* p, std::size_t n, double e);
 };
 
 /// Where renderShaped draws its polygons when not on the CPU (whose trace::CoverageRaster is the

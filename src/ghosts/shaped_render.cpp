@@ -2,6 +2,7 @@
 #include "core/units.h"
 #include "ghosts/mesh_clip.h"
 #include "ghosts/shaped_ghosts.h"
+#include "ghosts/shaped_mesh.h"
 
 #include <tbb/parallel_for.h>
 
@@ -39,15 +40,14 @@ struct IrisEdges {
 
 // One light's ghost at the two table angles around its field angle.
 struct Instance {
-    std::size_t light, ghost;
-    int a0;
-    double t;
-    double flux = 0.0;       ///< summed over the channels
-    double flatnessPx = 0.0; ///< the subdivision's tolerance for this instance (ShapedRenderSettings)
+    std::size_t light;
+    MeshInstance mesh;
+    double flux = 0.0; ///< summed over the channels
 };
 
-// Cuts one instance's mesh at one wavelength into clipped polygons (pixels; shaped_ghosts.h).
-void meshPolygons(const ShapedTable& table, const Instance& in, std::size_t w, const ShapedLight& light,
+} // namespace
+
+void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t w, double azimuthRad, double flux,
                   const trace::ImageFrame& frame, const ShapedRenderSettings& settings, ShapedPolygons& out) {
     const ShapedGhost& gh = table.ghosts[in.ghost];
     const int A = table.angles();
@@ -56,8 +56,8 @@ void meshPolygons(const ShapedTable& table, const Instance& in, std::size_t w, c
     const std::size_t stride = gh.stride(), nA = gh.apertureSteps.size();
     const int n = gh.grid;
     const std::size_t V = static_cast<std::size_t>(n + 1) * (n + 1);
-    const double cs = std::cos(light.field.azimuthRad), sn = std::sin(light.field.azimuthRad);
-    const IrisEdges iris(table.iris, -light.field.azimuthRad);
+    const double cs = std::cos(azimuthRad), sn = std::sin(azimuthRad);
+    const IrisEdges iris(table.iris, -azimuthRad);
     const std::size_t C = std::min(kMaxConstraints, nA + gh.stopCrossings * iris.count());
 
     // Per vertex: pixel x, y, weight, then the constraints' values.
@@ -103,7 +103,6 @@ void meshPolygons(const ShapedTable& table, const Instance& in, std::size_t w, c
     // until a sub-cell spans about settings.subcellPx pixels.
     const double cellPx = std::max(xMax - xMin, yMax - yMin) / n;
     const int kEdge = std::clamp(static_cast<int>(std::ceil(cellPx / settings.subcellPx)), 1, settings.maxSubdivision);
-    const double flux = light.flux[w];
     TriangleClipper clipper;
     std::array<std::array<double, 3>, kMaxConstraints> c{};
     std::array<glm::dvec2, kMaxPolygon> poly{};
@@ -119,10 +118,12 @@ void meshPolygons(const ShapedTable& table, const Instance& in, std::size_t w, c
         if (active == 0) {
             poly[0] = {P[0], P[1]}, poly[1] = {Q[0], Q[1]}, poly[2] = {R[0], R[1]};
             out.add(poly.data(), 3, e);
+            out.pupilCells += area;
             return;
         }
         const double share = clipper.clip(c.data(), active);
         if (share <= 0.0) return;
+        out.pupilCells += area * share;
         for (std::size_t q = 0; q < clipper.size(); ++q) {
             const glm::dvec3& b = clipper[q];
             poly[q] = {b.x * P[0] + b.y * Q[0] + b.z * R[0], b.x * P[1] + b.y * Q[1] + b.z * R[1]};
@@ -238,8 +239,6 @@ void meshPolygons(const ShapedTable& table, const Instance& in, std::size_t w, c
         }
 }
 
-} // namespace
-
 void ShapedPolygons::add(const glm::dvec2* p, std::size_t n, double e) {
     Poly q{static_cast<std::uint32_t>(vertices.size()), static_cast<std::uint32_t>(n),
            std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(), e};
@@ -287,7 +286,7 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
                 ++out.culled;
                 continue;
             }
-            instances.push_back({l, g, a0, t, f});
+            instances.push_back({l, {g, a0, t, 0.0}, f});
         }
         if (total > 0.0) out.culledShare = std::max(out.culledShare, dropped / total);
     }
@@ -300,8 +299,8 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
     {
         std::vector<double> irradiance(instances.size(), 0.0);
         tbb::parallel_for(std::size_t(0), instances.size(), [&](std::size_t i) {
-            const ShapedGhost& gh = table.ghosts[instances[i].ghost];
-            const ShapedMesh& m = gh.meshes[W / 2][instances[i].a0];
+            const ShapedGhost& gh = table.ghosts[instances[i].mesh.ghost];
+            const ShapedMesh& m = gh.meshes[W / 2][instances[i].mesh.a0];
             const int n = gh.grid;
             const std::size_t stride = gh.stride();
             auto at = [&](int x, int y) { return &m.data[(static_cast<std::size_t>(y) * (n + 1) + x) * stride]; };
@@ -318,7 +317,7 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
         });
         const double top = irradiance.empty() ? 0.0 : *std::max_element(irradiance.begin(), irradiance.end());
         for (std::size_t i = 0; i < instances.size(); ++i)
-            instances[i].flatnessPx = irradiance[i] > 0.0
+            instances[i].mesh.flatnessPx = irradiance[i] > 0.0
                                           ? std::min(settings.maxFlatnessPx, settings.flatnessPx * top / irradiance[i])
                                           : settings.maxFlatnessPx;
     }
@@ -354,7 +353,8 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
         tbb::parallel_for(std::size_t(0), (i1 - i0) * W, [&](std::size_t k) {
             const Instance& in = instances[i0 + k / W];
             polys[k] = {};
-            meshPolygons(table, in, k % W, lights[in.light], frame, settings, polys[k]);
+            const ShapedLight& light = lights[in.light];
+            meshPolygons(table, in.mesh, k % W, light.field.azimuthRad, light.flux[k % W], frame, settings, polys[k]);
         });
         if (raster)
             for (std::size_t k = 0; k < (i1 - i0) * W; ++k) raster->draw(k % W, polys[k]);

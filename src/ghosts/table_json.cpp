@@ -61,10 +61,6 @@ std::string tableToJson(const GhostTable& t) {
     j["wavelengths_nm"] = t.wavelengthsNm;
     j["field_angles_deg"] = t.anglesDeg;
     j["direct_image_height_mm"] = t.directY;
-    j["interpolation_error"] = {{"max", t.interpolationError},
-                                {"median", t.interpolationErrorMedian},
-                                {"p95", t.interpolationErrorP95},
-                                {"field_within_tolerance", t.withinTolerance}};
     j["build_seconds"] = t.buildSeconds;
     json ghosts = json::array();
     for (std::size_t g = 0; g < t.ghosts.size(); ++g) {
@@ -130,10 +126,6 @@ GhostTable tableFromJson(const std::string& text, const std::string& source) {
         t.sensorSizeMm = {j.at("sensor").at("width_mm").get<double>(), j.at("sensor").at("height_mm").get<double>()};
         t.wavelengthsNm = j.at("wavelengths_nm").get<std::vector<double>>();
         t.anglesDeg = angles(j, source);
-        t.interpolationError = j.at("interpolation_error").at("max").get<double>();
-        t.interpolationErrorMedian = j.at("interpolation_error").at("median").get<double>();
-        t.interpolationErrorP95 = j.at("interpolation_error").at("p95").get<double>();
-        t.withinTolerance = j.at("interpolation_error").at("field_within_tolerance").get<double>();
         t.buildSeconds = j.at("build_seconds").get<double>();
         const std::size_t nW = t.wavelengthsNm.size();
         if (nW == 0) throw Error(ErrorKind::Input, where, "ghost table without wavelengths");

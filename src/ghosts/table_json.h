@@ -1,6 +1,6 @@
 #pragma once
 // The ghost table as JSON: the canonical, schema-versioned format documented in docs/ghost-table.md.
-// It is what `fourierflare table` and `export --format json` write and what the on-disk cache holds.
+// It is what `fourierflare table` and `export --format json` write and what the cache entries' headers hold.
 
 #include "ghosts/ghost_table.h"
 

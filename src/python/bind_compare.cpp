@@ -47,7 +47,7 @@ struct ReportFolder {
 py::object compare(const optics::Lens& lens, const py::object& lights, const py::object& size, const py::object& output,
                    int grid, std::vector<int> ns, const std::string& diffraction, const py::object& sensorSize,
                    int tableGrid, const std::string& sampling, const std::string& sensor, const std::string& coating,
-                   double maxAngle, int tableAngles, double tolerance, double fourierError,
+                   double maxAngle, int tableAngles, double fourierError,
                    const py::object& progress) {
     scene::ComparisonSettings s;
     s.lights = lightsFrom(lights);
@@ -61,7 +61,8 @@ py::object compare(const optics::Lens& lens, const py::object& lights, const py:
     s.grid = grid;
     s.ns = std::move(ns);
     s.diffraction = diffraction;
-    s.table = ghosts::TableSettings::named(tableGrid, sampling, sensor, coating, maxAngle, tableAngles, tolerance);
+    s.sampling = trace::samplingNamed(sampling);
+    s.table = ghosts::TableSettings::named(tableGrid, tableAngles, sensor, coating, maxAngle);
     if (!(fourierError >= 1e-7 && fourierError <= 0.5))
         throw Error(ErrorKind::Usage, "fourier_error must be 1e-7..0.5");
     s.fourier.error = fourierError;
@@ -88,8 +89,8 @@ py::object compare(const optics::Lens& lens, const py::object& lights, const py:
 void bindCompare(py::module_& m) {
     m.def("compare", &compare, "lens"_a, "lights"_a, "size"_a = std::make_pair(1920, 1080), "output"_a = py::none(),
           py::kw_only(), "grid"_a = 32, "fourier_n_sweep"_a = std::vector<int>{16, 32, 64, 128, 256},
-          "diffraction"_a = "off", "sensor_size"_a = py::none(), "table_grid"_a = 32, "sampling"_a = "reaim",
-          "sensor"_a = "file", "coating"_a = "file", "max_angle"_a = 0.0, "table_angles"_a = 64, "tolerance"_a = 0.005,
+          "diffraction"_a = "off", "sensor_size"_a = py::none(), "table_grid"_a = 48, "sampling"_a = "reaim",
+          "sensor"_a = "file", "coating"_a = "file", "max_angle"_a = 0.0, "table_angles"_a = 25,
           "fourier_error"_a = 1e-3, "progress"_a = py::none(),
           R"(The flare models of one scene against the traced reference, as `fourierflare compare` does
 (docs/compare.md), returning its report.json as a dict: the reference's own error, shaped vs

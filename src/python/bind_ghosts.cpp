@@ -2,7 +2,7 @@
 
 #include "core/error.h"
 #include "core/file_io.h"
-#include "ghosts/table_cache.h"
+#include "ghosts/shaped_cache.h"
 #include "ghosts/table_json.h"
 #include "optics/lens_loader.h"
 
@@ -140,22 +140,18 @@ sensor: file or paraxial (the plane); coating: file, none or mgf2. Runs without 
 centroid, spreads, flux and Gaussian and cos² fits at R, G, B wavelengths (docs/ghost-table.md).)")
         .def_static(
             "build",
-            [](const optics::Lens& lens, int tableGrid, const std::string& sampling, const std::string& sensor,
-               const std::string& coating, double maxAngle, int tableAngles, double tolerance, bool useCache,
-               const py::object& progress) {
-                return buildTable(lens,
-                                  ghosts::TableSettings::named(tableGrid, sampling, sensor, coating, maxAngle,
-                                                               tableAngles, tolerance),
+            [](const optics::Lens& lens, int tableGrid, const std::string& sensor, const std::string& coating,
+               double maxAngle, int tableAngles, bool useCache, const py::object& progress) {
+                return buildTable(lens, ghosts::TableSettings::named(tableGrid, tableAngles, sensor, coating, maxAngle),
                                   useCache, progress);
             },
-            "lens"_a, py::kw_only(), "table_grid"_a = 32, "sampling"_a = "reaim", "sensor"_a = "file",
-            "coating"_a = "file", "max_angle"_a = 0.0, "table_angles"_a = 64, "tolerance"_a = 0.005,
-            "use_cache"_a = true, "progress"_a = py::none(),
+            "lens"_a, py::kw_only(), "table_grid"_a = 48, "sensor"_a = "file", "coating"_a = "file",
+            "max_angle"_a = 0.0, "table_angles"_a = 25, "use_cache"_a = true, "progress"_a = py::none(),
             R"(Builds the lens's ghost table, or reads it from the cache (the CLI's: $FF_CACHE_DIR, else
 ~/.cache/fourierflare) when use_cache and an entry for the same lens bytes and settings exists.
 
-The options are the CLI's --table-grid, --sampling, --sensor, --coating, --max-angle (degrees; 0:
-the sensor's half-diagonal plus 5 %), --table-angles and --tolerance. progress(done, total) is
+The options are the CLI's --table-grid, --sensor, --coating, --max-angle (degrees; 0: the
+sensor's half-diagonal plus 5 %) and --table-angles. progress(done, total) is
 called as the build goes; an exception it raises, or Ctrl-C, stops the build and is raised here.
 Runs without the GIL.)")
         .def_static("load", &loadTable, "path"_a, "Reads a table written by save() or `fourierflare table`.")

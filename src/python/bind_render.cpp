@@ -26,6 +26,7 @@ struct RenderArgs {
     std::optional<std::pair<double, double>> sensorSizeMm; ///< default: the lens file's, else 36 x 24
     int grid = 32, spectral = 0;
     double refine = 1.0;
+    std::string sampling = "reaim"; ///< traced
     ghosts::TableSettings table;
     bool useCache = true;
     double fourierError = 1e-3;
@@ -70,7 +71,7 @@ py::array_t<float> render(const py::object& source, const py::object& lightsIn, 
                           const std::string& mode, const py::object& angle, const std::string& ghostModel,
                           const std::string& diffraction, const py::object& sensorSize, int grid, double refine,
                           int spectral, int tableGrid, const std::string& sampling, const std::string& sensor,
-                          const std::string& coating, double maxAngle, int tableAngles, double tolerance, bool useCache,
+                          const std::string& coating, double maxAngle, int tableAngles, bool useCache,
                           double fourierError, int fourierN, bool hybrid, const py::object& progress) {
     RenderArgs a;
     a.mode = mode;
@@ -81,7 +82,8 @@ py::array_t<float> render(const py::object& source, const py::object& lightsIn, 
     a.grid = grid;
     a.refine = refine;
     a.spectral = spectral;
-    a.table = ghosts::TableSettings::named(tableGrid, sampling, sensor, coating, maxAngle, tableAngles, tolerance);
+    a.sampling = sampling;
+    a.table = ghosts::TableSettings::named(tableGrid, tableAngles, sensor, coating, maxAngle);
     a.useCache = useCache;
     a.fourierError = fourierError;
     a.fourierN = fourierN;
@@ -104,7 +106,7 @@ py::array_t<float> render(const py::object& source, const py::object& lightsIn, 
     trace::TracedFlareOptions& t = s.traced;
     t.frame = {W, H, s.sensorMm.first / W};
     t.spectralSamples = a.spectral;
-    t.sampling = a.table.sampling;
+    t.sampling = trace::samplingNamed(a.sampling);
     t.grid = a.grid;
     t.refinement = a.refine;
     t.sensor = a.table.sensor;
@@ -118,7 +120,7 @@ py::array_t<float> render(const py::object& source, const py::object& lightsIn, 
         py::gil_scoped_acquire gil;
         return std::move(*buildTable(l, ts, a.useCache, progress)); // the only owner
     };
-    s.loadShaped = [&](const optics::Lens& l, const ghosts::ShapedSettings& ss) {
+    s.loadShaped = [&](const optics::Lens& l, const ghosts::TableSettings& ss) {
         return ghosts::shapedTableFor(l, ss, a.useCache, orNull(nullptr));
     };
     fourier::FlareImage image;
@@ -137,8 +139,8 @@ void bindRender(py::module_& m) {
     m.def("render", &render, "source"_a, "lights"_a = py::none(), "size"_a = std::make_pair(1280, 720),
           "mode"_a = "traced", py::kw_only(), "angle"_a = py::none(), "ghost_model"_a = "gaussian",
           "diffraction"_a = "physical", "sensor_size"_a = py::none(), "grid"_a = 32, "refine"_a = 1.0, "spectral"_a = 0,
-          "table_grid"_a = 32, "sampling"_a = "reaim", "sensor"_a = "file", "coating"_a = "file", "max_angle"_a = 0.0,
-          "table_angles"_a = 64, "tolerance"_a = 0.005, "use_cache"_a = true, "fourier_error"_a = 1e-3,
+          "table_grid"_a = 48, "sampling"_a = "reaim", "sensor"_a = "file", "coating"_a = "file", "max_angle"_a = 0.0,
+          "table_angles"_a = 25, "use_cache"_a = true, "fourier_error"_a = 1e-3,
           "fourier_n"_a = 0, "hybrid"_a = true, "progress"_a = py::none(),
           R"(The flare of lights through a lens as a float32 array of shape (height, width, 3), linear RGB,
 flux per pixel relative to the direct image of a unit light: what `fourierflare render` writes.
@@ -153,8 +155,9 @@ mode: 'traced' (every ghost ray-traced; grid, refine, spectral), 'shaped' (the s
 the separable Fourier series; fourier_error, fourier_n, and hybrid=False to
 send every ghost through the series, as the CLI's --no-hybrid) or 'diffraction' (the iris's starburst;
 diffraction='physical' or 'traced').
-The table's options (table_grid, sampling, sensor, coating, max_angle, table_angles, tolerance,
-use_cache, progress) are GhostTable.build's; sampling, sensor and coating serve every mode. Runs
+The table's options (table_grid, sensor, coating, max_angle, table_angles, use_cache, progress) are
+GhostTable.build's and serve 'shaped', 'fitted' and 'fourier'; sampling is the traced paths' pupil
+sampling; sensor and coating serve every mode. Runs
 on the CPU, without the GIL.)");
 }
 

@@ -57,9 +57,9 @@ py::list lightsOut(const scene::SimulatedPlate& r, bool given) {
 py::dict simulate(const FloatArray& plateArray, const optics::Lens& lens, const py::object& lights,
                   const py::object& channels, const std::string& ghostModel, const std::string& diffraction,
                   double flareGain, double diffractionGain, const py::object& sensorSize, double fov,
-                  const std::string& threshold, int block, int tableGrid, const std::string& sampling,
-                  const std::string& sensor, const std::string& coating, double maxAngle, int tableAngles,
-                  double tolerance, double fourierError, int fourierN, const py::object& progress) {
+                  const std::string& threshold, int block, int tableGrid, const std::string& sensor,
+                  const std::string& coating, double maxAngle, int tableAngles, double fourierError, int fourierN,
+                  const py::object& progress) {
     const image::Plate plate = plateFrom(plateArray, channels);
     scene::SimulationSettings s;
     s.ghostModel = ghostModel;
@@ -77,7 +77,7 @@ py::dict simulate(const FloatArray& plateArray, const optics::Lens& lens, const 
     if (block < 2 || block > 4096) throw Error(ErrorKind::Usage, "block must be 2..4096 pixels");
     s.detection.blockSize = block;
     s.lights = lightsFrom(lights);
-    s.table = ghosts::TableSettings::named(tableGrid, sampling, sensor, coating, maxAngle, tableAngles, tolerance);
+    s.table = ghosts::TableSettings::named(tableGrid, tableAngles, sensor, coating, maxAngle);
     if (!(fourierError >= 1e-7 && fourierError <= 0.5))
         throw Error(ErrorKind::Usage, "fourier_error must be 1e-7..0.5");
     if (fourierN < 0 || fourierN > 2048) throw Error(ErrorKind::Usage, "fourier_n must be 0 or 1..2048");
@@ -116,9 +116,8 @@ py::dict simulate(const FloatArray& plateArray, const optics::Lens& lens, const 
 void bindSimulate(py::module_& m) {
     m.def("simulate", &simulate, "plate"_a, "lens"_a, py::kw_only(), "lights"_a = py::none(), "channels"_a = py::none(),
           "ghost_model"_a = "shaped", "diffraction"_a = "physical", "flare_gain"_a = 1.0, "diffraction_gain"_a = 1.0,
-          "sensor_size"_a = py::none(), "fov"_a = 0.0, "threshold"_a = "2", "block"_a = 32, "table_grid"_a = 32,
-          "sampling"_a = "reaim", "sensor"_a = "file", "coating"_a = "file", "max_angle"_a = 0.0, "table_angles"_a = 64,
-          "tolerance"_a = 0.005, "fourier_error"_a = 1e-3, "fourier_n"_a = 0, "progress"_a = py::none(),
+          "sensor_size"_a = py::none(), "fov"_a = 0.0, "threshold"_a = "2", "block"_a = 32, "table_grid"_a = 48,
+          "sensor"_a = "file", "coating"_a = "file", "max_angle"_a = 0.0, "table_angles"_a = 25, "fourier_error"_a = 1e-3, "fourier_n"_a = 0, "progress"_a = py::none(),
           R"(The lens's flare on an HDR plate, as `fourierflare simulate` makes it (docs/simulate.md).
 
 plate: a float array of shape (height, width[, channels]), linear; channels named by `channels`

@@ -6,7 +6,6 @@
 #include "core/reporter.h"
 #include "ghosts/instancing.h"
 #include "ghosts/shaped_cache.h"
-#include "ghosts/table_cache.h"
 
 #include <nlohmann/json_fwd.hpp>
 
@@ -70,7 +69,7 @@ void loadTablesThrough(Settings& s, Interruptible& watch, DeferredReporter& repo
     s.loadTable = [&watch, &reporter](const optics::Lens& l, const ghosts::TableSettings& t) {
         return ghosts::tableFor(l, t, true, std::ref(watch), reporter);
     };
-    s.loadShaped = [&reporter](const optics::Lens& l, const ghosts::ShapedSettings& t) {
+    s.loadShaped = [&reporter](const optics::Lens& l, const ghosts::TableSettings& t) {
         return ghosts::shapedTableFor(l, t, true, reporter);
     };
 }

@@ -8,7 +8,6 @@
 #include "fourier/backend.h"
 #include "fourier/render.h"
 #include "ghosts/shaped_cache.h"
-#include "ghosts/table_cache.h"
 #include "image/image_output.h"
 #include "image/metrics.h"
 #include "scene/scene.h"
@@ -163,10 +162,8 @@ struct Comparison {
     // The shaped ghosts: every ghost's traced mesh, interpolated over field angle.
     void shaped() {
         auto t0 = Clock::now();
-        ghosts::ShapedSettings ss;
+        ghosts::TableSettings ss = s.table;
         ss.sensorSizeMm = sensorMm;
-        ss.sensor = to.sensor;
-        ss.coating = to.coating;
         const ghosts::ShapedTable shapedTable = s.loadShaped(lens, ss);
         const double buildSeconds = secondsSince(t0);
         t0 = Clock::now();
@@ -349,7 +346,7 @@ nlohmann::json compareFlares(const optics::Lens& lens, const ComparisonSettings&
             return ghosts::tableFor(l, t, true, {}, orNull(nullptr));
         };
     if (!s.loadShaped)
-        s.loadShaped = [](const optics::Lens& l, const ghosts::ShapedSettings& t) {
+        s.loadShaped = [](const optics::Lens& l, const ghosts::TableSettings& t) {
             return ghosts::shapedTableFor(l, t, true, orNull(nullptr));
         };
     std::sort(s.ns.begin(), s.ns.end());
@@ -376,7 +373,7 @@ nlohmann::json compareFlares(const optics::Lens& lens, const ComparisonSettings&
     auto t0 = Clock::now();
     c.to.frame = {c.W, c.H, c.sensorMm.first / c.W};
     c.to.grid = s.grid;
-    c.to.sampling = s.table.sampling;
+    c.to.sampling = s.sampling;
     c.to.sensor = s.table.sensor;
     c.to.coating = s.table.coating;
     const TracedScene tracedScene = renderTracedScene(c.lens, c.lights, c.to);

@@ -26,8 +26,9 @@ struct ComparisonSettings {
     int width = 1920, height = 1080;   ///< the frame, pixels (8..8192)
     std::pair<double, double> sensorMm{36.0, 24.0};
     int grid = 32; ///< the traced reference's starting pupil grid
-    /// The ghost table's settings; their sampling, sensor plane and coatings serve the traced
-    /// reference and the shaped ghosts too.
+    trace::Sampling sampling = trace::Sampling::Reaim; ///< the traced reference's pupil sampling
+    /// The table's settings (the shaped ghosts and their fits); their sensor plane and coatings serve
+    /// the traced reference too.
     ghosts::TableSettings table;
     fourier::FourierSettings fourier;             ///< the aggregator (its error is the budget)
     std::vector<int> ns = {16, 32, 64, 128, 256}; ///< the error against N (each 1..2048)
@@ -36,7 +37,7 @@ struct ComparisonSettings {
     diffraction::Convolver* convolver = nullptr;  ///< the diffraction's convolution (null: FFTW)
     /// The tables (default: from the cache, or built and cached).
     std::function<ghosts::GhostTable(const optics::Lens&, const ghosts::TableSettings&)> loadTable;
-    std::function<ghosts::ShapedTable(const optics::Lens&, const ghosts::ShapedSettings&)> loadShaped;
+    std::function<ghosts::ShapedTable(const optics::Lens&, const ghosts::TableSettings&)> loadShaped;
     std::function<void(const std::string&)> say; ///< progress lines (may be empty)
     std::string commandLine;                     ///< recorded in the report and the images' headers
     std::string lightsNote;                      ///< where the lights came from, for report.md ("" none)

@@ -3,7 +3,6 @@
 #include "core/error.h"
 #include "fourier/render.h"
 #include "ghosts/shaped_cache.h"
-#include "ghosts/table_cache.h"
 
 namespace ff::scene {
 
@@ -56,9 +55,7 @@ RenderedFlare renderFlare(const optics::Lens& lens, const std::vector<ghosts::Li
         for (std::size_t p = 0; p < r.image.pixels(); ++p)
             for (int c = 0; c < 3; ++c) r.image.channel[c][p] = spread[p * 3 + c];
     } else if (s.mode == "shaped") {
-        ghosts::ShapedSettings ss;
-        ss.sensor = t.sensor;
-        ss.coating = t.coating;
+        ghosts::TableSettings ss = s.table;
         ss.sensorSizeMm = s.sensorMm;
         const ghosts::ShapedTable tab =
             s.loadShaped ? s.loadShaped(lens, ss) : ghosts::shapedTableFor(lens, ss, true, orNull(nullptr));

@@ -27,13 +27,13 @@ struct FlareSettings {
     trace::TracedFlareOptions traced;
     std::optional<trace::Field> field;              ///< traced: one unit source at this field, not the lights
     std::pair<double, double> sensorMm{36.0, 24.0}; ///< the sensor the frame spans
-    ghosts::TableSettings table;                    ///< fitted, fourier
+    ghosts::TableSettings table;                    ///< shaped, fitted, fourier
     fourier::FourierSettings fourier;               ///< fourier
     ghosts::PolygonRaster* raster = nullptr;        ///< shaped: where the polygons are drawn (null: the CPU)
     diffraction::Convolver* convolver = nullptr;    ///< diffraction: the convolution (null: FFTW)
     /// The tables (default: from the cache, or built and cached).
     std::function<ghosts::GhostTable(const optics::Lens&, const ghosts::TableSettings&)> loadTable;
-    std::function<ghosts::ShapedTable(const optics::Lens&, const ghosts::ShapedSettings&)> loadShaped;
+    std::function<ghosts::ShapedTable(const optics::Lens&, const ghosts::TableSettings&)> loadShaped;
 };
 
 /// The image and what its mode reports.

@@ -8,7 +8,6 @@
 #include "fourier/backend.h"
 #include "fourier/render.h"
 #include "ghosts/shaped_cache.h"
-#include "ghosts/table_cache.h"
 #include "image/composite.h"
 #include "optics/paraxial.h"
 #include "scene/scene.h"
@@ -52,7 +51,7 @@ Simulation::Simulation(optics::Lens lens, SimulationSettings settings, Reporter&
             return ghosts::tableFor(l, t, true, {}, reporter_);
         };
     if (!s_.loadShaped)
-        s_.loadShaped = [this](const optics::Lens& l, const ghosts::ShapedSettings& t) {
+        s_.loadShaped = [this](const optics::Lens& l, const ghosts::TableSettings& t) {
             return ghosts::shapedTableFor(l, t, true, reporter_);
         };
     if (s_.diffraction != "off") {
@@ -109,10 +108,8 @@ void Simulation::drawShaped(const image::Plate& plate, SimulatedPlate& out) {
     // One table per display-window shape (the field it must cover).
     if (!shaped_ || shapedFor_ != std::make_pair(plate.displayWidth, plate.displayHeight)) {
         shapedFor_ = {plate.displayWidth, plate.displayHeight};
-        ghosts::ShapedSettings ss;
+        ghosts::TableSettings ss = s_.table;
         ss.sensorSizeMm = {s_.sensorWidthMm, pitch * plate.displayHeight};
-        ss.sensor = s_.table.sensor;
-        ss.coating = s_.table.coating;
         shaped_ = std::make_unique<ghosts::ShapedTable>(s_.loadShaped(lens_, ss));
     }
     out.tableSeconds = lap(t);

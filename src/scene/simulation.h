@@ -39,7 +39,7 @@ struct SimulationSettings {
     /// The ghost table / shaped table of the lens (default: ghosts::tableFor / shapedTableFor with
     /// the cache); a caller that reports builds supplies its own.
     std::function<ghosts::GhostTable(const optics::Lens&, const ghosts::TableSettings&)> loadTable;
-    std::function<ghosts::ShapedTable(const optics::Lens&, const ghosts::ShapedSettings&)> loadShaped;
+    std::function<ghosts::ShapedTable(const optics::Lens&, const ghosts::TableSettings&)> loadShaped;
     /// The composite made on the device that holds a fitted flare without diffraction (bit-identical
     /// to image::composite), or empty where it cannot.
     std::function<std::vector<float>(const image::Plate&)> deviceComposite;

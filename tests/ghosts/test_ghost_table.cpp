@@ -1,7 +1,7 @@
 #include "core/error.h"
 #include "core/units.h"
 #include "ghosts/ghost_table.h"
-#include "ghosts/table_cache.h"
+#include "ghosts/shaped_cache.h"
 #include "ghosts/table_json.h"
 #include "optics/lens_loader.h"
 

@@ -1,7 +1,6 @@
 #include "core/error.h"
 #include "core/file_io.h"
 #include "ghosts/shaped_cache.h"
-#include "ghosts/table_cache.h"
 #include "optics/lens_loader.h"
 
 #include <gtest/gtest.h>
@@ -23,8 +22,8 @@ const optics::Lens& cooke() {
     return lens;
 }
 
-ShapedSettings small() {
-    ShapedSettings s;
+TableSettings small() {
+    TableSettings s;
     s.grid = 16;
     s.angles = 5;
     return s;
@@ -145,7 +144,7 @@ TEST(ShapedCache, HitsMissesAndRebuildsDamagedEntries) {
             }
     EXPECT_TRUE(rep.diagnostics.empty());
 
-    ShapedSettings other = small();
+    TableSettings other = small();
     other.angles = 6;
     EXPECT_NE(shapedCacheKey(cooke(), other), shapedCacheKey(cooke(), small()));
     shapedTableFor(cooke(), other, true, rep, &cached);

@@ -60,7 +60,7 @@ std::vector<double> coverage(const trace::ImageFrame& frame, double reachMm, Ins
 ShapedTable plateTable(int blades, double rotationDeg, double maxAngleDeg) {
     test::TempDir dir;
     test::writeFile(dir / "plate.lens", plateLens(blades, rotationDeg));
-    ShapedSettings s;
+    TableSettings s;
     s.grid = 32;
     s.angles = 5;
     s.maxAngleDeg = maxAngleDeg;
@@ -69,7 +69,7 @@ ShapedTable plateTable(int blades, double rotationDeg, double maxAngleDeg) {
 
 // The Cooke triplet's shaped table: 16 cells, `angles` angles.
 ShapedTable cookeTable(int angles) {
-    ShapedSettings s;
+    TableSettings s;
     s.grid = 16;
     s.angles = angles;
     return buildShapedTable(optics::loadLens(std::string(FF_SOURCE_DIR) + "/lenses/cooke-triplet-50mm-f5.lens"), s);
@@ -144,7 +144,7 @@ TEST(ShapedGhosts, MatchesTheTracedFlareBetweenTableAngles) {
     text.replace(text.find("sensor: 36x24"), 13, "sensor: 36x24\naperture_blades: 7\nblade_rotation: 5");
     test::writeFile(dir / "cooke7.lens", text);
     const optics::Lens lens = optics::loadLens(dir / "cooke7.lens");
-    ShapedSettings s;
+    TableSettings s;
     s.grid = 32; // the default angles (25): at 9 the flux is 2-3 % off across vignetting onsets
     const ShapedTable table = buildShapedTable(lens, s);
     const trace::ImageFrame frame{320, 214, 36.0 / 320};

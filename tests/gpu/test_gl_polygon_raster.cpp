@@ -146,7 +146,7 @@ TEST(GlPolygonRaster, ShapedGhostsMatchTheCpu) {
     std::string why;
     const auto context = GlContext::create(why);
     if (!context) GTEST_SKIP() << "no OpenGL 4.5 context: " << why;
-    ghosts::ShapedSettings s;
+    ghosts::TableSettings s;
     s.grid = 16;
     s.angles = 5;
     const ghosts::ShapedTable table =
