@@ -123,8 +123,9 @@ std::size_t GhostTable::entryCount() const {
 namespace {
 
 // One ghost's entry at table angle a and wavelength w: its mesh cut into polygons at azimuth 0,
-// first flat (to learn its spreads), then subdivided to a tenth of a pixel of the image it is
-// fitted to (FitOptions: the larger spread over an eighth of its pixels), which sets the moments.
+// first flat (its flux, exactly as drawn without subdivision, and its spreads), then subdivided to a
+// tenth of a pixel of the image it is fitted to (FitOptions: the larger spread over an eighth of its
+// pixels), which sets the moments and the profiles.
 TableEntry fitEntry(const ShapedTable& table, std::size_t g, std::size_t w, int a, const FitOptions& options) {
     const ShapedGhost& gh = table.ghosts[g];
     const ShapedMesh& mesh = gh.meshes[w][static_cast<std::size_t>(a)];
@@ -150,9 +151,14 @@ TableEntry fitEntry(const ShapedTable& table, std::size_t g, std::size_t w, int 
     e.centroidY = f.centroidY;
     e.sigmaR = f.sigmaR;
     e.sigmaT = f.sigmaT;
-    e.flux = f.flux;
     e.gaussian = f.gaussian;
     e.cos2 = f.cos2;
+    // The flux is the flat cells' (the mesh's own, as drawn without subdivision); the profiles carry it.
+    e.flux = m.energy;
+    if (f.flux > 0.0) {
+        e.gaussian.peak *= m.energy / f.flux;
+        e.cos2.peak *= m.energy / f.flux;
+    }
     const double cell = (gh.pupilX1 - gh.pupilX0) * (gh.pupilY1 - gh.pupilY0) / (double(gh.grid) * gh.grid);
     const double pupil = std::numbers::pi * table.pupilRadiusMm * table.pupilRadiusMm;
     e.surviving = pupil > 0.0 ? std::min(1.0, polys.pupilCells * cell / pupil) : 0.0;

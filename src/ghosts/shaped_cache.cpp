@@ -25,7 +25,7 @@ namespace {
 constexpr char kMagic[8] = {'F', 'F', 'S', 'H', 'A', 'P', 'E', 'D'};
 constexpr std::uint32_t kVersion = 2;
 /// Changes whenever buildShapedTable's result changes for the same settings.
-constexpr int kBuildVersion = 4;
+constexpr int kBuildVersion = 5;
 constexpr std::uint16_t kLost = 65535;
 constexpr double kLevels = 65534.0;
 constexpr std::uintmax_t kMaxEntryBytes = std::uintmax_t(4) << 30;
@@ -96,6 +96,35 @@ std::string encodeGhost(const ShapedGhost& g) {
             }
         }
     return out;
+}
+
+// One ghost's meshes as decodeGhost gives them back from encodeGhost's bytes, computed in place.
+void quantiseGhost(ShapedGhost& g) {
+    const std::size_t V = vertices(g), S = g.stride();
+    for (auto& perAngle : g.meshes)
+        for (ShapedMesh& m : perAngle) {
+            if (m.data.empty()) continue;
+            for (std::size_t z = 0; z < S; ++z) {
+                float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+                for (std::size_t v = 0; v < V; ++v) {
+                    const float x = m.data[v * S + z];
+                    if (std::isfinite(x)) lo = std::min(lo, x), hi = std::max(hi, x);
+                }
+                if (!(hi >= lo)) lo = hi = 0.0f;
+                const double scale = hi > lo ? kLevels / (double(hi) - double(lo)) : 0.0;
+                const double step = (double(hi) - double(lo)) / kLevels;
+                for (std::size_t v = 0; v < V; ++v) {
+                    float& x = m.data[v * S + z];
+                    if (!std::isfinite(x)) {
+                        x = std::numeric_limits<float>::quiet_NaN();
+                        continue;
+                    }
+                    const auto code =
+                        static_cast<std::uint16_t>(std::clamp(std::lround((double(x) - lo) * scale), 0L, 65534L));
+                    x = static_cast<float>(lo + code * step);
+                }
+            }
+        }
 }
 
 void decodeGhost(ShapedGhost& g, std::string_view raw, const std::string& file) {
@@ -347,6 +376,33 @@ fs::path cacheFile(const optics::Lens& lens, const TableSettings& s) {
     return cacheDirectory() / (hashHex(shapedCacheKey(lens, s)) + ".shaped");
 }
 
+namespace {
+
+// Builds the table, stores it when useCache, and returns it as stored: a run draws the same ghosts
+// cold and warm.
+ShapedTable buildAndStore(const optics::Lens& lens, const TableSettings& s, bool useCache, Reporter& reporter,
+                          const Progress& progress) {
+    const std::string key = shapedCacheKey(lens, s);
+    const fs::path file = cacheFile(lens, s);
+    ShapedTable t = buildShapedTable(lens, s, progress);
+    const std::string bytes = shapedTableToBytes(t, key);
+    tbb::parallel_for(std::size_t(0), t.ghosts.size(), [&](std::size_t g) { quantiseGhost(t.ghosts[g]); });
+    t.fitted.lensFile = lens.file;
+    if (useCache) {
+        std::error_code ec;
+        fs::create_directories(file.parent_path(), ec);
+        try {
+            writeFileAtomic(file, bytes);
+        } catch (const Error& e) {
+            reporter.warning({file.string()},
+                             std::string("could not store the shaped table in the cache: ") + e.message());
+        }
+    }
+    return t;
+}
+
+} // namespace
+
 ShapedTable shapedTableFor(const optics::Lens& lens, const TableSettings& s, bool useCache, Reporter& reporter,
                            bool* fromCache, const Progress& progress) {
     if (fromCache) *fromCache = false;
@@ -367,25 +423,7 @@ ShapedTable shapedTableFor(const optics::Lens& lens, const TableSettings& s, boo
                           std::string("cached shaped table is unreadable (") + e.message() + "); rebuilding it");
         }
     }
-    // The table as stored, whether or not it is cached: a run draws the same ghosts cold and warm.
-    const ShapedTable built = buildShapedTable(lens, s, progress);
-    const std::string bytes = shapedTableToBytes(built, key);
-    std::string stored;
-    ShapedTable t = shapedTableFromBytes(bytes, file.string(), stored);
-    t.buildSeconds = built.buildSeconds;
-    t.fitted.buildSeconds = built.buildSeconds;
-    t.fitted.lensFile = lens.file;
-    if (useCache) {
-        std::error_code ec;
-        fs::create_directories(file.parent_path(), ec);
-        try {
-            writeFileAtomic(file, bytes);
-        } catch (const Error& e) {
-            reporter.warning({file.string()},
-                             std::string("could not store the shaped table in the cache: ") + e.message());
-        }
-    }
-    return t;
+    return buildAndStore(lens, s, useCache, reporter, progress);
 }
 
 GhostTable tableFor(const optics::Lens& lens, const TableSettings& s, bool useCache, const Progress& progress,
@@ -424,7 +462,7 @@ GhostTable tableFor(const optics::Lens& lens, const TableSettings& s, bool useCa
                           std::string("cached shaped table is unreadable (") + e.message() + "); rebuilding it");
         }
     }
-    return shapedTableFor(lens, s, useCache, reporter, nullptr, progress).fitted;
+    return buildAndStore(lens, s, useCache, reporter, progress).fitted;
 }
 
 } // namespace ff::ghosts

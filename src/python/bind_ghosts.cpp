@@ -184,7 +184,6 @@ error (relative L2).)")
         .def_property_readonly(
             "angles_deg", [](const ghosts::GhostTable& t) { return doubles(t.anglesDeg); },
             "Every ghost's angles together, increasing, from 0.")
-        .def_property_readonly("interpolation_error", [](const ghosts::GhostTable& t) { return t.interpolationError; })
         .def_property_readonly("build_seconds", [](const ghosts::GhostTable& t) { return t.buildSeconds; })
         .def("__repr__", [](const ghosts::GhostTable& t) {
             return "<fourierflare.GhostTable of '" + t.lensName + "': " + std::to_string(t.ghosts.size()) +

@@ -10,10 +10,6 @@ namespace {
 
 using Vec2 = glm::dvec2;
 
-double cross(const Vec2& a, const Vec2& b, const Vec2& c) {
-    return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-}
-
 // Signed area (shoelace; positive when clockwise on the screen, +y down).
 double signedArea(std::span<const Vec2> p) {
     double a = 0.0;
@@ -215,115 +211,6 @@ std::vector<double> CoverageRaster::release() && {
     }
     acc_.resize(W * (acc_.size() / stride_));
     return std::move(acc_);
-}
-
-Bundle cornerBundle(const PupilFrame& frame, const Field& field, const Bundle& centres) {
-    // n + 1 corner rays per side over the same square: a grid of n + 1 cells of the same size whose
-    // centres sit on the corners, i.e. shifted by half a cell.
-    const double half = 0.5 * centres.cell * (centres.n + 1);
-    const double cx = centres.x0 + 0.5 * centres.cell * centres.n, cy = centres.y0 + 0.5 * centres.cell * centres.n;
-    return gridBundle(frame, field, centres.n + 1, cx, cy, half, false);
-}
-
-namespace {
-
-// Derivative of the landing point (pixels) along one grid axis from the neighbouring centre rays:
-// central difference, else one-sided; false when neither neighbour arrives.
-bool derivative(const Bundle& b, const std::vector<RayResult>& centre, const ImageFrame& frame, int i, int j, int di,
-                int dj, Vec2& d) {
-    const int n = b.n;
-    auto alive = [&](int a, int c) {
-        if (a < 0 || c < 0 || a >= n || c >= n) return false;
-        const std::size_t k = static_cast<std::size_t>(c) * n + a;
-        return b.launched[k] && centre[k].status == optics::RayStatus::Ok;
-    };
-    auto at = [&](int a, int c) {
-        const RayResult& h = centre[static_cast<std::size_t>(c) * n + a];
-        return frame.sensorToPixel(h.sensorPoint.x, h.sensorPoint.y);
-    };
-    const bool plus = alive(i + di, j + dj), minus = alive(i - di, j - dj);
-    if (plus && minus)
-        d = 0.5 * (at(i + di, j + dj) - at(i - di, j - dj));
-    else if (plus)
-        d = at(i + di, j + dj) - at(i, j);
-    else if (minus)
-        d = at(i, j) - at(i - di, j - dj);
-    else
-        return false;
-    return true;
-}
-
-// The footprint edge vectors (pixels per cell along the grid's i and j axes) of cell (i, j), from the
-// neighbouring centre rays; false when a neighbour is missing along an axis.
-bool cellJacobian(const Bundle& b, const std::vector<RayResult>& centre, const ImageFrame& frame, int i, int j,
-                  Vec2& du, Vec2& dv) {
-    return derivative(b, centre, frame, i, j, 1, 0, du) && derivative(b, centre, frame, i, j, 0, 1, dv);
-}
-
-} // namespace
-
-void rasterizeCells(const Bundle& b, const std::vector<RayResult>& centre, const std::vector<RayResult>& corner,
-                    double scale, const ImageFrame& frame, std::vector<double>& image, RasterStats& stats) {
-    CoverageRaster r(frame);
-    auto triangle = [&](const Vec2& p0, const Vec2& p1, const Vec2& p2, double e) {
-        const std::array<Vec2, 3> t = {p0, p1, p2};
-        r.polygon(t, e, stats);
-    };
-    const int n = b.n;
-    auto px = [&](const RayResult& h) { return frame.sensorToPixel(h.sensorPoint.x, h.sensorPoint.y); };
-    auto alive = [&](int i, int j) {
-        const std::size_t k = static_cast<std::size_t>(j) * n + i;
-        return b.launched[k] && centre[k].status == optics::RayStatus::Ok;
-    };
-    auto at = [&](int i, int j) { return px(centre[static_cast<std::size_t>(j) * n + i]); };
-    auto drawQuad = [&](const Vec2& p0, const Vec2& p1, const Vec2& p2, const Vec2& p3, double e) {
-        // Split along the diagonal whose two triangles keep one orientation; false if the quad folds.
-        const double a012 = cross(p0, p1, p2), a023 = cross(p0, p2, p3);
-        const double a013 = cross(p0, p1, p3), a123 = cross(p1, p2, p3);
-        if (a012 * a023 > 0.0) {
-            const double w = std::abs(a012) / (std::abs(a012) + std::abs(a023));
-            triangle(p0, p1, p2, e * w);
-            triangle(p0, p2, p3, e * (1.0 - w));
-            return true;
-        }
-        if (a013 * a123 > 0.0) {
-            const double w = std::abs(a013) / (std::abs(a013) + std::abs(a123));
-            triangle(p0, p1, p3, e * w);
-            triangle(p1, p2, p3, e * (1.0 - w));
-            return true;
-        }
-        return false;
-    };
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            const std::size_t k = static_cast<std::size_t>(j) * n + i;
-            if (!alive(i, j)) continue; // a lost centre ray contributes nothing
-            const double e = centre[k].weight * b.cellArea * scale;
-            if (e <= 0.0) continue;
-            const RayResult* c[4] = {&corner[static_cast<std::size_t>(j) * (n + 1) + i],
-                                     &corner[static_cast<std::size_t>(j) * (n + 1) + i + 1],
-                                     &corner[static_cast<std::size_t>(j + 1) * (n + 1) + i + 1],
-                                     &corner[static_cast<std::size_t>(j + 1) * (n + 1) + i]};
-            bool all = true;
-            for (const RayResult* h : c) all = all && h->status == optics::RayStatus::Ok;
-            if (all && drawQuad(px(*c[0]), px(*c[1]), px(*c[2]), px(*c[3]), e)) {
-                ++stats.quads;
-                continue;
-            }
-            // A cell at a vignetting edge, or folded by a caustic: its footprint is the parallelogram
-            // the local Jacobian (from neighbouring centre rays) maps the cell to, around its centre ray.
-            const Vec2 p = at(i, j);
-            Vec2 du, dv;
-            if (cellJacobian(b, centre, frame, i, j, du, dv) &&
-                drawQuad(p - 0.5 * du - 0.5 * dv, p + 0.5 * du - 0.5 * dv, p + 0.5 * du + 0.5 * dv,
-                         p - 0.5 * du + 0.5 * dv, e)) {
-                ++stats.quads;
-                continue;
-            }
-            r.point(p, e, stats); // isolated cell: no neighbour tells its size
-            ++stats.splats;
-        }
-    r.addTo(image);
 }
 
 } // namespace ff::trace

@@ -1,21 +1,7 @@
 #pragma once
-// Rasterising a traced ghost into a flux image: the pixel-exact coverage raster of polygons that the
-// traced renderer's adaptive grids draw with (adaptive_grid.h), and the fixed-grid rasterisation
-// below, which the ghost table's fits use.
-//
-// A path's bundle is traced twice over the same pupil grid: at the n x n cell centres and at the
-// (n+1) x (n+1) cell corners. A cell carries the energy of its centre ray (weight x cell area, scaled
-// by the caller), so the image's total flux is exactly the sum of the centre rays' energies; the
-// four corner rays give the cell's footprint on the sensor:
-//  - centre ray lost: the cell contributes nothing (a blocked ray never contributes);
-//  - all four corners arrive and the quad is not folded: its energy is spread uniformly over the quad
-//    with exact pixel-area coverage (as two triangles, split by area);
-//  - a corner is lost (the cell straddles a vignetting edge) or the quad folds over itself (a
-//    caustic): the footprint is the parallelogram that the local Jacobian, estimated from the
-//    neighbouring centre rays, maps the cell to, drawn around the centre ray. Its corners come from
-//    rays that did arrive, so no quad is stretched to a lost ray and no streak can appear;
-//  - an isolated cell with no surviving neighbour along an axis: a bilinear splat at its centre ray.
-// Energy landing outside the image is counted, not drawn.
+// Rasterising polygons of uniform density into a flux image with exact pixel-area coverage: what the
+// traced renderer's adaptive grids (adaptive_grid.h) and the shaped ghosts draw with, and the frame
+// that maps sensor millimetres to its pixels.
 
 #include "trace/embree_tracer.h"
 #include "trace/pupil_sampling.h"
@@ -82,14 +68,5 @@ class CoverageRaster {
     std::size_t stride_; ///< width + 2: the columns a row's last edge spills into
     std::vector<double> acc_;
 };
-
-/// The four corner positions of every cell of a bundle: a grid of (n+1) x (n+1) rays.
-Bundle cornerBundle(const PupilFrame& frame, const Field& field, const Bundle& centres);
-
-/// Adds one path's cells to `image` (width x height, row-major). energyScale multiplies every cell's
-/// energy (e.g. 1 / direct-image energy to express flux relative to the source's direct image).
-void rasterizeCells(const Bundle& centres, const std::vector<RayResult>& centreHits,
-                    const std::vector<RayResult>& cornerHits, double energyScale, const ImageFrame& frame,
-                    std::vector<double>& image, RasterStats& stats);
 
 } // namespace ff::trace

@@ -114,18 +114,4 @@ double gap(const LitBox& a, const LitBox& b) {
 }
 
 // Merges boxes lying closer than minGap into one, until none do.
-std::vector<LitBox> mergeNear(std::vector<LitBox> boxes, double minGap) {
-    for (bool merged = true; merged;) {
-        merged = false;
-        for (std::size_t a = 0; a < boxes.size() && !merged; ++a)
-            for (std::size_t b = a + 1; b < boxes.size() && !merged; ++b)
-                if (gap(boxes[a], boxes[b]) < minGap) {
-                    boxes[a].add(boxes[b]);
-                    boxes.erase(boxes.begin() + static_cast<std::ptrdiff_t>(b));
-                    merged = true;
-                }
-    }
-    return boxes;
-}
-
 } // namespace ff::trace

@@ -67,7 +67,4 @@ std::vector<LitBox> litPieces(const LitGrid& g, std::size_t maxPieces);
 /// The boxes' gap: how far apart they lie along x or y (negative where they overlap along both).
 double gap(const LitBox& a, const LitBox& b);
 
-/// Merges boxes lying closer than minGap into one, until none do.
-std::vector<LitBox> mergeNear(std::vector<LitBox> boxes, double minGap);
-
 } // namespace ff::trace

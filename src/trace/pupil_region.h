@@ -1,6 +1,6 @@
 #pragma once
 // The square of the pupil plane that one path's grid covers, and the grid over it (the searches that
-// place it: trace/pupil_sampling.h, trace/pupil_search.h).
+// place it: trace/pupil_sampling.h).
 
 #include "trace/bundle.h"
 
@@ -25,7 +25,7 @@ struct PupilRegion {
     /// The lit points (pupil plane, mm) in the square that the search's passes found (the coarse pass,
     /// the looks, the last local pass over the square, with their mirror images where the light is
     /// symmetric): light that a grid over the square must not let slip between its rays
-    /// (measureBundleResolved); empty where not searched.
+    /// (the traced renderer's adaptive grids); empty where not searched.
     std::vector<glm::dvec2> litPoints = {};
 };
 

@@ -17,7 +17,7 @@ PupilRegion pupilRegion(const PupilFrame& frame, const Field& field, Sampling sa
                         const std::vector<PathStep>& steps, double maxRadiusMm) {
     if (sampling == Sampling::ParaxialGrid) return {0.0, 0.0, frame.radius, true};
     const RegionSearch search(frame, field, L, steps, maxRadiusMm);
-    const Found found = findPieces(search, 0);
+    const Found found = findPieces(search);
     if (found.all.empty()) return {0.0, 0.0, frame.radius, true}; // nothing gets through: the paraxial pupil
     return withPoints(search.region(found.all), found.points);
 }

@@ -1,7 +1,6 @@
 #pragma once
-// The region search's steps (internal to ff_trace: pupil_sampling.cpp and pupil_search.cpp): the
-// passes over one field and path at one wavelength, the pieces of light they find, and the parts
-// of the pupil cut from those pieces.
+// The region search's steps (internal to ff_trace: pupil_sampling.cpp): the passes over one field
+// and path at one wavelength and the pieces of light they find.
 
 #include "trace/lit_points.h"
 #include "trace/pupil_region.h"
@@ -36,47 +35,12 @@ class RegionSearch {
     // light in a band thinner than the spacing and lying along the grid's rows or columns falls
     // between every point of a regular grid at some field angles, while each jittered point catches
     // it with a chance of its thickness over the spacing, so a band a few cells long is found at most
-    // angles (docs/sampling-cases.md, "Bands along the grid"); findPieces completes what it found by
-    // symmetry. Searches of the same field at other wavelengths pass other seeds, so that
-    // each places its points independently of the others and a band one misses another is likely
-    // to meet (pupilPartsByWavelength).
-    LitGrid coarse(std::uint32_t seed = 0) const {
+    // angles (a band along a row of a regular grid); findPieces completes what it found by
+    // symmetry.
+    LitGrid coarse() const {
         const int n = std::clamp(static_cast<int>(std::ceil(16.0 * half_ / frame_.radius)), kNominal, kMaxCoarse);
-        return litGrid(gridBundle(frame_, field_, n, 0.0, 0.0, half_, false), L_, steps_, maxRadius_, seed);
+        return litGrid(gridBundle(frame_, field_, n, 0.0, 0.0, half_, false), L_, steps_, maxRadius_);
     }
-
-    // A jittered n x n pass over the square around the box, two coarse cells wider on every side.
-    LitGrid jittered(const LitBox& box, int n) const {
-        const double h = 0.5 * std::max(box.xMax - box.xMin, box.yMax - box.yMin) + 2.0 * cell_;
-        return litGrid(
-            gridBundle(frame_, field_, n, 0.5 * (box.xMin + box.xMax), 0.5 * (box.yMin + box.yMax), h, false), L_,
-            steps_, maxRadius_, kLookSeed);
-    }
-
-    // Whether light is at this wavelength where another's search found a piece: a jittered local pass
-    // over the piece's box. The pieces of light it finds; its lit points are added to lit.
-    // A piece much smaller than a coarse cell (a patch of light shrinking to nothing as the field
-    // angle moves; docs/sampling-cases.md, "Vanishing patches") falls between the points of a pass
-    // two coarse cells wider than it on every side: told to look closer, where that pass finds
-    // nothing, a second one looks over the piece's box and as much again on every side.
-    std::vector<LitBox> look(const LitBox& hint, std::size_t maxPieces, std::vector<glm::dvec2>& lit,
-                             bool closer = false) const {
-        LitGrid g = jittered(hint, kLocal);
-        std::vector<glm::dvec2> places = litPlaces(g);
-        const double side = std::max(hint.xMax - hint.xMin, hint.yMax - hint.yMin);
-        if (closer && places.empty() && side < cell_) {
-            const double h = 1.5 * std::max(side, 0.1 * cell_);
-            g = litGrid(gridBundle(frame_, field_, kLocal, 0.5 * (hint.xMin + hint.xMax), 0.5 * (hint.yMin + hint.yMax),
-                                   h, false),
-                        L_, steps_, maxRadius_, kLookSeed);
-            places = litPlaces(g);
-        }
-        lit.insert(lit.end(), places.begin(), places.end());
-        return litPieces(g, maxPieces);
-    }
-
-    // A jittered pass over the box twice as dense as the local passes, for light they step over.
-    LitGrid check(const LitBox& box) const { return jittered(box, 2 * kLocal); }
 
     // The coarse points miss the tips of thin regions (two discs barely overlapping), and the box would
     // jump by a coarse cell, cutting off light, as the field angle moves them across the points. A local
@@ -103,8 +67,7 @@ class RegionSearch {
         box.yMin = std::min(box.yMin, found.yMin), box.yMax = std::max(box.yMax, found.yMax);
         // Where the light is its own mirror image, so is light that crosses the mirror line: its box
         // holds its image. The passes meet a band thinner than their spacing at some of its points
-        // and not others, and the box over those can stop short of one end (docs/sampling-cases.md,
-        // "Bands across the mirror line").
+        // and not others, and the box over those can stop short of one end.
         if (symmetric_) {
             const LitBox image = mirror(box);
             if (gap(box, image) < 0.0) box.extend(image);
@@ -160,7 +123,6 @@ class RegionSearch {
 
   private:
     static constexpr int kNominal = 96, kMaxCoarse = 512, kLocal = 64;
-    static constexpr std::uint32_t kLookSeed = 0xA5A5u;
     const PupilFrame& frame_;
     const Field& field_;
     const LensAtWavelength& L_;
@@ -169,9 +131,7 @@ class RegionSearch {
     bool symmetric_;
 };
 
-// cut into at most kMaxParts parts (light in more groups is traced on one grid).
-constexpr double kPartGapCells = 8.0;
-constexpr std::size_t kMaxParts = 4;
+// Pieces a coarse pass tells apart (more: too broken up to).
 constexpr std::size_t kMaxPieces = 64;
 
 // What a coarse pass found: its pieces of light (none where there are more than kMaxPieces, too broken
@@ -200,12 +160,9 @@ inline bool near(const LitBox& a, const LitBox& b, double margin) {
 void completeBySymmetry(const RegionSearch& search, Found& f);
 
 // The coarse pass's pieces, completed by symmetry.
-Found findPieces(const RegionSearch& search, std::uint32_t seed);
+Found findPieces(const RegionSearch& search);
 
 // The region with those of the points that lie in its square added to its lit points.
 PupilRegion withPoints(PupilRegion r, const std::vector<glm::dvec2>& points);
-
-// The parts of pupilParts (trace/pupil_search.h) from the pieces found.
-std::vector<PupilRegion> partsFrom(const RegionSearch& search, const PupilFrame& frame, const Found& found);
 
 } // namespace ff::trace::detail

@@ -155,16 +155,21 @@ TEST(CliConvention, OldSpellingsStillWorkWithAWarning) {
     EXPECT_EQ(now.out, old.out);
     EXPECT_TRUE(contains(old.err, "--azimuth is deprecated: use --angle DEG,AZ")) << old.err;
     EXPECT_EQ(run("ghosts " + lens + " --angle 5,30 --azimuth 30").code, 2); // the azimuth twice
-    // table --grid and --max-angles: --table-grid and --table-angles; the same table.
+    // table --grid: --table-grid; the same table. The refined moment table's --max-angles and
+    // --tolerance, and --sampling where nothing is traced, are read and have no effect.
     const RunResult t1 =
-        run("table " + lens + " --table-grid 8 --table-angles 20 --max-angle 8 -o '" + (dir / "a.json").string() + "'",
+        run("table " + lens + " --table-grid 8 --table-angles 5 --max-angle 8 -o '" + (dir / "a.json").string() + "'",
             env);
-    const RunResult t2 =
-        run("table " + lens + " --grid 8 --max-angles 20 --max-angle 8 -o '" + (dir / "b.json").string() + "'", env);
+    const RunResult t2 = run("table " + lens +
+                                 " --grid 8 --table-angles 5 --max-angles 20 --tolerance 0.01 --sampling reaim "
+                                 "--max-angle 8 -o '" +
+                                 (dir / "b.json").string() + "'",
+                             env);
     ASSERT_EQ(t1.code, 0) << t1.err;
     ASSERT_EQ(t2.code, 0) << t2.err;
     EXPECT_TRUE(contains(t2.err, "--grid is deprecated: use --table-grid")) << t2.err;
-    EXPECT_TRUE(contains(t2.err, "--max-angles is deprecated: use --table-angles")) << t2.err;
+    for (const char* retired : {"--max-angles", "--tolerance", "--sampling"})
+        EXPECT_TRUE(contains(t2.err, std::string(retired) + " no longer has an effect")) << t2.err;
     EXPECT_FALSE(contains(t1.err, "deprecated")) << t1.err;
     EXPECT_EQ(ff::test::readFile(dir / "a.json"), ff::test::readFile(dir / "b.json"));
 }

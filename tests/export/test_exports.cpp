@@ -24,7 +24,7 @@ const ghosts::GhostTable& table(int blades) {
         lens.apertureBlades = blades;
         ghosts::TableSettings s;
         s.grid = 12;
-        s.maxAngles = 11;
+        s.angles = 11;
         s.maxAngleDeg = 14.0;
         it = tables.emplace(blades, ghosts::buildGhostTable(lens, s)).first;
     }

@@ -1,3 +1,4 @@
+#include "ghosts/ghost_table.h"
 #include "ghosts/instancing.h"
 #include "optics/lens_loader.h"
 
@@ -17,7 +18,7 @@ const GhostTable& table() {
     static const GhostTable t = [] {
         TableSettings s;
         s.grid = 12;
-        s.maxAngles = 11;
+        s.angles = 11;
         s.maxAngleDeg = 15.0;
         return buildGhostTable(optics::loadLens(test::lensPath("cooke-triplet-50mm-f5.lens")), s);
     }();
