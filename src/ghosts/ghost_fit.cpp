@@ -140,13 +140,15 @@ class Misfit {
     std::vector<double> rowFactors(double wr) const {
         std::vector<double> r(rows());
         for (std::size_t y = 0; y < r.size(); ++y)
-            r[y] = profileFactor(p_, wr, img_.frame.pixelToSensor(0.0, static_cast<double>(y) + 0.5).y - img_.frame.centreYMm);
+            r[y] = profileFactor(p_, wr,
+                                 img_.frame.pixelToSensor(0.0, static_cast<double>(y) + 0.5).y - img_.frame.centreYMm);
         return r;
     }
     std::vector<double> columns(double wt) const {
         std::vector<double> c(columnsCount());
         for (std::size_t x = 0; x < c.size(); ++x)
-            c[x] = profileFactor(p_, wt, img_.frame.pixelToSensor(static_cast<double>(x) + 0.5, 0.0).x - img_.frame.centreXMm);
+            c[x] = profileFactor(p_, wt,
+                                 img_.frame.pixelToSensor(static_cast<double>(x) + 0.5, 0.0).x - img_.frame.centreXMm);
         return c;
     }
     static double dot(const double* a, std::size_t stride, const std::vector<double>& b) {

@@ -1,8 +1,8 @@
 #include "ghosts/ghost_table.h"
-#include "ghosts/shaped_ghosts.h"
 
 #include "core/error.h"
 #include "core/units.h"
+#include "ghosts/shaped_ghosts.h"
 #include "ghosts/shaped_mesh.h"
 #include "optics/paraxial.h"
 
@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <mutex>
@@ -203,6 +204,22 @@ GhostTable fitShapedTable(const ShapedTable& table, const optics::Lens& lens, co
             progress(d, total);
         }
     });
+    return t;
+}
+
+ShapedTable buildShapedTable(const optics::Lens& lens, const TableSettings& settings, const Progress& progress) {
+    const auto start = std::chrono::steady_clock::now();
+    ShapedTable t = traceShapedTable(lens, settings, progress);
+    const std::size_t G = t.ghosts.size();
+    Progress fits;
+    if (progress)
+        fits = [&](std::size_t done, std::size_t total) {
+            progress(G + G * done / std::max<std::size_t>(total, 1), 2 * G);
+        };
+    t.fitted = fitShapedTable(t, lens, fits);
+    t.fitted.settingsKey = shapedCacheKey(lens, settings);
+    t.buildSeconds = t.fitted.buildSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return t;
 }
 

@@ -12,19 +12,21 @@
 // at +y; a ghost's centre is m x (direct image position), m = ghost centroid y / direct centroid y.
 // Lengths in mm on the sensor, flux relative to the direct image at the same wavelength.
 
+#include "ghosts/shaped_ghosts.h"
 #include "ghosts/table_data.h"
 #include "optics/lens.h"
 
 namespace ff::ghosts {
 
-struct ShapedTable;
-
 /// The fits of every stored ghost of `table` at its angles and wavelengths (parallel over entries).
 /// Progress counts entries. The lens gives the table's header (name, file, focal length, iris).
 GhostTable fitShapedTable(const ShapedTable& table, const optics::Lens& lens, const Progress& progress = {});
 
-/// The lens's shaped table, traced and fitted (buildShapedTable), as its fitted table. Throws
-/// ff::Error (Input) for an anamorphic lens.
+/// The lens's table: its meshes traced (traceShapedTable) and its fits derived (fitShapedTable).
+/// Progress counts the ghosts traced, then the fits. Throws ff::Error (Input) for an anamorphic lens.
+ShapedTable buildShapedTable(const optics::Lens& lens, const TableSettings& settings, const Progress& progress = {});
+
+/// buildShapedTable's fitted table.
 GhostTable buildGhostTable(const optics::Lens& lens, const TableSettings& settings, const Progress& progress = {});
 
 } // namespace ff::ghosts

@@ -9,10 +9,10 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
-#include <cstdlib>
-#include <fstream>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <limits>
 #include <zlib.h>
 
@@ -24,8 +24,6 @@ namespace {
 
 constexpr char kMagic[8] = {'F', 'F', 'S', 'H', 'A', 'P', 'E', 'D'};
 constexpr std::uint32_t kVersion = 2;
-/// Changes whenever buildShapedTable's result changes for the same settings.
-constexpr int kBuildVersion = 5;
 constexpr std::uint16_t kLost = 65535;
 constexpr double kLevels = 65534.0;
 constexpr std::uintmax_t kMaxEntryBytes = std::uintmax_t(4) << 30;
@@ -167,18 +165,6 @@ std::uint32_t crc(std::string_view s) {
 
 } // namespace
 
-std::string shapedCacheKey(const optics::Lens& lens, const TableSettings& s) {
-    const auto sensor = s.sensorSizeMm.value_or(lens.sensorMm.value_or(std::make_pair(36.0, 24.0)));
-    std::string k = "shaped " + std::to_string(kBuildVersion) + "|lens " + lens.contentHash + "|zoom " +
-                    std::to_string(lens.activeZoom) + "|wavelengths";
-    for (double w : s.wavelengthsNm) k += " " + text::roundTrip(w);
-    k += "|grid " + std::to_string(s.grid) + "|angles " + std::to_string(s.angles) + "|max " +
-         text::roundTrip(s.maxAngleDeg) + "|sensor " + std::to_string(static_cast<int>(s.sensor)) + "|coating " +
-         std::to_string(static_cast<int>(s.coating)) + "|size " + text::roundTrip(sensor.first) + "x" +
-         text::roundTrip(sensor.second) + "|store " + text::roundTrip(s.storeFraction);
-    return k;
-}
-
 std::string shapedTableToBytes(const ShapedTable& t, const std::string& key) {
     std::vector<std::string> chunks(t.ghosts.size());
     std::vector<std::uint64_t> rawSize(t.ghosts.size());
@@ -293,8 +279,8 @@ ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file
         t.buildSeconds = h.at("build_seconds").get<double>();
         const int A = h.at("angles").get<int>();
         const std::size_t W = t.wavelengthsNm.size();
-        if (A < 1 || A > 10000 || W < 1 || W > 64 || t.directY.size() != W ||
-            t.fitted.wavelengthsNm.size() != W || t.fitted.anglesDeg.size() != static_cast<std::size_t>(A))
+        if (A < 1 || A > 10000 || W < 1 || W > 64 || t.directY.size() != W || t.fitted.wavelengthsNm.size() != W ||
+            t.fitted.anglesDeg.size() != static_cast<std::size_t>(A))
             throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table dimensions");
         for (const auto& row : t.directY)
             if (row.size() != static_cast<std::size_t>(A))

@@ -25,9 +25,6 @@ namespace ff::ghosts {
 
 std::filesystem::path cacheDirectory();
 
-/// Every input of buildShapedTable as text, the lens's hash and zoom position included.
-std::string shapedCacheKey(const optics::Lens& lens, const TableSettings& settings);
-
 /// The table as the cache stores it.
 std::string shapedTableToBytes(const ShapedTable& table, const std::string& key);
 /// A table from shapedTableToBytes; throws Error (ErrorKind::Input, naming `file`) when the bytes are

@@ -1,10 +1,9 @@
 #include "ghosts/shaped_ghosts.h"
 
 #include "core/error.h"
+#include "core/text.h"
 #include "core/units.h"
-#include "ghosts/ghost_table.h"
 #include "ghosts/mesh_clip.h"
-#include "ghosts/shaped_cache.h"
 #include "optics/paraxial.h"
 #include "trace/sequential_tracer.h"
 #include "trace/traced_flare.h"
@@ -49,7 +48,7 @@ struct RayMaker {
 struct OpenMesh {
     int n = 0;
     std::size_t steps = 0;
-    std::vector<char> ok; // 0 lost, 1 traced, 2 filled (fillBorder)
+    std::vector<char> ok;     // 0 lost, 1 traced, 2 filled (fillBorder)
     std::vector<double> loss; // the loss margin (fillBorder): cells of the edge to the border, < 0 filled
     bool filled = false;
     std::vector<glm::dvec2> land;
@@ -89,9 +88,9 @@ OpenMesh traceMesh(const trace::LensAtWavelength& L, const std::vector<trace::Pa
 // by about a cell row. Each lost vertex next to traced ones is filled: along the edge from each
 // traced neighbour the last traced point is found by kBorderHalvings bisections, and the vertex takes
 // the attributes extrapolated linearly from the neighbour with the farthest such point, through that
-// point (at most four-fold). A loss margin, +t at a traced vertex and -(1 - t) at a filled one (t: the
-// share of the edge to the last traced point), then cuts the border cells as an aperture's margin
-// does, within 1/2^kBorderHalvings of a cell.
+// point (at most four-fold); its margins are its apertures' at the extrapolated hit points. A loss margin, +t at a
+// traced vertex and -(1 - t) at a filled one (t: the share of the edge to the last traced point), then cuts the border
+// cells as an aperture's margin does, within 1/2^kBorderHalvings of a cell.
 constexpr int kBorderHalvings = 5;
 
 void fillBorder(OpenMesh& m, const trace::LensAtWavelength& L, const std::vector<trace::PathStep>& steps,
@@ -104,7 +103,6 @@ void fillBorder(OpenMesh& m, const trace::LensAtWavelength& L, const std::vector
     };
     std::vector<double> margins(K);
     std::vector<glm::dvec3> points(K);
-    std::vector<double> bestMargins(K), fillMargins(K);
     std::vector<glm::dvec3> bestPoints(K);
     std::vector<std::size_t> toFill;
     for (int j = 0; j <= n; ++j)
@@ -115,13 +113,12 @@ void fillBorder(OpenMesh& m, const trace::LensAtWavelength& L, const std::vector
         double t;
         glm::dvec2 land;
         double weight;
-        std::vector<double> margins;
         std::vector<glm::dvec3> points;
     };
     std::vector<Fill> fills;
     for (const std::size_t v : toFill) {
         const int i = static_cast<int>(v % row), j = static_cast<int>(v / row);
-        Fill best{v, 0, 0.0, {}, 0.0, {}, {}};
+        Fill best{v, 0, 0.0, {}, 0.0, {}};
         for (const auto& [di, dj] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
             const int ui = i + di, uj = j + dj;
             if (ui < 0 || uj < 0 || ui > n || uj > n || m.ok[at(ui, uj)] != 1) continue;
@@ -142,12 +139,11 @@ void fillBorder(OpenMesh& m, const trace::LensAtWavelength& L, const std::vector
                 lo = mid;
                 land = {res.ray.origin.x, res.ray.origin.y};
                 weight = res.weight;
-                bestMargins = margins;
                 bestPoints = points;
             }
             m.loss[u] = std::min(m.loss[u], lo);
             if (lo <= best.t) continue;
-            best = {v, u, lo, land, weight, bestMargins, bestPoints};
+            best = {v, u, lo, land, weight, bestPoints};
         }
         if (best.t > 0.0) fills.push_back(std::move(best));
     }
@@ -158,9 +154,11 @@ void fillBorder(OpenMesh& m, const trace::LensAtWavelength& L, const std::vector
         m.loss[v] = -(1.0 - f.t);
         m.land[v] = m.land[u] + (f.land - m.land[u]) * s;
         m.weight[v] = std::max(0.0, m.weight[u] + (f.weight - m.weight[u]) * s);
+        // The hit points are extrapolated, and each margin is its aperture's at the extrapolated hit
+        // (as a traced ray's is at its hit: the iris drawn from the stop's hits then agrees with it).
         for (std::size_t k = 0; k < K; ++k) {
-            m.margins[v * K + k] = m.margins[u * K + k] + (f.margins[k] - m.margins[u * K + k]) * s;
             m.points[v * K + k] = m.points[u * K + k] + (f.points[k] - m.points[u * K + k]) * s;
+            m.margins[v * K + k] = L.apertureMargin(steps[k].surface, m.points[v * K + k]);
         }
         m.filled = true;
     }
@@ -206,9 +204,12 @@ double meshFlux(int n, const std::vector<char>& ok, const std::vector<double>& w
                     centroid += a * (A + B + C) / 3.0;
                     area += a;
                 }
-                if (area > 0.0) centroid /= area;
-                else centroid = glm::dvec3(1.0 / 3.0);
-                sumY += e * (centroid.x * (*land)[t[0]].y + centroid.y * (*land)[t[1]].y + centroid.z * (*land)[t[2]].y);
+                if (area > 0.0)
+                    centroid /= area;
+                else
+                    centroid = glm::dvec3(1.0 / 3.0);
+                sumY +=
+                    e * (centroid.x * (*land)[t[0]].y + centroid.y * (*land)[t[1]].y + centroid.z * (*land)[t[2]].y);
             }
         }
     if (momentY) *momentY = sumY;
@@ -294,7 +295,21 @@ std::size_t ShapedTable::bytes() const {
     return b;
 }
 
-ShapedTable buildShapedTable(const optics::Lens& lensIn, const TableSettings& s, const Progress& progress) {
+std::string shapedCacheKey(const optics::Lens& lens, const TableSettings& s) {
+    // Changes whenever the table built for the same settings changes.
+    constexpr int kBuildVersion = 5;
+    const auto sensor = s.sensorSizeMm.value_or(lens.sensorMm.value_or(std::make_pair(36.0, 24.0)));
+    std::string k = "shaped " + std::to_string(kBuildVersion) + "|lens " + lens.contentHash + "|zoom " +
+                    std::to_string(lens.activeZoom) + "|wavelengths";
+    for (double w : s.wavelengthsNm) k += " " + text::roundTrip(w);
+    k += "|grid " + std::to_string(s.grid) + "|angles " + std::to_string(s.angles) + "|max " +
+         text::roundTrip(s.maxAngleDeg) + "|sensor " + std::to_string(static_cast<int>(s.sensor)) + "|coating " +
+         std::to_string(static_cast<int>(s.coating)) + "|size " + text::roundTrip(sensor.first) + "x" +
+         text::roundTrip(sensor.second) + "|store " + text::roundTrip(s.storeFraction);
+    return k;
+}
+
+ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s, const Progress& progress) {
     const auto start = std::chrono::steady_clock::now();
     if (!lensIn.rotationallySymmetric())
         throw Error(ErrorKind::Input, SourceLocation{lensIn.file},
@@ -465,14 +480,7 @@ ShapedTable buildShapedTable(const optics::Lens& lensIn, const TableSettings& s,
     for (std::size_t g = 0; g < G; ++g)
         if (peak[g] > 0.0 && peak[g] >= s.storeFraction * strongest) table.ghosts.push_back(std::move(ghosts[g]));
     table.rays = rayCount + std::accumulate(rays.begin(), rays.end(), std::size_t(0));
-    // The fits, derived from the meshes; their progress is the second half.
-    Progress fitProgress;
-    if (progress)
-        fitProgress = [&](std::size_t d, std::size_t total) { progress(G + G * d / std::max<std::size_t>(total, 1), 2 * G); };
-    table.fitted = fitShapedTable(table, lensIn, fitProgress);
-    table.fitted.settingsKey = shapedCacheKey(lensIn, s);
     table.buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    table.fitted.buildSeconds = table.buildSeconds;
     return table;
 }
 

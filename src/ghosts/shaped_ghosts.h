@@ -49,9 +49,9 @@ struct ShapedMesh {
 
 struct ShapedGhost {
     trace::GhostPair pair;
-    int grid = 0;                                ///< cells per side of its pupil meshes
-    double pupilX0 = 0.0, pupilY0 = 0.0;         ///< the square of the pupil plane its meshes cover, mm:
-    double pupilX1 = 0.0, pupilY1 = 0.0;         ///< corners (x0, y0) .. (x1, y1), the same at every angle
+    int grid = 0;                        ///< cells per side of its pupil meshes
+    double pupilX0 = 0.0, pupilY0 = 0.0; ///< the square of the pupil plane its meshes cover, mm:
+    double pupilX1 = 0.0, pupilY1 = 0.0; ///< corners (x0, y0) .. (x1, y1), the same at every angle
     /// Path steps whose clear-aperture margin is stored; kLossStep (first, where present) stands for
     /// the loss margin of the border cells whose rays are lost (a surface missed, total internal
     /// reflection): + at traced vertices, - at vertices filled beyond the last traced point.
@@ -72,8 +72,8 @@ struct ShapedTable {
     std::pair<double, double> sensorSizeMm;   ///< the sensor the table covers
     double pupilRadiusMm = 0.0;               ///< the paraxial entrance pupil's (d line)
     std::vector<std::vector<double>> directY; ///< [wavelength][angle] the direct image's centroid, mm
-    /// What the fitted models use, derived from the meshes (shaped_fits.h): every stored ghost's
-    /// flux, moments and fits at the table's angles, in the same order as `ghosts`.
+    /// What the fitted models use, derived from the meshes (fitShapedTable, ghost_table.h): every
+    /// stored ghost's flux, moments and fits at the table's angles, in the same order as `ghosts`.
     GhostTable fitted;
     trace::Iris iris; ///< the lens's iris at the working opening (d line)
     std::vector<ShapedGhost> ghosts;
@@ -87,8 +87,13 @@ struct ShapedTable {
     std::size_t bytes() const;
 };
 
-/// Traces the table and derives its fits (shaped_fits.h). Progress counts ghosts traced, then fitted.
-ShapedTable buildShapedTable(const optics::Lens& lens, const TableSettings& settings, const Progress& progress = {});
+/// Traces the table's meshes, without its fits (buildShapedTable, ghost_table.h, makes both). Progress
+/// counts the ghosts traced, of twice their number (the fits are the second half).
+ShapedTable traceShapedTable(const optics::Lens& lens, const TableSettings& settings, const Progress& progress = {});
+
+/// Every input of the table's build as text, the lens's hash and zoom position included: the cache's
+/// key (shaped_cache.h) and the fitted table's settings key.
+std::string shapedCacheKey(const optics::Lens& lens, const TableSettings& settings);
 
 /// A light for the shaped renderer: its field (trace::fieldForSensorPoint) and RGB flux.
 struct ShapedLight {

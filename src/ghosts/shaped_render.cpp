@@ -320,9 +320,9 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
         });
         const double top = irradiance.empty() ? 0.0 : *std::max_element(irradiance.begin(), irradiance.end());
         for (std::size_t i = 0; i < instances.size(); ++i)
-            instances[i].mesh.flatnessPx = irradiance[i] > 0.0
-                                          ? std::min(settings.maxFlatnessPx, settings.flatnessPx * top / irradiance[i])
-                                          : settings.maxFlatnessPx;
+            instances[i].mesh.flatnessPx =
+                irradiance[i] > 0.0 ? std::min(settings.maxFlatnessPx, settings.flatnessPx * top / irradiance[i])
+                                    : settings.maxFlatnessPx;
     }
 
     // A chunk of instances at a time: their polygons made in parallel, then drawn, on the CPU into

@@ -47,8 +47,7 @@ struct ReportFolder {
 py::object compare(const optics::Lens& lens, const py::object& lights, const py::object& size, const py::object& output,
                    int grid, std::vector<int> ns, const std::string& diffraction, const py::object& sensorSize,
                    int tableGrid, const std::string& sampling, const std::string& sensor, const std::string& coating,
-                   double maxAngle, int tableAngles, double fourierError,
-                   const py::object& progress) {
+                   double maxAngle, int tableAngles, double fourierError, const py::object& progress) {
     scene::ComparisonSettings s;
     s.lights = lightsFrom(lights);
     std::tie(s.width, s.height) = sizeFrom(size, "size");

@@ -25,7 +25,7 @@ struct ComparisonSettings {
     std::vector<ghosts::Light> lights; ///< pixels
     int width = 1920, height = 1080;   ///< the frame, pixels (8..8192)
     std::pair<double, double> sensorMm{36.0, 24.0};
-    int grid = 32; ///< the traced reference's starting pupil grid
+    int grid = 32;                                     ///< the traced reference's starting pupil grid
     trace::Sampling sampling = trace::Sampling::Reaim; ///< the traced reference's pupil sampling
     /// The table's settings (the shaped ghosts and their fits); their sensor plane and coatings serve
     /// the traced reference too.

@@ -71,8 +71,8 @@ struct SequentialResult {
 /// With openMargins (steps.size() of them), every aperture is left open: nothing clips the ray (a
 /// miss or total internal reflection still ends it), and openMargins[k] receives how far step k's hit
 /// lies inside its surface's aperture (LensAtWavelength::apertureMargin), NaN past the step that
-/// ended the ray (the shaped ghosts clip their meshes by them); openPoints, where also given, receives step k's hit point (NaN
-/// past the step that ended the ray).
+/// ended the ray (the shaped ghosts clip their meshes by them); openPoints, where also given, receives step k's hit
+/// point (NaN past the step that ended the ray).
 SequentialResult traceSequential(const LensAtWavelength& lens, const std::vector<PathStep>& steps, optics::Ray ray,
                                  Weighting weighting = Weighting::Fresnel, double* openMargins = nullptr,
                                  glm::dvec3* openPoints = nullptr);

@@ -157,9 +157,8 @@ TEST(CliConvention, OldSpellingsStillWorkWithAWarning) {
     EXPECT_EQ(run("ghosts " + lens + " --angle 5,30 --azimuth 30").code, 2); // the azimuth twice
     // table --grid: --table-grid; the same table. The refined moment table's --max-angles and
     // --tolerance, and --sampling where nothing is traced, are read and have no effect.
-    const RunResult t1 =
-        run("table " + lens + " --table-grid 8 --table-angles 5 --max-angle 8 -o '" + (dir / "a.json").string() + "'",
-            env);
+    const RunResult t1 = run(
+        "table " + lens + " --table-grid 8 --table-angles 5 --max-angle 8 -o '" + (dir / "a.json").string() + "'", env);
     const RunResult t2 = run("table " + lens +
                                  " --grid 8 --table-angles 5 --max-angles 20 --tolerance 0.01 --sampling reaim "
                                  "--max-angle 8 -o '" +

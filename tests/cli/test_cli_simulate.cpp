@@ -95,8 +95,7 @@ Exr readExr(const fs::path& path) {
 }
 
 std::string simulate(const fs::path& plate, const fs::path& out, const std::string& extra = "") {
-    return "simulate --lens " + kLens + " --plate '" + plate.string() + "' -o '" + out.string() + "' --table-grid 8 " +
-           extra;
+    return "simulate --lens " + kLens + " --plate '" + plate.string() + "' -o '" + out.string() + "' " + extra;
 }
 
 } // namespace
@@ -213,7 +212,7 @@ TEST(CliSimulate, CentredLightFluxAndSymmetryFollowTheTable) {
     const auto r =
         run(simulate(dir / "plate.exr", dir / "out.exr", "--sensor-size 36x24 --ghost-model gaussian"), kEnv);
     ASSERT_EQ(r.code, 0) << r.err;
-    const auto t = run("table " + kLens + " --table-grid 8 -o '" + (dir / "t.json").string() + "'", kEnv);
+    const auto t = run("table " + kLens + " -o '" + (dir / "t.json").string() + "'", kEnv);
     ASSERT_EQ(t.code, 0) << t.err;
     const auto table = nlohmann::json::parse(ff::test::readFile(dir / "t.json"));
     const Exr e = readExr(dir / "out.exr");

@@ -100,7 +100,8 @@ TEST(CliTable, BuildsCachesAndExports) {
     const auto built =
         run("table lenses/cooke-triplet-50mm-f5.lens --table-grid 8 --max-angle 10 -o '" + table + "'", env);
     ASSERT_EQ(built.code, 0) << built.err;
-    EXPECT_NE(built.err.find("built ghost table: 15 ghosts x 3 wavelengths"), std::string::npos) << built.err;
+    EXPECT_NE(built.err.find("built table: 15 ghosts x 3 wavelengths at 25 field angles"), std::string::npos)
+        << built.err;
     EXPECT_NE(built.err.find("fit error (relative L2)"), std::string::npos) << built.err;
     const auto j = nlohmann::json::parse(ff::test::readFile(table));
     EXPECT_EQ(j["schema"], "fourierflare.ghost-table");

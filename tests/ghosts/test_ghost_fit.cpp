@@ -37,8 +37,9 @@ ShapedPolygons drawnProfile(int n, double h, double cx, double cy, const std::fu
                 for (int a = 0; a < 8; ++a) e += f(x0 + (a + 0.5) * h / 8, y0 + (b + 0.5) * h / 8);
             e *= h * h / 64;
             if (e <= 0.0) continue;
-            addSensorPolygon(out, {{cx + x0, cy + y0}, {cx + x0 + h, cy + y0}, {cx + x0 + h, cy + y0 + h}, {cx + x0, cy + y0 + h}},
-                             e);
+            addSensorPolygon(
+                out, {{cx + x0, cy + y0}, {cx + x0 + h, cy + y0}, {cx + x0 + h, cy + y0 + h}, {cx + x0, cy + y0 + h}},
+                e);
             flux += e;
         }
     return out;
@@ -103,7 +104,8 @@ TEST(GhostFit, PolygonMomentsMatchASupersampledRaster) {
         // Brute force.
         double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
         for (const auto& p : polys)
-            for (const glm::dvec2& v : p) x0 = std::min(x0, v.x), y0 = std::min(y0, v.y), x1 = std::max(x1, v.x), y1 = std::max(y1, v.y);
+            for (const glm::dvec2& v : p)
+                x0 = std::min(x0, v.x), y0 = std::min(y0, v.y), x1 = std::max(x1, v.x), y1 = std::max(y1, v.y);
         const int n = 1500;
         const double hx = (x1 - x0) / n, hy = (y1 - y0) / n;
         std::array<double, 6> s{};
@@ -173,9 +175,9 @@ TEST(GhostFit, RecoversAKnownGaussian) {
     // sigma_x (tangential) = 0.30 mm, sigma_y (radial) = 0.45 mm, centred at (1.0, 6.0).
     const double sx = 0.30, sy = 0.45;
     double flux = 0.0;
-    const ShapedPolygons ps = drawnProfile(120, 0.025, 1.0, 6.0, [&](double x, double y) {
-        return std::exp(-0.5 * (x * x / (sx * sx) + y * y / (sy * sy)));
-    }, flux);
+    const ShapedPolygons ps = drawnProfile(
+        120, 0.025, 1.0, 6.0,
+        [&](double x, double y) { return std::exp(-0.5 * (x * x / (sx * sx) + y * y / (sy * sy))); }, flux);
     const GhostFit f = fitGhost(ps, kMm);
     EXPECT_NEAR(f.flux, flux, 1e-12 * flux); // the fit keeps the drawn flux
     EXPECT_NEAR(f.centroidX, 1.0, 1e-6);
@@ -195,11 +197,14 @@ TEST(GhostFit, RecoversAKnownCos2Bump) {
     // Half-widths w_x = 0.8 mm, w_y = 0.5 mm.
     const double wx = 0.8, wy = 0.5;
     double flux = 0.0;
-    const ShapedPolygons ps = drawnProfile(128, 0.02, -2.0, 3.0, [&](double x, double y) {
-        if (std::abs(x) >= wx || std::abs(y) >= wy) return 0.0;
-        const double a = std::cos(0.5 * std::numbers::pi * x / wx), b = std::cos(0.5 * std::numbers::pi * y / wy);
-        return a * a * b * b;
-    }, flux);
+    const ShapedPolygons ps = drawnProfile(
+        128, 0.02, -2.0, 3.0,
+        [&](double x, double y) {
+            if (std::abs(x) >= wx || std::abs(y) >= wy) return 0.0;
+            const double a = std::cos(0.5 * std::numbers::pi * x / wx), b = std::cos(0.5 * std::numbers::pi * y / wy);
+            return a * a * b * b;
+        },
+        flux);
     const GhostFit f = fitGhost(ps, kMm);
     EXPECT_NEAR(f.flux, flux, 1e-12 * flux);
     EXPECT_NEAR(f.cos2.widthT, wx, 0.01 * wx);

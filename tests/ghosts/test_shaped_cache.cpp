@@ -1,5 +1,6 @@
 #include "core/error.h"
 #include "core/file_io.h"
+#include "ghosts/ghost_table.h"
 #include "ghosts/shaped_cache.h"
 #include "optics/lens_loader.h"
 

@@ -1,4 +1,5 @@
 #include "core/units.h"
+#include "ghosts/ghost_table.h"
 #include "ghosts/shaped_ghosts.h"
 #include "optics/lens_loader.h"
 #include "trace/traced_flare.h"

@@ -4,6 +4,7 @@
 // segments, some over the frame's edges or far outside it) with energies over six decades; the
 // image independent of the batching; and the whole shaped renderer on the Cooke triplet.
 
+#include "ghosts/ghost_table.h"
 #include "ghosts/shaped_ghosts.h"
 #include "gpu/gl_context.h"
 #include "gpu/gl_polygon_raster.h"
