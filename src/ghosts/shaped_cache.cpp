@@ -184,7 +184,7 @@ std::string shapedTableToBytes(const ShapedTable& t, const std::string& key) {
     h["sensor_size_mm"] = {t.sensorSizeMm.first, t.sensorSizeMm.second};
     h["pupil_radius_mm"] = t.pupilRadiusMm;
     h["direct_y_mm"] = t.directY;
-    h["fitted"] = tableToJson(t.fitted);
+    h["fitted"] = tableToJson(t.fitted, true);
     h["ghost_count"] = t.ghostCount;
     h["rays"] = t.rays;
     h["build_seconds"] = t.buildSeconds;

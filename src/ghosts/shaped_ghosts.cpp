@@ -445,7 +445,9 @@ ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s,
                     for (std::size_t k = 0; k < K; ++k) {
                         const double x = m.margins[v * K + k];
                         p[3 + k] = static_cast<float>(std::clamp(x, -1e30, 1e30));
-                        if (x < 0.0 && steps[k].surface != Ls[0].stop) cuts[k] = 1;
+                        // An aperture cuts the ghost where a traced ray passes outside it (a filled
+                        // vertex's hit beyond a rim is the border's business: the loss margin's).
+                        if (x < 0.0 && m.ok[v] == 1 && steps[k].surface != Ls[0].stop) cuts[k] = 1;
                     }
                     p[3 + K] = static_cast<float>(m.loss[v]);
                     std::size_t q = 4 + K;

@@ -42,7 +42,7 @@ std::vector<double> angles(const json& j, const std::string& source) {
 
 } // namespace
 
-std::string tableToJson(const GhostTable& t) {
+std::string tableToJson(const GhostTable& t, bool compact) {
     json j;
     j["schema"] = kSchema;
     j["schema_version"] = t.schemaVersion;
@@ -95,7 +95,7 @@ std::string tableToJson(const GhostTable& t) {
                           {"wavelengths", per}});
     }
     j["ghosts"] = ghosts;
-    return j.dump(1);
+    return compact ? j.dump() : j.dump(1);
 }
 
 GhostTable tableFromJson(const std::string& text, const std::string& source) {

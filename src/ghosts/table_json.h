@@ -8,7 +8,8 @@
 
 namespace ff::ghosts {
 
-std::string tableToJson(const GhostTable& table);
+/// Indented for reading (one space per level), or on one line (compact: the cache's header).
+std::string tableToJson(const GhostTable& table, bool compact = false);
 
 /// Parses a table written by tableToJson. Throws ff::Error (Input) naming `source` when the text is
 /// not such a table (bad JSON, other schema or version, missing or inconsistent fields).
