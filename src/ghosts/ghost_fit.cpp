@@ -33,6 +33,26 @@ double profileArea(Profile p, double wr, double wt) {
     return p == Profile::Gaussian ? 2.0 * std::numbers::pi * wr * wt : wr * wt;
 }
 
+namespace {
+
+// A polygon with energy in sensor mm (q) and its vertices' mean; false where it has no energy or the
+// mean lies beyond maxRadius (> 0).
+bool sensorPolygon(const ShapedPolygons& ps, const ShapedPolygons::Poly& poly, const trace::ImageFrame& frame,
+                   double maxRadius, std::vector<glm::dvec2>& q, glm::dvec2& mean) {
+    if (!(poly.energy > 0.0) || poly.count == 0) return false;
+    q.resize(poly.count);
+    mean = glm::dvec2(0.0);
+    for (std::uint32_t i = 0; i < poly.count; ++i) {
+        const glm::vec2& v = ps.vertices[poly.first + i];
+        q[i] = frame.pixelToSensor(v.x, v.y);
+        mean += q[i];
+    }
+    mean /= static_cast<double>(poly.count);
+    return !(maxRadius > 0.0 && glm::dot(mean, mean) > maxRadius * maxRadius);
+}
+
+} // namespace
+
 PolygonMoments polygonMoments(const ShapedPolygons& ps, const trace::ImageFrame& frame, double maxRadius) {
     // Sums about a reference point (the first vertex), in mm, so that the second moments of a small
     // ghost far from the axis do not cancel.
@@ -41,16 +61,8 @@ PolygonMoments polygonMoments(const ShapedPolygons& ps, const trace::ImageFrame&
     bool haveRef = false;
     std::vector<glm::dvec2> q;
     for (const ShapedPolygons::Poly& poly : ps.polys) {
-        if (!(poly.energy > 0.0) || poly.count == 0) continue;
-        q.resize(poly.count);
-        glm::dvec2 mean(0.0);
-        for (std::uint32_t i = 0; i < poly.count; ++i) {
-            const glm::vec2& v = ps.vertices[poly.first + i];
-            q[i] = frame.pixelToSensor(v.x, v.y);
-            mean += q[i];
-        }
-        mean /= static_cast<double>(poly.count);
-        if (maxRadius > 0.0 && glm::dot(mean, mean) > maxRadius * maxRadius) continue;
+        glm::dvec2 mean;
+        if (!sensorPolygon(ps, poly, frame, maxRadius, q, mean)) continue;
         if (!haveRef) ref = q[0], haveRef = true;
         // Green's theorem over the edges (x_i, y_i) -> (x_j, y_j), c = x_i y_j - x_j y_i:
         // A = sum c / 2, int x = sum (x_i + x_j) c / 6, int x^2 = sum (x_i^2 + x_i x_j + x_j^2) c / 12,
@@ -229,17 +241,9 @@ GhostFit fitGhost(const ShapedPolygons& ps, const trace::ImageFrame& frame, cons
     trace::RasterStats stats;
     std::vector<glm::dvec2> q;
     for (const ShapedPolygons::Poly& poly : ps.polys) {
-        if (!(poly.energy > 0.0) || poly.count == 0) continue;
-        q.resize(poly.count);
-        glm::dvec2 mean(0.0);
-        for (std::uint32_t i = 0; i < poly.count; ++i) {
-            const glm::vec2& v = ps.vertices[poly.first + i];
-            const glm::dvec2 s = frame.pixelToSensor(v.x, v.y);
-            mean += s;
-            q[i] = img.frame.sensorToPixel(s.x, s.y);
-        }
-        mean /= static_cast<double>(poly.count);
-        if (o.maxRadiusMm > 0.0 && glm::dot(mean, mean) > o.maxRadiusMm * o.maxRadiusMm) continue;
+        glm::dvec2 mean;
+        if (!sensorPolygon(ps, poly, frame, o.maxRadiusMm, q, mean)) continue;
+        for (glm::dvec2& p : q) p = img.frame.sensorToPixel(p.x, p.y);
         raster.polygon(q, poly.energy, stats);
     }
     img.flux = std::move(raster).release();

@@ -62,6 +62,17 @@ std::size_t vertices(const ShapedGhost& g) {
     return static_cast<std::size_t>(g.grid + 1) * (g.grid + 1);
 }
 
+// The range [lo, hi] of attribute z over a mesh's finite values (0, 0 where there are none).
+std::pair<float, float> range(const ShapedMesh& m, std::size_t V, std::size_t S, std::size_t z) {
+    float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+    for (std::size_t v = 0; v < V; ++v) {
+        const float x = m.data[v * S + z];
+        if (std::isfinite(x)) lo = std::min(lo, x), hi = std::max(hi, x);
+    }
+    if (!(hi >= lo)) lo = hi = 0.0f;
+    return {lo, hi};
+}
+
 // One ghost's meshes, quantised and differenced (the format above), before deflation.
 std::string encodeGhost(const ShapedGhost& g) {
     std::string out;
@@ -71,12 +82,7 @@ std::string encodeGhost(const ShapedGhost& g) {
         for (const ShapedMesh& m : perAngle) {
             if (m.data.empty()) continue;
             for (std::size_t z = 0; z < S; ++z) {
-                float lo = std::numeric_limits<float>::infinity(), hi = -lo;
-                for (std::size_t v = 0; v < V; ++v) {
-                    const float x = m.data[v * S + z];
-                    if (std::isfinite(x)) lo = std::min(lo, x), hi = std::max(hi, x);
-                }
-                if (!(hi >= lo)) lo = hi = 0.0f;
+                const auto [lo, hi] = range(m, V, S, z);
                 put(out, lo);
                 put(out, hi);
                 const double scale = hi > lo ? kLevels / (double(hi) - double(lo)) : 0.0;
@@ -103,12 +109,7 @@ void quantiseGhost(ShapedGhost& g) {
         for (ShapedMesh& m : perAngle) {
             if (m.data.empty()) continue;
             for (std::size_t z = 0; z < S; ++z) {
-                float lo = std::numeric_limits<float>::infinity(), hi = -lo;
-                for (std::size_t v = 0; v < V; ++v) {
-                    const float x = m.data[v * S + z];
-                    if (std::isfinite(x)) lo = std::min(lo, x), hi = std::max(hi, x);
-                }
-                if (!(hi >= lo)) lo = hi = 0.0f;
+                const auto [lo, hi] = range(m, V, S, z);
                 const double scale = hi > lo ? kLevels / (double(hi) - double(lo)) : 0.0;
                 const double step = (double(hi) - double(lo)) / kLevels;
                 for (std::size_t v = 0; v < V; ++v) {
