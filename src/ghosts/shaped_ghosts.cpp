@@ -48,9 +48,7 @@ struct RayMaker {
 struct OpenMesh {
     int n = 0;
     std::size_t steps = 0;
-    std::vector<char> ok;     // 0 lost, 1 traced, 2 filled (fillBorder)
-    std::vector<double> loss; // the loss margin (fillBorder): cells of the edge to the border, < 0 filled
-    bool filled = false;
+    std::vector<char> ok;
     std::vector<glm::dvec2> land;
     std::vector<double> weight, margins; // margins [vertex * steps + step]
     std::vector<glm::dvec3> points;      // [vertex * steps + step]
@@ -63,7 +61,6 @@ OpenMesh traceMesh(const trace::LensAtWavelength& L, const std::vector<trace::Pa
     m.steps = steps.size();
     const std::size_t V = static_cast<std::size_t>(n + 1) * (n + 1);
     m.ok.assign(V, 0);
-    m.loss.assign(V, 1.0);
     m.land.assign(V, glm::dvec2(0.0));
     m.weight.assign(V, 0.0);
     m.margins.assign(V * m.steps, 0.0);
@@ -81,87 +78,6 @@ OpenMesh traceMesh(const trace::LensAtWavelength& L, const std::vector<trace::Pa
             m.weight[v] = s.weight;
         }
     return m;
-}
-
-// Rays lost at the border of a path's light (a surface missed, total internal reflection) would
-// leave every cell across that border dark: the light cut off at the grid's scale, the flux short
-// by about a cell row. Each lost vertex next to traced ones is filled: along the edge from each
-// traced neighbour the last traced point is found by kBorderHalvings bisections, and the vertex takes
-// the attributes extrapolated linearly from the neighbour with the farthest such point, through that
-// point (at most four-fold); its margins are its apertures' at the extrapolated hit points. A loss margin, +t at a
-// traced vertex and -(1 - t) at a filled one (t: the share of the edge to the last traced point), then cuts the border
-// cells as an aperture's margin does, within 1/2^kBorderHalvings of a cell.
-constexpr int kBorderHalvings = 5;
-
-void fillBorder(OpenMesh& m, const trace::LensAtWavelength& L, const std::vector<trace::PathStep>& steps,
-                const RayMaker& rays, const Rect& r) {
-    const int n = m.n, row = n + 1;
-    const std::size_t K = m.steps;
-    auto at = [&](int i, int j) { return static_cast<std::size_t>(j) * row + i; };
-    auto pupil = [&](double i, double j) {
-        return glm::dvec2(r.x0 + (r.x1 - r.x0) * i / n, r.y0 + (r.y1 - r.y0) * j / n);
-    };
-    std::vector<double> margins(K);
-    std::vector<glm::dvec3> points(K);
-    std::vector<glm::dvec3> bestPoints(K);
-    std::vector<std::size_t> toFill;
-    for (int j = 0; j <= n; ++j)
-        for (int i = 0; i <= n; ++i)
-            if (!m.ok[at(i, j)]) toFill.push_back(at(i, j));
-    struct Fill {
-        std::size_t v, from;
-        double t;
-        glm::dvec2 land;
-        double weight;
-        std::vector<glm::dvec3> points;
-    };
-    std::vector<Fill> fills;
-    for (const std::size_t v : toFill) {
-        const int i = static_cast<int>(v % row), j = static_cast<int>(v / row);
-        Fill best{v, 0, 0.0, {}, 0.0, {}};
-        for (const auto& [di, dj] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
-            const int ui = i + di, uj = j + dj;
-            if (ui < 0 || uj < 0 || ui > n || uj > n || m.ok[at(ui, uj)] != 1) continue;
-            const std::size_t u = at(ui, uj);
-            double lo = 0.0, hi = 1.0;
-            glm::dvec2 land(0.0);
-            double weight = 0.0;
-            for (int h = 0; h < kBorderHalvings; ++h) {
-                const double mid = 0.5 * (lo + hi);
-                const glm::dvec2 p = pupil(ui - di * mid, uj - dj * mid);
-                const trace::SequentialResult res = trace::traceSequential(
-                    L, steps, rays(p.x, p.y), trace::Weighting::Fresnel, margins.data(), points.data());
-                if (res.status != optics::RayStatus::Ok || !std::isfinite(res.ray.origin.x) ||
-                    !std::isfinite(res.ray.origin.y)) {
-                    hi = mid;
-                    continue;
-                }
-                lo = mid;
-                land = {res.ray.origin.x, res.ray.origin.y};
-                weight = res.weight;
-                bestPoints = points;
-            }
-            m.loss[u] = std::min(m.loss[u], lo);
-            if (lo <= best.t) continue;
-            best = {v, u, lo, land, weight, bestPoints};
-        }
-        if (best.t > 0.0) fills.push_back(std::move(best));
-    }
-    for (const Fill& f : fills) {
-        const double s = 1.0 / std::max(f.t, 0.25);
-        const std::size_t u = f.from, v = f.v;
-        m.ok[v] = 2;
-        m.loss[v] = -(1.0 - f.t);
-        m.land[v] = m.land[u] + (f.land - m.land[u]) * s;
-        m.weight[v] = std::max(0.0, m.weight[u] + (f.weight - m.weight[u]) * s);
-        // The hit points are extrapolated, and each margin is its aperture's at the extrapolated hit
-        // (as a traced ray's is at its hit: the iris drawn from the stop's hits then agrees with it).
-        for (std::size_t k = 0; k < K; ++k) {
-            m.points[v * K + k] = m.points[u * K + k] + (f.points[k] - m.points[u * K + k]) * s;
-            m.margins[v * K + k] = L.apertureMargin(steps[k].surface, m.points[v * K + k]);
-        }
-        m.filled = true;
-    }
 }
 
 // The flux of a mesh: the weight integrated over the lit part of every traced triangle of every
@@ -216,11 +132,9 @@ double meshFlux(int n, const std::vector<char>& ok, const std::vector<double>& w
     return sum;
 }
 
-// The margins of an open mesh's vertex as constraints: every step's margin, NaN read as far outside,
-// then the loss margin (fillBorder): m.steps + 1 of them.
+// The margins of an open mesh's vertex as constraints: every step's margin, NaN read as far outside.
 auto marginsOf(const OpenMesh& m) {
     return [&m](std::size_t v, std::size_t k) {
-        if (k == m.steps) return m.loss[v];
         const double x = m.margins[v * m.steps + k];
         return std::isnan(x) ? -1e30 : std::min(x, 1e30);
     };
@@ -259,7 +173,7 @@ Probe probe(const trace::LensAtWavelength& L, const std::vector<trace::PathStep>
     Probe out;
     if (!(box.x1 > box.x0)) return out;
     out.rect = {std::max(box.x0, -h), std::max(box.y0, -h), std::min(box.x1, h), std::min(box.y1, h)};
-    out.flux = cell * cell * meshFlux(kCoarse, m.ok, m.weight, m.steps + 1, marginsOf(m));
+    out.flux = cell * cell * meshFlux(kCoarse, m.ok, m.weight, m.steps, marginsOf(m));
     out.landingArea = (land.x1 - land.x0) * (land.y1 - land.y0);
     return out;
 }
@@ -275,13 +189,11 @@ Direct directImage(const trace::LensAtWavelength& L, const std::vector<trace::Pa
     const Rect r = probe(L, steps, pupil, field).rect;
     rays += (kCoarse + 1) * (kCoarse + 1);
     if (r.empty()) return {};
-    const RayMaker maker(pupil, field);
-    OpenMesh m = traceMesh(L, steps, maker, r, kDirectGrid);
+    const OpenMesh m = traceMesh(L, steps, RayMaker(pupil, field), r, kDirectGrid);
     rays += m.ok.size();
-    fillBorder(m, L, steps, maker, r);
     const double cellArea = (r.x1 - r.x0) * (r.y1 - r.y0) / (double(kDirectGrid) * kDirectGrid);
     double momentY = 0.0;
-    const double flux = meshFlux(kDirectGrid, m.ok, m.weight, m.steps + 1, marginsOf(m), &m.land, &momentY);
+    const double flux = meshFlux(kDirectGrid, m.ok, m.weight, m.steps, marginsOf(m), &m.land, &momentY);
     return {cellArea * flux, flux > 0.0 ? momentY / flux : 0.0};
 }
 
@@ -297,7 +209,7 @@ std::size_t ShapedTable::bytes() const {
 
 std::string shapedCacheKey(const optics::Lens& lens, const TableSettings& s) {
     // Changes whenever the table built for the same settings changes.
-    constexpr int kBuildVersion = 5;
+    constexpr int kBuildVersion = 6;
     const auto sensor = s.sensorSizeMm.value_or(lens.sensorMm.value_or(std::make_pair(36.0, 24.0)));
     std::string k = "shaped " + std::to_string(kBuildVersion) + "|lens " + lens.contentHash + "|zoom " +
                     std::to_string(lens.activeZoom) + "|wavelengths";
@@ -412,24 +324,19 @@ ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s,
         for (std::size_t k = 0; k < steps.size(); ++k)
             if (steps[k].surface == Ls[0].stop) stopSteps.push_back(k);
         out.stopCrossings = stopSteps.size();
-        // Every vertex as x, y, weight, every step's margin (NaN: none), the loss margin, then the
-        // stop hits.
-        const std::size_t K = steps.size(), full = 4 + K + 2 * stopSteps.size();
+        // Every vertex as x, y, weight, every step's margin (NaN: none), then the stop hits.
+        const std::size_t K = steps.size(), full = 3 + K + 2 * stopSteps.size();
         std::vector<char> cuts(K, 0);
-        bool filled = false;
         out.meshes.assign(W, std::vector<ShapedMesh>(A));
         for (std::size_t w = 0; w < W; ++w)
             for (std::size_t a = 0; a < A; ++a) {
                 const Rect& r = rects[g][a];
-                const RayMaker maker(pupil, fieldAt(a));
-                OpenMesh m = traceMesh(Ls[w], steps, maker, r, n);
+                OpenMesh m = traceMesh(Ls[w], steps, RayMaker(pupil, fieldAt(a)), r, n);
                 rays[g] += m.ok.size();
-                fillBorder(m, Ls[w], steps, maker, r);
-                filled = filled || m.filled;
                 const double cellArea = (r.x1 - r.x0) * (r.y1 - r.y0) / (double(n) * n);
                 const double scale = direct[w * A + a] > 0.0 ? cellArea / direct[w * A + a] : 0.0;
                 for (double& x : m.weight) x *= scale;
-                out.meshes[w][a].flux = meshFlux(n, m.ok, m.weight, m.steps + 1, marginsOf(m));
+                out.meshes[w][a].flux = meshFlux(n, m.ok, m.weight, m.steps, marginsOf(m));
                 peak[g] = std::max(peak[g], out.meshes[w][a].flux);
                 std::vector<float>& d = out.meshes[w][a].data;
                 d.assign(m.ok.size() * full, 0.0f);
@@ -445,23 +352,18 @@ ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s,
                     for (std::size_t k = 0; k < K; ++k) {
                         const double x = m.margins[v * K + k];
                         p[3 + k] = static_cast<float>(std::clamp(x, -1e30, 1e30));
-                        // An aperture cuts the ghost where a traced ray passes outside it (a filled
-                        // vertex's hit beyond a rim is the border's business: the loss margin's).
-                        if (x < 0.0 && m.ok[v] == 1 && steps[k].surface != Ls[0].stop) cuts[k] = 1;
+                        if (x < 0.0 && steps[k].surface != Ls[0].stop) cuts[k] = 1;
                     }
-                    p[3 + K] = static_cast<float>(m.loss[v]);
-                    std::size_t q = 4 + K;
+                    std::size_t q = 3 + K;
                     for (std::size_t k : stopSteps) {
                         p[q++] = static_cast<float>(m.points[v * K + k].x);
                         p[q++] = static_cast<float>(m.points[v * K + k].y);
                     }
                 }
             }
-        if (filled) out.apertureSteps.push_back(ShapedGhost::kLossStep);
         for (std::size_t k = 0; k < K; ++k)
             if (cuts[k]) out.apertureSteps.push_back(k);
-        // Keep x, y, weight, the loss margin where a border was filled, the cutting apertures'
-        // margins and the stop hits.
+        // Keep x, y, weight, the cutting apertures' margins and the stop hits.
         const std::size_t stride = out.stride();
         for (auto& byAngle : out.meshes)
             for (ShapedMesh& mesh : byAngle) {
@@ -471,8 +373,8 @@ ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s,
                     float* q = &d[v * stride];
                     q[0] = p[0], q[1] = p[1], q[2] = p[2];
                     std::size_t c = 3;
-                    for (std::size_t k : out.apertureSteps) q[c++] = p[k == ShapedGhost::kLossStep ? 3 + K : 3 + k];
-                    for (std::size_t k = 0; k < 2 * stopSteps.size(); ++k) q[c++] = p[4 + K + k];
+                    for (std::size_t k : out.apertureSteps) q[c++] = p[3 + k];
+                    for (std::size_t k = 0; k < 2 * stopSteps.size(); ++k) q[c++] = p[3 + K + k];
                 }
                 mesh.data = std::move(d);
             }

@@ -34,7 +34,6 @@
 #include <array>
 #include <cstdint>
 #include <functional>
-#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -49,14 +48,10 @@ struct ShapedMesh {
 
 struct ShapedGhost {
     trace::GhostPair pair;
-    int grid = 0;                        ///< cells per side of its pupil meshes
-    double pupilX0 = 0.0, pupilY0 = 0.0; ///< the square of the pupil plane its meshes cover, mm:
-    double pupilX1 = 0.0, pupilY1 = 0.0; ///< corners (x0, y0) .. (x1, y1), the same at every angle
-    /// Path steps whose clear-aperture margin is stored; kLossStep (first, where present) stands for
-    /// the loss margin of the border cells whose rays are lost (a surface missed, total internal
-    /// reflection): + at traced vertices, - at vertices filled beyond the last traced point.
-    std::vector<std::size_t> apertureSteps;
-    static constexpr std::size_t kLossStep = std::numeric_limits<std::size_t>::max();
+    int grid = 0;                                ///< cells per side of its pupil meshes
+    double pupilX0 = 0.0, pupilY0 = 0.0;         ///< the square of the pupil plane its meshes cover, mm:
+    double pupilX1 = 0.0, pupilY1 = 0.0;         ///< corners (x0, y0) .. (x1, y1), the same at every angle
+    std::vector<std::size_t> apertureSteps;      ///< path steps whose clear-aperture margin is stored
     std::size_t stopCrossings = 0;               ///< times the path crosses the stop (hit points stored)
     std::vector<std::vector<ShapedMesh>> meshes; ///< [wavelength][angle]
 

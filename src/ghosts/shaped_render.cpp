@@ -59,7 +59,6 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
     const double cs = std::cos(azimuthRad), sn = std::sin(azimuthRad);
     const IrisEdges iris(table.iris, -azimuthRad);
     const std::size_t C = std::min(kMaxConstraints, nA + gh.stopCrossings * iris.count());
-    const bool hasLoss = nA > 0 && gh.apertureSteps.front() == ShapedGhost::kLossStep; // the loss margin is attr 3
 
     // Per vertex: pixel x, y, weight, then the constraints' values.
     const std::size_t S = 3 + C;
@@ -164,9 +163,7 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
             for (int q = -1; q <= 2 && cubic; ++q)
                 for (int r = -1; r <= 2 && cubic; ++r) {
                     const int x = i + r, y = j + q;
-                    const std::size_t v = static_cast<std::size_t>(y) * (n + 1) + x;
-                    // A vertex filled beyond the border's last traced point is no sample of a smooth surface.
-                    if (x < 0 || y < 0 || x > n || y > n || !ok[v] || (hasLoss && attr[v * S + 3] < 0.0))
+                    if (x < 0 || y < 0 || x > n || y > n || !ok[static_cast<std::size_t>(y) * (n + 1) + x])
                         cubic = false;
                     else
                         nb[(q + 1) * 4 + (r + 1)] = &attr[(static_cast<std::size_t>(y) * (n + 1) + x) * S];

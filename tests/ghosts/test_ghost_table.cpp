@@ -83,9 +83,13 @@ TEST(GhostTable, CoversEveryStoredGhostAtTheShapedTablesAngles) {
 // within the circle the table counts, agrees in flux within 1.5 %, in centroid within 1 % of its RMS
 // radius and in RMS radius within 1.5 %. The report's own error: its grid counts whole cells at the
 // vignetting edges, about one cell row of the lit pupil's ~200 across, so 0.3-1 % in flux and spread.
+// The meshes are twice the default's (96 cells for the most concentrated ghost): this checks the
+// derivation, not the default grid's resolution, whose coarsest meshes are 1.5-4 % off on some
+// ghosts (docs/performance.md, "The table").
 TEST(GhostTable, EntriesAgreeWithTheGhostReportsBruteForceTrace) {
     const optics::Lens lens = optics::loadLens(test::lensPath("tessar-100mm-f3.5.lens"));
     TableSettings s;
+    s.grid = 96;
     s.angles = 7;
     s.maxAngleDeg = 18.0;
     const GhostTable t = buildGhostTable(lens, s);
