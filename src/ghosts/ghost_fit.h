@@ -10,8 +10,7 @@
 // the tangential one is x; widths are in mm. A profile is scaled so that its integral equals the
 // ghost's flux: a fit never invents or loses energy. The fit error is the relative L2 distance
 // between the fitted profile and the ghost's image, over a square of +-4 sigma around the centroid
-// (pixel-sampled at 64 x 64; the error of that sampling is below 1e-3 of the image's norm for the
-// widths the moments give, far under the fits' own errors, typically 0.1-0.7).
+// (64 x 64 pixels by default).
 
 #include "ghosts/polygons.h"
 #include "trace/flare_raster.h"
