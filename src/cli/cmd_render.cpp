@@ -80,8 +80,9 @@ void checkRenderSources(const RenderOptions& o) {
                     "give exactly one of --angle DEG[,AZ], --light X,Y (or --lights FILE) and --ghosts FILE");
     if (!o.lights.empty() && !o.lightsFile.empty())
         throw Error(ErrorKind::Usage, "give lights with --light or with --lights, not both");
-    if (!o.angle.empty() && o.mode != "traced")
-        throw Error(ErrorKind::Usage, "--angle works with --mode traced; give the light's position with --light X,Y");
+    if (!o.angle.empty() && o.mode != "traced" && o.mode != "shaped")
+        throw Error(ErrorKind::Usage,
+                    "--angle works with --mode traced or shaped; give the light's position with --light X,Y");
     if (explicitGhosts && o.mode == "traced")
         throw Error(ErrorKind::Usage, "--ghosts needs --mode fitted or fourier (a ghost list has nothing to trace)");
     if (!explicitGhosts && o.lens.empty())
@@ -264,8 +265,9 @@ void addRenderCommand(CLI::App& app, GlobalOptions& global) {
     auto o = std::make_shared<RenderOptions>();
     CLI::App* cmd = app.add_subcommand("render", "Render the flare of light sources through a lens into an EXR image");
     addLensArgument(*cmd, o->lens, "Lens file (.lens, .zmx or .dat); not needed with --ghosts");
-    cmd->add_option("--angle", o->angle,
-                    "Field angle of one source in degrees, optionally with its azimuth: DEG[,AZ] (traced mode)");
+    cmd->add_option(
+        "--angle", o->angle,
+        "Field angle of one source in degrees, optionally with its azimuth: DEG[,AZ] (traced or shaped mode)");
     cmd->add_option("--light", o->lights,
                     "A light at X,Y pixels, optionally with its RGB flux: X,Y[,R,G,B] (repeatable)");
     cmd->add_option("--lights", o->lightsFile,

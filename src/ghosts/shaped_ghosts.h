@@ -17,9 +17,10 @@
 // uniformly over its image on the sensor: folds of the map (caustics) brighten by themselves and
 // the flux is the integral of the weight over the lit pupil whatever the shape on the sensor.
 //
-// Between table angles every vertex attribute is interpolated linearly (the same vertex of the
-// grid, whose square moves smoothly with the angle); a light at azimuth phi rotates the landing
-// points by phi and the iris by -phi in the table's frame.
+// Between table angles every vertex attribute is interpolated by a cubic (Catmull-Rom) through the
+// four nearest angles (the same vertex of the grid, whose square moves smoothly with the angle;
+// linearly where a ray is lost at one of them); a light at azimuth phi rotates the landing points
+// by phi and the iris by -phi in the table's frame.
 
 #include "ghosts/instancing.h"
 #include "ghosts/polygons.h"
@@ -107,8 +108,11 @@ struct ShapedRenderSettings {
     /// a ghost's irradiance up to maxFlatnessPx (its share of the image's squared error is its
     /// irradiance squared times the area its misplaced edges sweep). Where the bicubic stencil is
     /// incomplete (the grid's border, lost rays) cells cut by an edge get sub-cells of about
-    /// subcellPx pixels.
+    /// subcellPx pixels. Beyond that, k grows until neighbouring flat sub-cells differ in irradiance
+    /// by at most irradianceStep (relative), so that the mesh leaves no faceted texture in the image
+    /// of any ghost, however faint.
     double flatnessPx = 0.02;
+    double irradianceStep = 0.02;
     double maxFlatnessPx = 1.0;
     double subcellPx = 2.0;
     int maxSubdivision = 8;

@@ -53,12 +53,22 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
     const int A = table.angles();
     const ShapedMesh& m0 = gh.meshes[w][in.a0];
     const ShapedMesh& m1 = gh.meshes[w][std::min(in.a0 + 1, A - 1)];
+    // The angles on either side for the cubic interpolation (null at the table's ends).
+    const ShapedMesh* mb = in.a0 > 0 ? &gh.meshes[w][in.a0 - 1] : nullptr;
+    const ShapedMesh* ma = in.a0 + 2 < A ? &gh.meshes[w][in.a0 + 2] : nullptr;
     const std::size_t stride = gh.stride(), nA = gh.apertureSteps.size();
     const int n = gh.grid;
     const std::size_t V = static_cast<std::size_t>(n + 1) * (n + 1);
     const double cs = std::cos(azimuthRad), sn = std::sin(azimuthRad);
     const IrisEdges iris(table.iris, -azimuthRad);
     const std::size_t C = std::min(kMaxConstraints, nA + gh.stopCrossings * iris.count());
+    // Catmull-Rom weights in angle; a missing neighbour beyond the table's ends is the linear
+    // extrapolation of the two inner angles (2 p0 - p1), folded into the weights.
+    std::array<double, 4> wc{
+        0.5 * (-in.t + 2 * in.t * in.t - in.t * in.t * in.t), 0.5 * (2 - 5 * in.t * in.t + 3 * in.t * in.t * in.t),
+        0.5 * (in.t + 4 * in.t * in.t - 3 * in.t * in.t * in.t), 0.5 * (-in.t * in.t + in.t * in.t * in.t)};
+    if (!mb) wc = {0.0, wc[1] + 2.0 * wc[0], wc[2] - wc[0], wc[3]};
+    if (!ma) wc = {wc[0], wc[1] - wc[3], wc[2] + 2.0 * wc[3], 0.0};
 
     // Per vertex: pixel x, y, weight, then the constraints' values.
     const std::size_t S = 3 + C;
@@ -68,28 +78,33 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
     for (std::size_t v = 0; v < V; ++v) {
         const float* p = &m0.data[v * stride];
         const float* q = &m1.data[v * stride];
+        const float* pb = mb ? &mb->data[v * stride] : p;
+        const float* qa = ma ? &ma->data[v * stride] : q;
         // A ray lost at one of the two angles is taken from the other up to the middle between
-        // them, and lost beyond it.
+        // them, and lost beyond it; where it is lost at one of the outer two, the interpolation is
+        // linear.
         double t = in.t;
         if (std::isnan(p[0]) || std::isnan(q[0])) {
             if (std::isnan(p[0]) == std::isnan(q[0]) || std::isnan(p[0]) == (t < 0.5)) continue;
             t = std::isnan(p[0]) ? 1.0 : 0.0;
         }
-        auto lerp = [t](float a, float b) {
-            return t == 0.0 ? double(a) : t == 1.0 ? double(b) : (1.0 - t) * a + t * b;
+        const bool cubic = t > 0.0 && t < 1.0 && !std::isnan(pb[0]) && !std::isnan(qa[0]);
+        auto lerp = [&, t](std::size_t z) {
+            if (cubic) return wc[0] * pb[z] + wc[1] * p[z] + wc[2] * q[z] + wc[3] * qa[z];
+            return t == 0.0 ? double(p[z]) : t == 1.0 ? double(q[z]) : (1.0 - t) * p[z] + t * q[z];
         };
-        const double x = lerp(p[0], q[0]), y = lerp(p[1], q[1]);
+        const double x = lerp(0), y = lerp(1);
         const glm::dvec2 px = frame.sensorToPixel(cs * x - sn * y, sn * x + cs * y);
         double* o = &attr[v * S];
         o[0] = px.x;
         o[1] = px.y;
-        o[2] = lerp(p[2], q[2]);
+        o[2] = lerp(2);
         ok[v] = 1;
         std::size_t k = 0;
-        for (; k < nA && k < C; ++k) o[3 + k] = lerp(p[3 + k], q[3 + k]);
+        for (; k < nA && k < C; ++k) o[3 + k] = lerp(3 + k);
         for (std::size_t s = 0; s < gh.stopCrossings; ++s) {
-            const double sx = lerp(p[3 + nA + 2 * s], q[3 + nA + 2 * s]);
-            const double sy = lerp(p[4 + nA + 2 * s], q[4 + nA + 2 * s]);
+            const double sx = lerp(3 + nA + 2 * s);
+            const double sy = lerp(4 + nA + 2 * s);
             for (std::size_t b = 0; b < iris.count() && k < C; ++b) o[3 + k++] = iris.value(b, sx, sy);
         }
         xMin = std::min(xMin, px.x), xMax = std::max(xMax, px.x), yMin = std::min(yMin, px.y),
@@ -203,6 +218,14 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
                 else
                     K = std::clamp(static_cast<int>(std::ceil(std::sqrt(dev / in.flatnessPx))), 1,
                                    settings.maxSubdivision);
+                // A flat sub-cell carries its mean irradiance; its neighbour's differs by the relative
+                // change of the map's Jacobian across it, about 8 dev / (K sizePx) for a map that
+                // deviates dev pixels from flat over a cell of sizePx (dev = h^2 x'' / 8, sizePx = h x').
+                if (cubic && sizePx > 0.0) {
+                    const double bend = 8.0 * std::max(deviation(0), deviation(1)) / sizePx;
+                    K = std::max(K, std::clamp(static_cast<int>(std::ceil(bend / settings.irradianceStep)), 1,
+                                               settings.maxSubdivision));
+                }
             }
             if (K == 1) {
                 const std::array<std::size_t, 4> corners{v00, v10, v01, v11};

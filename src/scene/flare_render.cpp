@@ -59,7 +59,8 @@ RenderedFlare renderFlare(const optics::Lens& lens, const std::vector<ghosts::Li
         ss.sensorSizeMm = s.sensorMm;
         const ghosts::ShapedTable tab =
             s.loadShaped ? s.loadShaped(lens, ss) : ghosts::shapedTableFor(lens, ss, true, orNull(nullptr));
-        r.image = renderShapedScene(lens, tab, lights, t.frame, t.sensor, &r.shaped, nullptr, s.raster);
+        r.image = s.field ? drawShaped(tab, {{*s.field, {1.0, 1.0, 1.0}}}, t.frame, &r.shaped, s.raster)
+                          : renderShapedScene(lens, tab, lights, t.frame, t.sensor, &r.shaped, nullptr, s.raster);
         r.shapedStored = tab.ghosts.size();
         r.shapedGhosts = tab.ghostCount;
         r.shapedBytes = tab.bytes();

@@ -25,7 +25,7 @@ struct FlareSettings {
     /// The frame (its pitch the sensor's width over its width), and for traced its grid, refinement
     /// and spectral samples; the sampling, sensor plane and coatings serve every mode.
     trace::TracedFlareOptions traced;
-    std::optional<trace::Field> field;              ///< traced: one unit source at this field, not the lights
+    std::optional<trace::Field> field;              ///< traced, shaped: one unit source at this field, not the lights
     std::pair<double, double> sensorMm{36.0, 24.0}; ///< the sensor the frame spans
     ghosts::TableSettings table;                    ///< shaped, fitted, fourier
     fourier::FourierSettings fourier;               ///< fourier

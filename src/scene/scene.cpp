@@ -234,7 +234,13 @@ fourier::FlareImage renderShapedScene(const optics::Lens& lens, const ghosts::Sh
             ++*outside;
         }
     }
-    ghosts::ShapedRender r = ghosts::renderShaped(table, shaped, frame, {}, raster);
+    return drawShaped(table, shaped, frame, stats, raster);
+}
+
+fourier::FlareImage drawShaped(const ghosts::ShapedTable& table, const std::vector<ghosts::ShapedLight>& lights,
+                               const trace::ImageFrame& frame, ghosts::ShapedRender* stats,
+                               ghosts::PolygonRaster* raster) {
+    ghosts::ShapedRender r = ghosts::renderShaped(table, lights, frame, {}, raster);
     fourier::FlareImage image(frame.width, frame.height);
     for (int c = 0; c < 3; ++c)
         for (std::size_t p = 0; p < image.pixels(); ++p)

@@ -80,4 +80,9 @@ fourier::FlareImage renderShapedScene(const optics::Lens& lens, const ghosts::Sh
                                       trace::SensorPlane sensor, ghosts::ShapedRender* stats = nullptr,
                                       std::size_t* outside = nullptr, ghosts::PolygonRaster* raster = nullptr);
 
+/// The shaped ghosts of lights given by their fields, as renderShapedScene draws them.
+fourier::FlareImage drawShaped(const ghosts::ShapedTable& table, const std::vector<ghosts::ShapedLight>& lights,
+                               const trace::ImageFrame& frame, ghosts::ShapedRender* stats,
+                               ghosts::PolygonRaster* raster);
+
 } // namespace ff::scene

@@ -123,7 +123,7 @@ TEST(CliFourier, FittedAndFourierOfALensAgreeAndKeepFlux) {
         EXPECT_NEAR(fb[c], fa[c], 1e-3 * fa[c]);
     }
     EXPECT_EQ(run(common + "--mode fourier --angle 5 -o '" + (dir / "c.exr").string() + "'", env).code,
-              2); // --angle is traced-only
+              2); // --angle: traced or shaped only
 }
 
 namespace {
