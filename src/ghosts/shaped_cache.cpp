@@ -23,7 +23,7 @@ namespace ff::ghosts {
 namespace {
 
 constexpr char kMagic[8] = {'F', 'F', 'S', 'H', 'A', 'P', 'E', 'D'};
-constexpr std::uint32_t kVersion = 2;
+constexpr std::uint32_t kVersion = 3;
 constexpr std::uint16_t kLost = 65535;
 constexpr double kLevels = 65534.0;
 constexpr std::uintmax_t kMaxEntryBytes = std::uintmax_t(4) << 30;
@@ -62,90 +62,137 @@ std::size_t vertices(const ShapedGhost& g) {
     return static_cast<std::size_t>(g.grid + 1) * (g.grid + 1);
 }
 
-// The range [lo, hi] of attribute z over a mesh's finite values (0, 0 where there are none).
-std::pair<float, float> range(const ShapedMesh& m, std::size_t V, std::size_t S, std::size_t z) {
+// A vertex whose ray was lost (its landing x is NaN): none of its attributes is used.
+bool lostAt(const ShapedMesh& m, std::size_t S, std::size_t v) {
+    return std::isnan(m.data[v * S]);
+}
+
+// The range [lo, hi] of attribute z over the finite values of a ghost's meshes at one wavelength,
+// at vertices not lost (0, 0 where there are none).
+std::pair<float, float> range(const std::vector<ShapedMesh>& perAngle, std::size_t V, std::size_t S, std::size_t z) {
     float lo = std::numeric_limits<float>::infinity(), hi = -lo;
-    for (std::size_t v = 0; v < V; ++v) {
-        const float x = m.data[v * S + z];
-        if (std::isfinite(x)) lo = std::min(lo, x), hi = std::max(hi, x);
-    }
+    for (const ShapedMesh& m : perAngle)
+        for (std::size_t v = 0; v < V && !m.data.empty(); ++v) {
+            const float x = m.data[v * S + z];
+            if (std::isfinite(x) && !lostAt(m, S, v)) lo = std::min(lo, x), hi = std::max(hi, x);
+        }
     if (!(hi >= lo)) lo = hi = 0.0f;
     return {lo, hi};
 }
 
-// One ghost's meshes, quantised and differenced (the format above), before deflation.
+// The 16-bit code of a value over [lo, hi] (kLost for a non-finite one).
+std::uint16_t codeOf(float x, float lo, double scale) {
+    return std::isfinite(x) ? static_cast<std::uint16_t>(std::clamp(std::lround((double(x) - lo) * scale), 0L, 65534L))
+                            : kLost;
+}
+
+// The prediction of a mesh's code at grid vertex v = (i, j) from the previous angle's codes `prev`
+// and this angle's codes before v in row-major order (modulo 2^16): prev(v) plus the plane through
+// the change since the previous angle at the three neighbours behind v, exact for a change that is
+// bilinear over the grid (the previous vertex on the first row and column). The first angle's
+// `prev` is zero. Smooth attributes leave residuals of a few steps, which deflate well.
+std::uint16_t predict(const std::vector<std::uint16_t>& c, const std::vector<std::uint16_t>& prev, std::size_t v,
+                      std::size_t row) {
+    const std::size_t i = v % row, j = v / row;
+    auto d = [&](std::size_t u) { return static_cast<std::uint16_t>(c[u] - prev[u]); };
+    std::uint16_t change = 0;
+    if (i > 0 && j > 0)
+        change = static_cast<std::uint16_t>(d(v - 1) + d(v - row) - d(v - row - 1));
+    else if (i > 0 || j > 0)
+        change = d(i > 0 ? v - 1 : v - row);
+    return static_cast<std::uint16_t>(prev[v] + change);
+}
+
+// Walks one attribute of a ghost's meshes at one wavelength in the format's order, angle by angle,
+// calling step(mesh, v, prediction) -> code for every vertex of every present mesh.
+template <typename Step>
+void walkCodes(const std::vector<ShapedMesh>& perAngle, std::size_t V, std::size_t row, Step&& step) {
+    std::vector<std::uint16_t> prev(V, 0), code(V, 0);
+    for (std::size_t a = 0; a < perAngle.size(); ++a) {
+        if (perAngle[a].data.empty()) continue;
+        for (std::size_t v = 0; v < V; ++v) code[v] = step(a, v, predict(code, prev, v, row));
+        std::swap(prev, code);
+    }
+}
+
+// One ghost's meshes in the format above, before deflation: per wavelength, every present mesh's
+// lost vertices (one byte each), then per attribute its range over the angles and, angle by angle,
+// the residuals from the prediction, low bytes then high bytes. A lost vertex's code is its
+// prediction (residual 0): the decoder gives it NaN.
 std::string encodeGhost(const ShapedGhost& g) {
     std::string out;
     const std::size_t V = vertices(g), S = g.stride(), row = static_cast<std::size_t>(g.grid) + 1;
-    std::vector<std::uint16_t> code(V);
-    for (const auto& perAngle : g.meshes)
-        for (const ShapedMesh& m : perAngle) {
-            if (m.data.empty()) continue;
-            for (std::size_t z = 0; z < S; ++z) {
-                const auto [lo, hi] = range(m, V, S, z);
-                put(out, lo);
-                put(out, hi);
-                const double scale = hi > lo ? kLevels / (double(hi) - double(lo)) : 0.0;
-                for (std::size_t v = 0; v < V; ++v) {
-                    const float x = m.data[v * S + z];
-                    code[v] =
-                        std::isfinite(x)
-                            ? static_cast<std::uint16_t>(std::clamp(std::lround((double(x) - lo) * scale), 0L, 65534L))
-                            : kLost;
-                }
-                for (std::size_t v = 0; v < V; ++v) {
-                    const std::uint16_t pred = v % row ? code[v - 1] : v >= row ? code[v - row] : 0;
-                    put(out, static_cast<std::uint16_t>(code[v] - pred));
-                }
-            }
+    for (const auto& perAngle : g.meshes) {
+        for (const ShapedMesh& m : perAngle)
+            for (std::size_t v = 0; v < V && !m.data.empty(); ++v) out.push_back(lostAt(m, S, v) ? 1 : 0);
+        for (std::size_t z = 0; z < S; ++z) {
+            const auto [lo, hi] = range(perAngle, V, S, z);
+            put(out, lo);
+            put(out, hi);
+            const double scale = hi > lo ? kLevels / (double(hi) - double(lo)) : 0.0;
+            std::string low, high;
+            walkCodes(perAngle, V, row, [&](std::size_t a, std::size_t v, std::uint16_t pred) {
+                const ShapedMesh& m = perAngle[a];
+                const std::uint16_t c = lostAt(m, S, v) ? pred : codeOf(m.data[v * S + z], lo, scale);
+                const auto r = static_cast<std::uint16_t>(c - pred);
+                low.push_back(static_cast<char>(r & 0xff));
+                high.push_back(static_cast<char>(r >> 8));
+                return c;
+            });
+            out += low;
+            out += high;
         }
+    }
     return out;
 }
 
 // One ghost's meshes as decodeGhost gives them back from encodeGhost's bytes, computed in place.
 void quantiseGhost(ShapedGhost& g) {
     const std::size_t V = vertices(g), S = g.stride();
-    for (auto& perAngle : g.meshes)
-        for (ShapedMesh& m : perAngle) {
-            if (m.data.empty()) continue;
-            for (std::size_t z = 0; z < S; ++z) {
-                const auto [lo, hi] = range(m, V, S, z);
-                const double scale = hi > lo ? kLevels / (double(hi) - double(lo)) : 0.0;
-                const double step = (double(hi) - double(lo)) / kLevels;
-                for (std::size_t v = 0; v < V; ++v) {
-                    float& x = m.data[v * S + z];
-                    if (!std::isfinite(x)) {
-                        x = std::numeric_limits<float>::quiet_NaN();
-                        continue;
-                    }
-                    const auto code =
-                        static_cast<std::uint16_t>(std::clamp(std::lround((double(x) - lo) * scale), 0L, 65534L));
-                    x = static_cast<float>(lo + code * step);
+    for (auto& perAngle : g.meshes) {
+        std::vector<std::vector<char>> lost(perAngle.size(), std::vector<char>(V, 0));
+        for (std::size_t a = 0; a < perAngle.size(); ++a)
+            for (std::size_t v = 0; v < V && !perAngle[a].data.empty(); ++v) lost[a][v] = lostAt(perAngle[a], S, v);
+        for (std::size_t z = 0; z < S; ++z) {
+            const auto [lo, hi] = range(perAngle, V, S, z);
+            const double scale = hi > lo ? kLevels / (double(hi) - double(lo)) : 0.0;
+            const double step = (double(hi) - double(lo)) / kLevels;
+            for (std::size_t a = 0; a < perAngle.size(); ++a)
+                for (std::size_t v = 0; v < V && !perAngle[a].data.empty(); ++v) {
+                    float& x = perAngle[a].data[v * S + z];
+                    const std::uint16_t c = lost[a][v] ? kLost : codeOf(x, lo, scale);
+                    x = c == kLost ? std::numeric_limits<float>::quiet_NaN() : static_cast<float>(lo + c * step);
                 }
-            }
         }
+    }
 }
 
 void decodeGhost(ShapedGhost& g, std::string_view raw, const std::string& file) {
     const std::size_t V = vertices(g), S = g.stride(), row = static_cast<std::size_t>(g.grid) + 1;
     Reader r{raw, 0, file};
-    std::vector<std::uint16_t> code(V);
-    for (auto& perAngle : g.meshes)
-        for (ShapedMesh& m : perAngle) {
-            if (m.data.empty()) continue;
-            for (std::size_t z = 0; z < S; ++z) {
-                const float lo = r.get<float>(), hi = r.get<float>();
-                if (!std::isfinite(lo) || !std::isfinite(hi) || hi < lo)
-                    throw Error(ErrorKind::Input, SourceLocation{file}, "bad quantisation range");
-                const double step = (double(hi) - double(lo)) / kLevels;
-                for (std::size_t v = 0; v < V; ++v) {
-                    const std::uint16_t pred = v % row ? code[v - 1] : v >= row ? code[v - row] : 0;
-                    code[v] = static_cast<std::uint16_t>(r.get<std::uint16_t>() + pred);
-                    m.data[v * S + z] = code[v] == kLost ? std::numeric_limits<float>::quiet_NaN()
-                                                         : static_cast<float>(lo + code[v] * step);
-                }
-            }
+    for (auto& perAngle : g.meshes) {
+        std::vector<std::string_view> lost(perAngle.size());
+        std::size_t present = 0;
+        for (std::size_t a = 0; a < perAngle.size(); ++a)
+            if (!perAngle[a].data.empty()) lost[a] = r.take(V), ++present;
+        for (std::size_t z = 0; z < S; ++z) {
+            const float lo = r.get<float>(), hi = r.get<float>();
+            if (!std::isfinite(lo) || !std::isfinite(hi) || hi < lo)
+                throw Error(ErrorKind::Input, SourceLocation{file}, "bad quantisation range");
+            const double step = (double(hi) - double(lo)) / kLevels;
+            const std::string_view low = r.take(present * V), high = r.take(present * V);
+            std::size_t k = 0;
+            walkCodes(perAngle, V, row, [&](std::size_t a, std::size_t v, std::uint16_t pred) {
+                const auto res = static_cast<std::uint16_t>(static_cast<unsigned char>(low[k]) |
+                                                            static_cast<unsigned char>(high[k]) << 8);
+                ++k;
+                const auto c = static_cast<std::uint16_t>(res + pred);
+                perAngle[a].data[v * S + z] = lost[a][v] != 0 || c == kLost ? std::numeric_limits<float>::quiet_NaN()
+                                                                            : static_cast<float>(lo + c * step);
+                return c;
+            });
         }
+    }
     if (r.at != raw.size())
         throw Error(ErrorKind::Input, SourceLocation{file}, "shaped-table entry has trailing bytes");
 }
@@ -306,10 +353,13 @@ ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file
             for (std::size_t w = 0; w < W; ++w) {
                 if (flux[w].size() != static_cast<std::size_t>(A) || present[w].size() != static_cast<std::size_t>(A))
                     throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-ghost layout");
+                std::uint64_t meshes = 0;
                 for (std::size_t a = 0; a < static_cast<std::size_t>(A); ++a) {
                     g.meshes[w][a].flux = flux[w][a].get<double>();
-                    if (present[w][a].get<bool>()) expected += g.stride() * (8 + 2 * vertices(g));
+                    meshes += present[w][a].get<bool>() ? 1 : 0;
                 }
+                // The lost-vertex bytes, then per attribute its range and two bytes per value.
+                expected += meshes * vertices(g) + g.stride() * (8 + 2 * meshes * vertices(g));
             }
             rawSize.push_back(j.at("raw_bytes").get<std::uint64_t>());
             chunks.push_back(r.take(j.at("bytes").get<std::uint64_t>()));

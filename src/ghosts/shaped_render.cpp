@@ -56,6 +56,8 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
     // The angles on either side for the cubic interpolation (null at the table's ends).
     const ShapedMesh* mb = in.a0 > 0 ? &gh.meshes[w][in.a0 - 1] : nullptr;
     const ShapedMesh* ma = in.a0 + 2 < A ? &gh.meshes[w][in.a0 + 2] : nullptr;
+    if (mb && mb->data.empty()) mb = nullptr;
+    if (ma && ma->data.empty()) ma = nullptr;
     const std::size_t stride = gh.stride(), nA = gh.apertureSteps.size();
     const int n = gh.grid;
     const std::size_t V = static_cast<std::size_t>(n + 1) * (n + 1);
@@ -75,9 +77,11 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
     std::vector<double> attr(V * S, 0.0);
     std::vector<char> ok(V, 0);
     double xMin = std::numeric_limits<double>::infinity(), xMax = -xMin, yMin = xMin, yMax = -xMin;
+    // A mesh without light is a mesh of lost rays.
+    const std::vector<float> lost(stride, std::numeric_limits<float>::quiet_NaN());
     for (std::size_t v = 0; v < V; ++v) {
-        const float* p = &m0.data[v * stride];
-        const float* q = &m1.data[v * stride];
+        const float* p = m0.data.empty() ? lost.data() : &m0.data[v * stride];
+        const float* q = m1.data.empty() ? lost.data() : &m1.data[v * stride];
         const float* pb = mb ? &mb->data[v * stride] : p;
         const float* qa = ma ? &ma->data[v * stride] : q;
         // A ray lost at one of the two angles is taken from the other up to the middle between

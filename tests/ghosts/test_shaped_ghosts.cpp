@@ -252,6 +252,7 @@ TEST(ShapedGhosts, EachFittedEntryHoldsTheFluxTheRendererDraws) {
     flat.cullShare = 0.0;
     flat.flatnessPx = flat.maxFlatnessPx = 1e9;
     flat.subcellPx = 1e9;
+    flat.irradianceStep = 1e9;
     const double reach = std::hypot(table.sensorSizeMm.first, table.sensorSizeMm.second);
     const trace::ImageFrame frame{200, 200, reach / 100}; // holds the circle the table counts
     double worst = 0.0;
