@@ -22,7 +22,7 @@ struct TableSettings {
     std::vector<double> wavelengthsNm = {650.0, 550.0, 450.0}; ///< R, G, B
     /// Cells per side of the pupil mesh of the ghost that is most concentrated on the sensor (flux^2 /
     /// area); the others get fewer, growing as that ratio^(1/4), at least 16.
-    int grid = 48;
+    int grid = 64;
     int angles = 25;          ///< field angles, uniform over 0..maxAngleDeg
     double maxAngleDeg = 0.0; ///< 0: the field of the sensor's half-diagonal plus 5 %
     trace::SensorPlane sensor = trace::SensorPlane::File;

@@ -88,7 +88,7 @@ py::object compare(const optics::Lens& lens, const py::object& lights, const py:
 void bindCompare(py::module_& m) {
     m.def("compare", &compare, "lens"_a, "lights"_a, "size"_a = std::make_pair(1920, 1080), "output"_a = py::none(),
           py::kw_only(), "grid"_a = 32, "fourier_n_sweep"_a = std::vector<int>{16, 32, 64, 128, 256},
-          "diffraction"_a = "off", "sensor_size"_a = py::none(), "table_grid"_a = 48, "sampling"_a = "reaim",
+          "diffraction"_a = "off", "sensor_size"_a = py::none(), "table_grid"_a = 64, "sampling"_a = "reaim",
           "sensor"_a = "file", "coating"_a = "file", "max_angle"_a = 0.0, "table_angles"_a = 25,
           "fourier_error"_a = 1e-3, "progress"_a = py::none(),
           R"(The flare models of one scene against the traced reference, as `fourierflare compare` does

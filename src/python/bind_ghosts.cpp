@@ -145,7 +145,7 @@ centroid, spreads, flux and Gaussian and cos² fits at R, G, B wavelengths (docs
                 return buildTable(lens, ghosts::TableSettings::named(tableGrid, tableAngles, sensor, coating, maxAngle),
                                   useCache, progress);
             },
-            "lens"_a, py::kw_only(), "table_grid"_a = 48, "sensor"_a = "file", "coating"_a = "file",
+            "lens"_a, py::kw_only(), "table_grid"_a = 64, "sensor"_a = "file", "coating"_a = "file",
             "max_angle"_a = 0.0, "table_angles"_a = 25, "use_cache"_a = true, "progress"_a = py::none(),
             R"(Builds the lens's ghost table, or reads it from the cache (the CLI's: $FF_CACHE_DIR, else
 ~/.cache/fourierflare) when use_cache and an entry for the same lens bytes and settings exists.

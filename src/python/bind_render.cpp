@@ -139,7 +139,7 @@ void bindRender(py::module_& m) {
     m.def("render", &render, "source"_a, "lights"_a = py::none(), "size"_a = std::make_pair(1280, 720),
           "mode"_a = "traced", py::kw_only(), "angle"_a = py::none(), "ghost_model"_a = "gaussian",
           "diffraction"_a = "physical", "sensor_size"_a = py::none(), "grid"_a = 32, "refine"_a = 1.0, "spectral"_a = 0,
-          "table_grid"_a = 48, "sampling"_a = "reaim", "sensor"_a = "file", "coating"_a = "file", "max_angle"_a = 0.0,
+          "table_grid"_a = 64, "sampling"_a = "reaim", "sensor"_a = "file", "coating"_a = "file", "max_angle"_a = 0.0,
           "table_angles"_a = 25, "use_cache"_a = true, "fourier_error"_a = 1e-3, "fourier_n"_a = 0, "hybrid"_a = true,
           "progress"_a = py::none(),
           R"(The flare of lights through a lens as a float32 array of shape (height, width, 3), linear RGB,

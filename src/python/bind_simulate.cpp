@@ -116,7 +116,7 @@ py::dict simulate(const FloatArray& plateArray, const optics::Lens& lens, const 
 void bindSimulate(py::module_& m) {
     m.def("simulate", &simulate, "plate"_a, "lens"_a, py::kw_only(), "lights"_a = py::none(), "channels"_a = py::none(),
           "ghost_model"_a = "shaped", "diffraction"_a = "physical", "flare_gain"_a = 1.0, "diffraction_gain"_a = 1.0,
-          "sensor_size"_a = py::none(), "fov"_a = 0.0, "threshold"_a = "2", "block"_a = 32, "table_grid"_a = 48,
+          "sensor_size"_a = py::none(), "fov"_a = 0.0, "threshold"_a = "2", "block"_a = 32, "table_grid"_a = 64,
           "sensor"_a = "file", "coating"_a = "file", "max_angle"_a = 0.0, "table_angles"_a = 25,
           "fourier_error"_a = 1e-3, "fourier_n"_a = 0, "progress"_a = py::none(),
           R"(The lens's flare on an HDR plate, as `fourierflare simulate` makes it (docs/simulate.md).
