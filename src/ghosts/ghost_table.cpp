@@ -135,7 +135,6 @@ TableEntry fitEntry(const ShapedTable& table, std::size_t g, std::size_t w, int 
     // Pass 1: a frame of 1 um pixels on the axis; no subdivision.
     ShapedRenderSettings flat;
     flat.subcellPx = std::numeric_limits<double>::infinity();
-    flat.irradianceStep = std::numeric_limits<double>::infinity();
     const trace::ImageFrame micron{0, 0, 1e-3};
     ShapedPolygons coarse;
     meshPolygons(table, {g, a, 0.0, std::numeric_limits<double>::infinity()}, w, 0.0, 1.0, micron, flat, coarse);
@@ -147,7 +146,6 @@ TableEntry fitEntry(const ShapedTable& table, std::size_t g, std::size_t w, int 
                                   2.0 * options.extentSigmas * spread / options.imageSize, m.centroidX, m.centroidY};
     ShapedRenderSettings fine;
     fine.subcellPx = 1.0;
-    fine.irradianceStep = std::numeric_limits<double>::infinity(); // the fit's image is smooth at 0.1 px
     ShapedPolygons polys;
     meshPolygons(table, {g, a, 0.0, 0.1}, w, 0.0, 1.0, local, fine, polys);
     const GhostFit f = fitGhost(polys, local, options);

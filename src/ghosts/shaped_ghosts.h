@@ -109,10 +109,11 @@ struct ShapedRenderSettings {
     /// irradiance squared times the area its misplaced edges sweep). Where the bicubic stencil is
     /// incomplete (the grid's border, lost rays) cells cut by an edge get sub-cells of about
     /// subcellPx pixels. Beyond that, k grows until neighbouring flat sub-cells differ in irradiance
-    /// by at most irradianceStep (relative), so that the mesh leaves no faceted texture in the image
-    /// of any ghost, however faint.
+    /// by at most irradianceStep (relative) for that brightest instance, growing in inverse
+    /// proportion to a ghost's irradiance like the flatness (the absolute step is what the image's
+    /// error sees): the cells' faceted texture, a cross-hatch, leaves the image.
     double flatnessPx = 0.02;
-    double irradianceStep = 0.02;
+    double irradianceStep = 0.002;
     double maxFlatnessPx = 1.0;
     double subcellPx = 2.0;
     int maxSubdivision = 8;

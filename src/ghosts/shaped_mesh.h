@@ -5,6 +5,8 @@
 #include "ghosts/polygons.h"
 #include "ghosts/shaped_ghosts.h"
 
+#include <limits>
+
 namespace ff::ghosts {
 
 /// A ghost between two of the table's angles: a0 and a0 + 1, at fraction t.
@@ -13,6 +15,8 @@ struct MeshInstance {
     int a0 = 0;
     double t = 0.0;
     double flatnessPx = 0.0; ///< the subdivision's tolerance (ShapedRenderSettings::flatnessPx)
+    /// the largest relative step of irradiance between neighbouring sub-cells (irradianceStep)
+    double irradianceStep = std::numeric_limits<double>::infinity();
 };
 
 /// Cuts the ghost's mesh at wavelength w into clipped polygons in `frame`'s pixels, appended to `out`:

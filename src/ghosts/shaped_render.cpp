@@ -45,6 +45,12 @@ struct Instance {
     double flux = 0.0; ///< summed over the channels
 };
 
+// Catmull-Rom weights of the four samples around a position u in [0, 1] between the middle two.
+std::array<double, 4> catmullRom(double u) {
+    const double u2 = u * u, u3 = u2 * u;
+    return {0.5 * (-u + 2 * u2 - u3), 0.5 * (2 - 5 * u2 + 3 * u3), 0.5 * (u + 4 * u2 - 3 * u3), 0.5 * (-u2 + u3)};
+}
+
 } // namespace
 
 void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t w, double azimuthRad, double flux,
@@ -66,9 +72,7 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
     const std::size_t C = std::min(kMaxConstraints, nA + gh.stopCrossings * iris.count());
     // Catmull-Rom weights in angle; a missing neighbour beyond the table's ends is the linear
     // extrapolation of the two inner angles (2 p0 - p1), folded into the weights.
-    std::array<double, 4> wc{
-        0.5 * (-in.t + 2 * in.t * in.t - in.t * in.t * in.t), 0.5 * (2 - 5 * in.t * in.t + 3 * in.t * in.t * in.t),
-        0.5 * (in.t + 4 * in.t * in.t - 3 * in.t * in.t * in.t), 0.5 * (-in.t * in.t + in.t * in.t * in.t)};
+    std::array<double, 4> wc = catmullRom(in.t);
     if (!mb) wc = {0.0, wc[1] + 2.0 * wc[0], wc[2] - wc[0], wc[3]};
     if (!ma) wc = {wc[0], wc[1] - wc[3], wc[2] + 2.0 * wc[3], 0.0};
 
@@ -93,22 +97,22 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
             t = std::isnan(p[0]) ? 1.0 : 0.0;
         }
         const bool cubic = t > 0.0 && t < 1.0 && !std::isnan(pb[0]) && !std::isnan(qa[0]);
-        auto lerp = [&, t](std::size_t z) {
+        auto interpolate = [&, t](std::size_t z) {
             if (cubic) return wc[0] * pb[z] + wc[1] * p[z] + wc[2] * q[z] + wc[3] * qa[z];
             return t == 0.0 ? double(p[z]) : t == 1.0 ? double(q[z]) : (1.0 - t) * p[z] + t * q[z];
         };
-        const double x = lerp(0), y = lerp(1);
+        const double x = interpolate(0), y = interpolate(1);
         const glm::dvec2 px = frame.sensorToPixel(cs * x - sn * y, sn * x + cs * y);
         double* o = &attr[v * S];
         o[0] = px.x;
         o[1] = px.y;
-        o[2] = lerp(2);
+        o[2] = interpolate(2);
         ok[v] = 1;
         std::size_t k = 0;
-        for (; k < nA && k < C; ++k) o[3 + k] = lerp(3 + k);
+        for (; k < nA && k < C; ++k) o[3 + k] = interpolate(3 + k);
         for (std::size_t s = 0; s < gh.stopCrossings; ++s) {
-            const double sx = lerp(3 + nA + 2 * s);
-            const double sy = lerp(4 + nA + 2 * s);
+            const double sx = interpolate(3 + nA + 2 * s);
+            const double sy = interpolate(4 + nA + 2 * s);
             for (std::size_t b = 0; b < iris.count() && k < C; ++b) o[3 + k++] = iris.value(b, sx, sy);
         }
         xMin = std::min(xMin, px.x), xMax = std::max(xMax, px.x), yMin = std::min(yMin, px.y),
@@ -148,12 +152,6 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
             poly[q] = {b.x * P[0] + b.y * Q[0] + b.z * R[0], b.x * P[1] + b.y * Q[1] + b.z * R[1]};
         }
         out.add(poly.data(), clipper.size(), e * share);
-    };
-    // Catmull-Rom weights of the four grid points around a position u in [0, 1] of a cell.
-    auto catmullRom = [](double u) {
-        const double u2 = u * u, u3 = u2 * u;
-        return std::array<double, 4>{0.5 * (-u + 2 * u2 - u3), 0.5 * (2 - 5 * u2 + 3 * u3), 0.5 * (u + 4 * u2 - 3 * u3),
-                                     0.5 * (-u2 + u3)};
     };
     std::vector<std::vector<std::array<double, 4>>> weights(settings.maxSubdivision + 1);
     auto weightsFor = [&](int K) -> const std::vector<std::array<double, 4>>& {
@@ -227,7 +225,7 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
                 // deviates dev pixels from flat over a cell of sizePx (dev = h^2 x'' / 8, sizePx = h x').
                 if (cubic && sizePx > 0.0) {
                     const double bend = 8.0 * std::max(deviation(0), deviation(1)) / sizePx;
-                    K = std::max(K, std::clamp(static_cast<int>(std::ceil(bend / settings.irradianceStep)), 1,
+                    K = std::max(K, std::clamp(static_cast<int>(std::ceil(bend / in.irradianceStep)), 1,
                                                settings.maxSubdivision));
                 }
             }
@@ -313,7 +311,7 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
                 ++out.culled;
                 continue;
             }
-            instances.push_back({l, {g, a0, t, 0.0}, f});
+            instances.push_back({l, {g, a0, t, 0.0, 0.0}, f});
         }
         if (total > 0.0) out.culledShare = std::max(out.culledShare, dropped / total);
     }
@@ -343,10 +341,11 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
             irradiance[i] = area > 0.0 ? instances[i].flux / area : 0.0;
         });
         const double top = irradiance.empty() ? 0.0 : *std::max_element(irradiance.begin(), irradiance.end());
-        for (std::size_t i = 0; i < instances.size(); ++i)
-            instances[i].mesh.flatnessPx =
-                irradiance[i] > 0.0 ? std::min(settings.maxFlatnessPx, settings.flatnessPx * top / irradiance[i])
-                                    : settings.maxFlatnessPx;
+        for (std::size_t i = 0; i < instances.size(); ++i) {
+            const double dim = irradiance[i] > 0.0 ? top / irradiance[i] : std::numeric_limits<double>::infinity();
+            instances[i].mesh.flatnessPx = std::min(settings.maxFlatnessPx, settings.flatnessPx * dim);
+            instances[i].mesh.irradianceStep = settings.irradianceStep * dim;
+        }
     }
 
     // A chunk of instances at a time: their polygons made in parallel, then drawn, on the CPU into
