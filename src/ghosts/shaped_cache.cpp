@@ -104,7 +104,7 @@ std::uint16_t predict(const std::vector<std::uint16_t>& c, const std::vector<std
 }
 
 // Walks one attribute of a ghost's meshes at one wavelength in the format's order, angle by angle,
-// calling step(mesh, v, prediction) -> code for every vertex of every present mesh.
+// calling step(angle, v, prediction) -> code for every vertex of every present mesh.
 template <typename Step>
 void walkCodes(const std::vector<ShapedMesh>& perAngle, std::size_t V, std::size_t row, Step&& step) {
     std::vector<std::uint16_t> prev(V, 0), code(V, 0);

@@ -203,7 +203,8 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
                     return std::abs(bicubic(half, half, z) - flat);
                 };
                 bool edge = false;
-                double dev = cubic ? std::max(deviation(0), deviation(1)) : 0.0;
+                const double landing = cubic ? std::max(deviation(0), deviation(1)) : 0.0;
+                double dev = landing;
                 const double sizePx = std::max(
                     {std::abs(attr[v11 * S] - attr[v00 * S]), std::abs(attr[v10 * S] - attr[v01 * S]),
                      std::abs(attr[v11 * S + 1] - attr[v00 * S + 1]), std::abs(attr[v10 * S + 1] - attr[v01 * S + 1])});
@@ -224,7 +225,7 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
                 // change of the map's Jacobian across it, about 8 dev / (K sizePx) for a map that
                 // deviates dev pixels from flat over a cell of sizePx (dev = h^2 x'' / 8, sizePx = h x').
                 if (cubic && sizePx > 0.0) {
-                    const double bend = 8.0 * std::max(deviation(0), deviation(1)) / sizePx;
+                    const double bend = 8.0 * landing / sizePx;
                     K = std::max(K, std::clamp(static_cast<int>(std::ceil(bend / in.irradianceStep)), 1,
                                                settings.maxSubdivision));
                 }
