@@ -1,6 +1,8 @@
 #include "scene/flare_render.h"
 
 #include "core/error.h"
+#include "core/text.h"
+#include "core/units.h"
 #include "fourier/render.h"
 #include "ghosts/shaped_cache.h"
 
@@ -59,6 +61,10 @@ RenderedFlare renderFlare(const optics::Lens& lens, const std::vector<ghosts::Li
         ss.sensorSizeMm = s.sensorMm;
         const ghosts::ShapedTable tab =
             s.loadShaped ? s.loadShaped(lens, ss) : ghosts::shapedTableFor(lens, ss, true, orNull(nullptr));
+        if (s.field && radToDeg(s.field->angleRad) > tab.maxAngleDeg * (1.0 + 1e-9))
+            throw Error(ErrorKind::Usage, "field angle " + text::fixed(radToDeg(s.field->angleRad), 2) +
+                                              " deg is beyond the table's largest, " + text::fixed(tab.maxAngleDeg, 2) +
+                                              " deg: raise --max-angle");
         r.image = s.field ? drawShaped(tab, {{*s.field, {1.0, 1.0, 1.0}}}, t.frame, &r.shaped, s.raster)
                           : renderShapedScene(lens, tab, lights, t.frame, t.sensor, &r.shaped, nullptr, s.raster);
         r.shapedStored = tab.ghosts.size();

@@ -118,6 +118,14 @@ TEST(CliRender, ShapedByFieldAngleMatchesTheTracedFlare) {
         ASSERT_GT(n, 0.0);
         EXPECT_LT(std::sqrt(d / n), 0.02) << "channel " << c;
     }
+    // Beyond the table's field (the sensor's half-diagonal plus 5 %, 24.5 deg here) the shaped ghosts are not
+    // known: an error naming the option that extends it, no image.
+    const std::string beyond = (dir / "beyond.exr").string();
+    const auto far = run(
+        common.substr(0, common.find("--angle")) + "--angle 40 --size 64x36 --mode shaped -o '" + beyond + "'", env);
+    EXPECT_EQ(far.code, 2) << far.err;
+    EXPECT_NE(far.err.find("--max-angle"), std::string::npos) << far.err;
+    EXPECT_FALSE(std::filesystem::exists(beyond));
 }
 
 TEST(CliTable, BuildsCachesAndExports) {
