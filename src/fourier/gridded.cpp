@@ -148,12 +148,12 @@ class GridTransforms {
     std::map<std::pair<int, int>, fftwf_plan> plans_;
 };
 
+} // namespace
+
 fftwf_plan gridTransform(int gx, int gy) {
     static GridTransforms transforms;
     return transforms.get(gx, gy);
 }
-
-} // namespace
 
 int gridSamples(Shape shape, int terms, double narrowest, double period, double error) {
     const double beyond = kAliasMargin * spectralCutoff(shape, error) * period / (2.0 * std::numbers::pi * narrowest);
@@ -165,9 +165,6 @@ int stencilSamples(Shape shape, double width, double spacing) {
     return static_cast<int>(std::floor(2.0 * reach(shape, width) / spacing)) + 1;
 }
 
-namespace {
-
-// The 2n x 2m block [[A, B], [C, D]] from the r2c transform of a gy x gx grid:
 // F(n, +-m) = sum s exp(-i a) exp(-+i b), a = 2 pi n i / Gx, b = 2 pi m j / Gy, so
 // A = Re(F+ + F-)/2, B = Im(F- - F+)/2, C = -Im(F+ + F-)/2, D = Re(F- - F+)/2, all over Gx Gy.
 std::vector<double> coefficientsOfTransform(const fftwf_complex* f, int gx, int gy, int nb, int mb) {
@@ -186,8 +183,6 @@ std::vector<double> coefficientsOfTransform(const fftwf_complex* f, int gx, int 
         }
     return z;
 }
-
-} // namespace
 
 std::array<std::vector<double>, 3> accumulateGridded(const std::vector<Ghost>& ghosts, const AccumulationGroup& group,
                                                      std::size_t first, std::size_t count, double periodX,

@@ -18,6 +18,7 @@
 #include "fourier/plan.h"
 
 #include <array>
+#include <fftw3.h>
 #include <vector>
 
 namespace ff::fourier {
@@ -39,5 +40,12 @@ int stencilSamples(Shape shape, double width, double spacing);
 std::array<std::vector<double>, 3> accumulateGridded(const std::vector<Ghost>& ghosts, const AccumulationGroup& group,
                                                      std::size_t first, std::size_t count, double periodX,
                                                      double periodY);
+
+/// The r2c plan of a gy x gx float grid (rows of gx), made once per size and kept; thread-safe.
+fftwf_plan gridTransform(int gx, int gy);
+
+/// The 2nb x 2mb block [[A, B], [C, D]] (row-major), over Gx Gy, from the r2c transform `f` of a
+/// gy x gx grid whose sample (i, j) lies at (i hx, j hy): the series of the grid's samples.
+std::vector<double> coefficientsOfTransform(const fftwf_complex* f, int gx, int gy, int nb, int mb);
 
 } // namespace ff::fourier

@@ -117,6 +117,18 @@ struct ShapedRenderSettings {
     double maxFlatnessPx = 1.0;
     double subcellPx = 2.0;
     int maxSubdivision = 8;
+
+    /// The hybrid (docs/fourier.md, "Shaped ghosts through the series"): with a grid (step > 0) and
+    /// a budget, the instances whose estimated error on the grid is smallest are drawn onto it
+    /// instead of the frame, as many as keep the estimated relative L2 error of every channel of
+    /// the flare within gridError; the caller takes the grid to the frame (its Fourier series).
+    double gridError = 0.0;    ///< 0: every instance drawn directly
+    double gridFlatness = 1.0; ///< the gridded instances' tolerance, in grid cells
+    struct Grid {
+        int step = 0;              ///< cell size, frame pixels (0: no grid)
+        int width = 0, height = 0; ///< cells
+        double x0 = 0.0, y0 = 0.0; ///< frame pixels of the first cell's top-left corner
+    } grid;
 };
 
 struct ShapedRender {
@@ -125,7 +137,27 @@ struct ShapedRender {
     double culledShare = 0.0;                   ///< largest share of a light's ghost flux culled
     double deposited = 0.0, offImage = 0.0;     ///< flux summed over the channels
     std::size_t triangles = 0;
+    /// The gridded instances (ShapedRenderSettings::gridError): their cell integrals on the grid,
+    /// row-major, and the error their route is estimated to add, relative to each channel's L2 norm
+    /// (the largest channel's).
+    std::array<std::vector<double>, 3> grid;
+    std::size_t gridded = 0, gridTriangles = 0;
+    double gridErrorEstimate = 0.0;
 };
+
+/// The hybrid's split: per instance, the squared error its route through the grid adds to each
+/// channel; per channel, the squared error allowed. Taken in increasing order of their largest share
+/// of a channel's budget (ties by index), instances go onto the grid (1) while every channel's sum
+/// stays <= its budget (an instance that reaches it exactly goes); the first that does not fit, and
+/// every one after it, is drawn directly (0). `spent`: each channel's sum on the grid.
+std::vector<char> chooseGridded(const std::vector<std::array<double, 3>>& error2, const std::array<double, 3>& budget,
+                                std::array<double, 3>& spent);
+
+/// Squared L2 error, per unit of (mean irradiance)^2, that drawing a ghost onto a grid of step h
+/// and keeping its series below the grid's Nyquist frequency adds, for a ghost of uniform
+/// irradiance whose outline has perimeter `perimeter` (pixels): kGridErrorConstant x perimeter x h
+/// (docs/fourier.md derives the constant).
+double gridErrorSquared(double perimeter, double step);
 
 /// Where renderShaped draws its polygons when not on the CPU (whose trace::CoverageRaster is the
 /// reference): the same exact pixel-area coverage, each channel the sum of its polygons.

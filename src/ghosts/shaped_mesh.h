@@ -17,6 +17,9 @@ struct MeshInstance {
     double flatnessPx = 0.0; ///< the subdivision's tolerance (ShapedRenderSettings::flatnessPx)
     /// the largest relative step of irradiance between neighbouring sub-cells (irradianceStep)
     double irradianceStep = std::numeric_limits<double>::infinity();
+    /// Every decimation-th vertex of the mesh on each axis (a divisor of the ghost's grid): cells
+    /// of decimation^2 cells, for a grid coarser than the mesh (ShapedRenderSettings::grid).
+    int decimation = 1;
 };
 
 /// Cuts the ghost's mesh at wavelength w into clipped polygons in `frame`'s pixels, appended to `out`:

@@ -42,7 +42,8 @@ struct IrisEdges {
 struct Instance {
     std::size_t light;
     MeshInstance mesh;
-    double flux = 0.0; ///< summed over the channels
+    double flux = 0.0;                   ///< summed over the channels
+    std::array<double, 3> channelFlux{}; ///< per channel
 };
 
 // Catmull-Rom weights of the four samples around a position u in [0, 1] between the middle two.
@@ -65,8 +66,11 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
     if (mb && mb->data.empty()) mb = nullptr;
     if (ma && ma->data.empty()) ma = nullptr;
     const std::size_t stride = gh.stride(), nA = gh.apertureSteps.size();
-    const int n = gh.grid;
+    const int dec = in.decimation > 0 && gh.grid % in.decimation == 0 ? in.decimation : 1;
+    const int n = gh.grid / dec;
     const std::size_t V = static_cast<std::size_t>(n + 1) * (n + 1);
+    // A decimated cell holds dec^2 of the mesh's cells: its weight (flux per cell) scales so.
+    const double cellWeight = double(dec) * dec;
     const double cs = std::cos(azimuthRad), sn = std::sin(azimuthRad);
     const IrisEdges iris(table.iris, -azimuthRad);
     const std::size_t C = std::min(kMaxConstraints, nA + gh.stopCrossings * iris.count());
@@ -84,10 +88,11 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
     // A mesh without light is a mesh of lost rays.
     const std::vector<float> lost(stride, std::numeric_limits<float>::quiet_NaN());
     for (std::size_t v = 0; v < V; ++v) {
-        const float* p = m0.data.empty() ? lost.data() : &m0.data[v * stride];
-        const float* q = m1.data.empty() ? lost.data() : &m1.data[v * stride];
-        const float* pb = mb ? &mb->data[v * stride] : p;
-        const float* qa = ma ? &ma->data[v * stride] : q;
+        const std::size_t src = (v / (n + 1) * (gh.grid + 1) + v % (n + 1)) * static_cast<std::size_t>(dec) * stride;
+        const float* p = m0.data.empty() ? lost.data() : &m0.data[src];
+        const float* q = m1.data.empty() ? lost.data() : &m1.data[src];
+        const float* pb = mb ? &mb->data[src] : p;
+        const float* qa = ma ? &ma->data[src] : q;
         // A ray lost at one of the two angles is taken from the other up to the middle between
         // them, and lost beyond it; where it is lost at one of the outer two, the interpolation is
         // linear.
@@ -106,7 +111,7 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
         double* o = &attr[v * S];
         o[0] = px.x;
         o[1] = px.y;
-        o[2] = interpolate(2);
+        o[2] = cellWeight * interpolate(2);
         ok[v] = 1;
         std::size_t k = 0;
         for (; k < nA && k < C; ++k) o[3 + k] = interpolate(3 + k);
@@ -193,7 +198,20 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
                        attr[v11 * S + 3 + k] < 0.0;
             if (dark) continue;
             int K = 1;
-            if (all) {
+            // A cell that lies a cell's size beyond the frame (its bicubic surface cannot bulge
+            // further) stays flat: its light only counts as leaving the frame.
+            const double* c00 = &attr[v00 * S];
+            const double* c10 = &attr[v10 * S];
+            const double* c01 = &attr[v01 * S];
+            const double* c11 = &attr[v11 * S];
+            const double cx0 = std::min({c00[0], c10[0], c01[0], c11[0]}),
+                         cx1 = std::max({c00[0], c10[0], c01[0], c11[0]}),
+                         cy0 = std::min({c00[1], c10[1], c01[1], c11[1]}),
+                         cy1 = std::max({c00[1], c10[1], c01[1], c11[1]});
+            const double reach = 1.0 + std::max(cx1 - cx0, cy1 - cy0);
+            const bool beyond =
+                all && (cx1 < -reach || cy1 < -reach || cx0 > frame.width + reach || cy0 > frame.height + reach);
+            if (all && !beyond) {
                 // Deviation of the bicubic surface from the flat cell at its centre, in pixels: of
                 // the landing point, and of where a cutting aperture's edge (a constraint's zero)
                 // crosses the cell (the constraint's deviation over its gradient across the cell).
@@ -279,79 +297,44 @@ void ShapedPolygons::add(const glm::dvec2* p, std::size_t n, double e) {
     ++triangles;
 }
 
-ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLight>& lights,
-                          const trace::ImageFrame& frame, const ShapedRenderSettings& settings, PolygonRaster* raster) {
-    ShapedRender out;
-    const std::size_t W = std::min<std::size_t>(3, table.wavelengthsNm.size()), G = table.ghosts.size();
-    const int A = table.angles();
+namespace {
 
-    // Per light: the interpolation between table angles and the ghosts kept after culling.
-    std::vector<Instance> instances;
-    for (std::size_t l = 0; l < lights.size(); ++l) {
-        const double deg = std::clamp(radToDeg(lights[l].field.angleRad), 0.0, table.maxAngleDeg);
-        const double x = A > 1 ? deg / table.angleStep() : 0.0;
-        const int a0 = std::clamp(static_cast<int>(std::floor(x)), 0, std::max(0, A - 2));
-        const double t = A > 1 ? std::clamp(x - a0, 0.0, 1.0) : 0.0;
-        std::vector<std::pair<double, std::size_t>> flux;
-        double total = 0.0;
-        for (std::size_t g = 0; g < G; ++g) {
-            double f = 0.0;
-            for (std::size_t w = 0; w < W; ++w) {
-                const auto& m = table.ghosts[g].meshes[w];
-                f += lights[l].flux[w] * ((1.0 - t) * m[a0].flux + t * m[std::min(a0 + 1, A - 1)].flux);
-            }
-            flux.push_back({f, g});
-            total += f;
-        }
-        std::sort(flux.begin(), flux.end());
-        double dropped = 0.0;
-        for (const auto& [f, g] : flux) {
-            if (f <= 0.0) continue;
-            if (dropped + f <= settings.cullShare * total) {
-                dropped += f;
-                ++out.culled;
-                continue;
-            }
-            instances.push_back({l, {g, a0, t, 0.0, 0.0}, f});
-        }
-        if (total > 0.0) out.culledShare = std::max(out.culledShare, dropped / total);
-    }
-    out.drawn = instances.size();
+// A gridded instance's mesh is decimated while its cells span at most this many grid cells (the
+// bicubic sub-cells place the light within the tolerance inside them) and it keeps this many cells
+// per side.
+constexpr double kGridCellsPerMeshCell = 2.0;
+constexpr int kMinGridCells = 8;
+// On the grid, a polygon narrower than this many cells on both axes is splatted bilinearly at its
+// vertices' mean: a tent of one cell instead of its exact coverage.
+constexpr float kSplatBelowCells = 1.0f;
+// Where the bicubic stencil is incomplete, gridded cells cut by an edge get sub-cells of about this
+// many grid cells.
+constexpr double kGridSubcellCells = 2.0;
 
-    // Each instance's tolerance: settings.flatnessPx for the instance of highest mean irradiance
-    // (flux over the area its mesh spans), growing in inverse proportion to the irradiance up to
-    // settings.maxFlatnessPx: a ghost's share of the image's squared error is its irradiance
-    // squared times the area its misplaced edges sweep.
-    {
-        std::vector<double> irradiance(instances.size(), 0.0);
-        tbb::parallel_for(std::size_t(0), instances.size(), [&](std::size_t i) {
-            const ShapedGhost& gh = table.ghosts[instances[i].mesh.ghost];
-            const ShapedMesh& m = gh.meshes[W / 2][instances[i].mesh.a0];
-            const int n = gh.grid;
-            const std::size_t stride = gh.stride();
-            auto at = [&](int x, int y) { return &m.data[(static_cast<std::size_t>(y) * (n + 1) + x) * stride]; };
-            double area = 0.0;
-            if (!m.data.empty())
-                for (int y = 0; y < n; ++y)
-                    for (int x = 0; x < n; ++x) {
-                        const float *p = at(x, y), *q = at(x + 1, y), *r = at(x + 1, y + 1), *u = at(x, y + 1);
-                        const double c = 0.5 * std::abs((r[0] - p[0]) * (u[1] - q[1]) - (r[1] - p[1]) * (u[0] - q[0]));
-                        if (std::isfinite(c)) area += c;
-                    }
-            area /= frame.pitchMm * frame.pitchMm;
-            irradiance[i] = area > 0.0 ? instances[i].flux / area : 0.0;
-        });
-        const double top = irradiance.empty() ? 0.0 : *std::max_element(irradiance.begin(), irradiance.end());
-        for (std::size_t i = 0; i < instances.size(); ++i) {
-            const double dim = irradiance[i] > 0.0 ? top / irradiance[i] : std::numeric_limits<double>::infinity();
-            instances[i].mesh.flatnessPx = std::min(settings.maxFlatnessPx, settings.flatnessPx * dim);
-            instances[i].mesh.irradianceStep = settings.irradianceStep * dim;
-        }
-    }
+} // namespace
 
-    // A chunk of instances at a time: their polygons made in parallel, then drawn, on the CPU into
-    // bands of rows in parallel, each band in the instances' order (the image does not depend on
-    // the number of threads), or by the raster given.
+double gridErrorSquared(double perimeter, double step) {
+    // An edge of unit jump has the spectrum 1 / (2 pi f) across it: beyond the grid's Nyquist
+    // frequency 1 / (2 h) it holds 2 Int_{1/2h}^inf df / (4 pi^2 f^2) = h / pi^2 per unit length.
+    // The cells' aliases fold about as much back below it: twice that.
+    return 2.0 / (std::numbers::pi * std::numbers::pi) * perimeter * step;
+}
+
+namespace {
+
+struct Drawn {
+    std::vector<std::vector<double>> channel; ///< W frame-sized images
+    double energy = 0.0;
+    std::size_t triangles = 0;
+};
+
+// A chunk of instances at a time: their polygons made in parallel, then drawn, on the CPU into
+// bands of rows in parallel, each band in the instances' order (the image does not depend on the
+// number of threads), or by the raster given.
+Drawn drawInstances(const ShapedTable& table, const std::vector<ShapedLight>& lights,
+                    const std::vector<Instance>& instances, const trace::ImageFrame& frame, std::size_t W,
+                    const ShapedRenderSettings& settings, PolygonRaster* raster, float splatBelow = 0.0f) {
+    Drawn out;
     const int bands = raster ? 0 : std::clamp(frame.height / 64, 1, 16);
     std::vector<trace::ImageFrame> bandFrames;
     std::vector<int> bandRow;
@@ -373,7 +356,6 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
         raster->begin(frame, W, 2.0 * bound + std::numeric_limits<double>::min());
     }
     constexpr std::size_t kChunk = 16;
-    double energy = 0.0;
     std::vector<ShapedPolygons> polys(kChunk * W);
     for (std::size_t i0 = 0; i0 < instances.size(); i0 += kChunk) {
         const std::size_t i1 = std::min(instances.size(), i0 + kChunk);
@@ -397,32 +379,234 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
                         if (q.yMax < r0 - 1.0f || q.yMin > r1 + 1.0f) continue; // a splat reaches a pixel further
                         for (std::uint32_t v = 0; v < q.count; ++v)
                             p[v] = {ps.vertices[q.first + v].x, ps.vertices[q.first + v].y - r0};
+                        if (splatBelow > 0.0 && q.yMax - q.yMin < splatBelow) {
+                            double x0 = p[0].x, x1 = x0;
+                            glm::dvec2 mean(0.0);
+                            for (std::uint32_t v = 0; v < q.count; ++v)
+                                mean += p[v], x0 = std::min(x0, p[v].x), x1 = std::max(x1, p[v].x);
+                            if (x1 - x0 < splatBelow) {
+                                rasters[w][b].point(mean / double(q.count), q.energy, unused);
+                                continue;
+                            }
+                        }
                         rasters[w][b].polygon(std::span(p.data(), q.count), q.energy, unused);
                     }
                 }
             });
         for (std::size_t k = 0; k < (i1 - i0) * W; ++k) {
-            energy += polys[k].energy;
+            out.energy += polys[k].energy;
             out.triangles += polys[k].triangles;
         }
     }
     const std::size_t pixels = static_cast<std::size_t>(frame.width) * frame.height;
-    std::vector<std::vector<double>> drawn;
-    if (raster) drawn = raster->finish();
-    for (std::size_t w = 0; w < 3; ++w) {
-        out.channel[w].assign(pixels, 0.0);
-        if (w >= W) continue;
-        if (raster) {
-            out.channel[w] = std::move(drawn.at(w));
-            if (out.channel[w].size() != pixels)
-                throw Error(ErrorKind::Runtime, "the polygon raster drew another frame");
-        }
+    if (raster) {
+        out.channel = raster->finish();
+        if (out.channel.size() != W) throw Error(ErrorKind::Runtime, "the polygon raster drew another frame");
+        for (const auto& c : out.channel)
+            if (c.size() != pixels) throw Error(ErrorKind::Runtime, "the polygon raster drew another frame");
+        return out;
+    }
+    out.channel.assign(W, std::vector<double>(pixels, 0.0));
+    for (std::size_t w = 0; w < W; ++w)
         for (int b = 0; b < bands; ++b) {
             const std::vector<double> band = std::move(rasters[w][b]).release();
             std::copy(band.begin(), band.end(),
                       out.channel[w].begin() + static_cast<std::ptrdiff_t>(bandRow[b]) * frame.width);
         }
+    return out;
+}
+
+} // namespace
+
+std::vector<char> chooseGridded(const std::vector<std::array<double, 3>>& error2, const std::array<double, 3>& budget,
+                                std::array<double, 3>& spent) {
+    std::vector<std::pair<double, std::size_t>> order;
+    for (std::size_t i = 0; i < error2.size(); ++i) {
+        double share = 0.0;
+        for (std::size_t c = 0; c < 3; ++c)
+            if (error2[i][c] > 0.0)
+                share = std::max(share,
+                                 budget[c] > 0.0 ? error2[i][c] / budget[c] : std::numeric_limits<double>::infinity());
+        order.push_back({share, i});
+    }
+    std::sort(order.begin(), order.end());
+    spent = {};
+    std::vector<char> onGrid(error2.size(), 0);
+    for (const auto& [share, i] : order) {
+        bool fits = std::isfinite(share);
+        for (std::size_t c = 0; c < 3 && fits; ++c) fits = error2[i][c] == 0.0 || spent[c] + error2[i][c] <= budget[c];
+        if (!fits) break;
+        for (std::size_t c = 0; c < 3; ++c) spent[c] += error2[i][c];
+        onGrid[i] = 1;
+    }
+    return onGrid;
+}
+
+ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLight>& lights,
+                          const trace::ImageFrame& frame, const ShapedRenderSettings& settings, PolygonRaster* raster) {
+    ShapedRender out;
+    const std::size_t W = std::min<std::size_t>(3, table.wavelengthsNm.size()), G = table.ghosts.size();
+    const int A = table.angles();
+
+    // Per light: the interpolation between table angles and the ghosts kept after culling.
+    std::vector<Instance> instances;
+    for (std::size_t l = 0; l < lights.size(); ++l) {
+        const double deg = std::clamp(radToDeg(lights[l].field.angleRad), 0.0, table.maxAngleDeg);
+        const double x = A > 1 ? deg / table.angleStep() : 0.0;
+        const int a0 = std::clamp(static_cast<int>(std::floor(x)), 0, std::max(0, A - 2));
+        const double t = A > 1 ? std::clamp(x - a0, 0.0, 1.0) : 0.0;
+        std::vector<std::pair<double, std::size_t>> flux;
+        std::vector<std::array<double, 3>> perChannel(G);
+        double total = 0.0;
+        for (std::size_t g = 0; g < G; ++g) {
+            double f = 0.0;
+            for (std::size_t w = 0; w < W; ++w) {
+                const auto& m = table.ghosts[g].meshes[w];
+                perChannel[g][w] = lights[l].flux[w] * ((1.0 - t) * m[a0].flux + t * m[std::min(a0 + 1, A - 1)].flux);
+                f += perChannel[g][w];
+            }
+            flux.push_back({f, g});
+            total += f;
+        }
+        std::sort(flux.begin(), flux.end());
+        double dropped = 0.0;
+        for (const auto& [f, g] : flux) {
+            if (f <= 0.0) continue;
+            if (dropped + f <= settings.cullShare * total) {
+                dropped += f;
+                ++out.culled;
+                continue;
+            }
+            Instance in{l, {g, a0, t, 0.0, 0.0}, f};
+            in.channelFlux = perChannel[g];
+            instances.push_back(in);
+        }
+        if (total > 0.0) out.culledShare = std::max(out.culledShare, dropped / total);
+    }
+    out.drawn = instances.size();
+
+    // Each instance's mean irradiance (flux over the area its mesh spans, pixels) and the
+    // perimeter of its outline's bounding box.
+    std::vector<double> irradiance(instances.size(), 0.0), areaPx(instances.size(), 0.0),
+        perimeterPx(instances.size(), 0.0);
+    tbb::parallel_for(std::size_t(0), instances.size(), [&](std::size_t i) {
+        const ShapedGhost& gh = table.ghosts[instances[i].mesh.ghost];
+        const ShapedMesh& m = gh.meshes[W / 2][instances[i].mesh.a0];
+        const int n = gh.grid;
+        const std::size_t stride = gh.stride();
+        auto at = [&](int x, int y) { return &m.data[(static_cast<std::size_t>(y) * (n + 1) + x) * stride]; };
+        double area = 0.0;
+        double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
+        if (!m.data.empty())
+            for (int y = 0; y < n; ++y)
+                for (int x = 0; x < n; ++x) {
+                    const float *p = at(x, y), *q = at(x + 1, y), *r = at(x + 1, y + 1), *u = at(x, y + 1);
+                    const double c = 0.5 * std::abs((r[0] - p[0]) * (u[1] - q[1]) - (r[1] - p[1]) * (u[0] - q[0]));
+                    if (!std::isfinite(c) || !(p[2] > 0.0f || q[2] > 0.0f || r[2] > 0.0f || u[2] > 0.0f)) continue;
+                    area += c;
+                    for (const float* v : {p, q, r, u})
+                        x0 = std::min(x0, double(v[0])), x1 = std::max(x1, double(v[0])),
+                        y0 = std::min(y0, double(v[1])), y1 = std::max(y1, double(v[1]));
+                }
+        areaPx[i] = area / (frame.pitchMm * frame.pitchMm);
+        perimeterPx[i] = x1 >= x0 ? 2.0 * (x1 - x0 + y1 - y0) / frame.pitchMm : 0.0;
+        irradiance[i] = areaPx[i] > 0.0 ? instances[i].flux / areaPx[i] : 0.0;
+    });
+    // Each instance's tolerance: settings.flatnessPx for the instance of highest mean irradiance,
+    // growing in inverse proportion to the irradiance up to settings.maxFlatnessPx: a ghost's share
+    // of the image's squared error is its irradiance squared times the area its misplaced edges sweep.
+    const double top = irradiance.empty() ? 0.0 : *std::max_element(irradiance.begin(), irradiance.end());
+    for (std::size_t i = 0; i < instances.size(); ++i) {
+        const double dim = irradiance[i] > 0.0 ? top / irradiance[i] : std::numeric_limits<double>::infinity();
+        instances[i].mesh.flatnessPx = std::min(settings.maxFlatnessPx, settings.flatnessPx * dim);
+        instances[i].mesh.irradianceStep = settings.irradianceStep * dim;
+    }
+
+    // The split. Per channel c, instance i of flux F and area a has ||g||^2 >= F^2 / a (equal when
+    // uniform) and, on the grid, the squared error e^2 = (F / a)^2 gridErrorSquared(P, h). Taken
+    // in increasing order of their largest share of a channel's budget, instances go onto the grid
+    // while every channel keeps sum e^2 <= gridError^2 sum ||g||^2 (errors of different ghosts
+    // added as uncorrelated).
+    std::vector<Instance> direct, gridded;
+    const auto& grid = settings.grid;
+    if (settings.gridError > 0.0 && grid.step > 0 && grid.width > 0 && grid.height > 0) {
+        std::array<double, 3> budget{};
+        std::vector<std::array<double, 3>> err(instances.size());
+        for (std::size_t i = 0; i < instances.size(); ++i)
+            for (std::size_t c = 0; c < W; ++c) {
+                const double F = instances[i].channelFlux[c];
+                if (!(areaPx[i] > 0.0)) {
+                    err[i][c] = std::numeric_limits<double>::infinity();
+                    continue;
+                }
+                budget[c] += F * F / areaPx[i];
+                const double I = F / areaPx[i];
+                err[i][c] = I * I * gridErrorSquared(perimeterPx[i], grid.step);
+            }
+        for (double& b : budget) b *= settings.gridError * settings.gridError;
+        std::array<double, 3> spent{};
+        const std::vector<char> onGrid = chooseGridded(err, budget, spent);
+        for (std::size_t c = 0; c < W; ++c)
+            if (budget[c] > 0.0)
+                out.gridErrorEstimate =
+                    std::max(out.gridErrorEstimate, std::sqrt(spent[c] / budget[c]) * settings.gridError);
+        for (std::size_t i = 0; i < instances.size(); ++i) {
+            if (!onGrid[i]) {
+                direct.push_back(instances[i]);
+                continue;
+            }
+            // On the grid: a tolerance in grid cells, the mesh decimated while its cells (a quarter
+            // of the outline's box perimeter over the grid) span at most kGridCellsPerMeshCell.
+            Instance in = instances[i];
+            const ShapedGhost& gh = table.ghosts[in.mesh.ghost];
+            const double cellPx = 0.25 * perimeterPx[i] / gh.grid;
+            in.mesh.flatnessPx = settings.gridFlatness;
+            in.mesh.irradianceStep = std::numeric_limits<double>::infinity();
+            in.mesh.decimation = 1;
+            for (int d = 2; gh.grid / d >= kMinGridCells; ++d)
+                if (gh.grid % d == 0 && d * cellPx <= kGridCellsPerMeshCell * grid.step) in.mesh.decimation = d;
+            gridded.push_back(in);
+        }
+    } else {
+        direct = std::move(instances);
+    }
+    out.gridded = gridded.size();
+
+    Drawn drawn = drawInstances(table, lights, direct, frame, W, settings, raster);
+    double energy = drawn.energy;
+    out.triangles = drawn.triangles;
+    const std::size_t pixels = static_cast<std::size_t>(frame.width) * frame.height;
+    for (std::size_t w = 0; w < 3; ++w) {
+        out.channel[w] = w < W ? std::move(drawn.channel[w]) : std::vector<double>(pixels, 0.0);
         for (double v : out.channel[w]) out.deposited += v;
+    }
+    if (!gridded.empty()) {
+        // The grid as a frame of its own: cells of step pixels, placed on the frame's pixels.
+        trace::ImageFrame gf{grid.width, grid.height, frame.pitchMm * grid.step};
+        const glm::dvec2 centre =
+            frame.pixelToSensor(grid.x0 + 0.5 * grid.width * grid.step, grid.y0 + 0.5 * grid.height * grid.step);
+        gf.centreXMm = centre.x;
+        gf.centreYMm = centre.y;
+        ShapedRenderSettings onCells = settings;
+        onCells.subcellPx = kGridSubcellCells;
+        Drawn onGrid = drawInstances(table, lights, gridded, gf, W, onCells, nullptr, kSplatBelowCells);
+        energy += onGrid.energy;
+        out.gridTriangles = onGrid.triangles;
+        for (std::size_t w = 0; w < 3; ++w) {
+            out.grid[w] = w < W ? std::move(onGrid.channel[w])
+                                : std::vector<double>(static_cast<std::size_t>(grid.width) * grid.height, 0.0);
+            // What the grid holds inside the frame reaches it (the series keeps each cell's flux).
+            for (int j = 0; j < grid.height; ++j)
+                for (int i = 0; i < grid.width; ++i) {
+                    const double x0 = grid.x0 + i * grid.step, y0 = grid.y0 + j * grid.step;
+                    const double cx = std::clamp(std::min(x0 + grid.step, double(frame.width)) - std::max(x0, 0.0), 0.0,
+                                                 double(grid.step)),
+                                 cy = std::clamp(std::min(y0 + grid.step, double(frame.height)) - std::max(y0, 0.0),
+                                                 0.0, double(grid.step));
+                    out.deposited += out.grid[w][static_cast<std::size_t>(j) * grid.width + i] * cx * cy /
+                                     (double(grid.step) * grid.step);
+                }
+        }
     }
     out.offImage = std::max(0.0, energy - out.deposited);
     return out;

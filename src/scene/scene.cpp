@@ -5,6 +5,8 @@
 #include "core/text.h"
 #include "core/units.h"
 #include "diffraction/wavefront.h"
+#include "fourier/evaluate.h"
+#include "fourier/sampled.h"
 
 #include <nlohmann/json.hpp>
 
@@ -214,7 +216,7 @@ TracedScene renderTracedScene(const optics::Lens& lens, const std::vector<ghosts
 fourier::FlareImage renderShapedScene(const optics::Lens& lens, const ghosts::ShapedTable& table,
                                       const std::vector<ghosts::Light>& lights, const trace::ImageFrame& frame,
                                       trace::SensorPlane sensor, ghosts::ShapedRender* stats, std::size_t* outside,
-                                      ghosts::PolygonRaster* raster) {
+                                      ghosts::PolygonRaster* raster, double gridError) {
     const double sensorZ = trace::sensorPlaneZ(lens, sensor);
     std::vector<ghosts::ShapedLight> shaped;
     if (outside) *outside = 0;
@@ -234,19 +236,58 @@ fourier::FlareImage renderShapedScene(const optics::Lens& lens, const ghosts::Sh
             ++*outside;
         }
     }
-    return drawShaped(table, shaped, frame, stats, raster);
+    return drawShaped(table, shaped, frame, stats, raster, gridError);
 }
 
 fourier::FlareImage drawShaped(const ghosts::ShapedTable& table, const std::vector<ghosts::ShapedLight>& lights,
                                const trace::ImageFrame& frame, ghosts::ShapedRender* stats,
-                               ghosts::PolygonRaster* raster) {
-    ghosts::ShapedRender r = ghosts::renderShaped(table, lights, frame, {}, raster);
+                               ghosts::PolygonRaster* raster, double gridError) {
+    ghosts::ShapedRenderSettings settings;
+    settings.gridError = gridError;
+    if (gridError > 0.0) {
+        // The Fourier period: the frame and a margin of kShapedGridMargin cells on every side, in
+        // whole cells of an FFT-friendly number, the cells' centres on multiples of the step.
+        auto& g = settings.grid;
+        g.step = kShapedGridStep;
+        const auto cells = [&](int pixels) {
+            return fourier::fftFriendly((pixels + kShapedGridStep - 1) / kShapedGridStep + 2 * kShapedGridMargin);
+        };
+        g.width = cells(frame.width);
+        g.height = cells(frame.height);
+        g.x0 = -(std::floor((g.width * g.step - frame.width) / (2.0 * g.step)) + 0.5) * g.step;
+        g.y0 = -(std::floor((g.height * g.step - frame.height) / (2.0 * g.step)) + 0.5) * g.step;
+    }
+    ghosts::ShapedRender r = ghosts::renderShaped(table, lights, frame, settings, raster);
     fourier::FlareImage image(frame.width, frame.height);
     for (int c = 0; c < 3; ++c)
-        for (std::size_t p = 0; p < image.pixels(); ++p)
-            image.channel[c][p] = static_cast<float>(std::max(0.0, r.channel[c][p]));
+        for (std::size_t p = 0; p < image.pixels(); ++p) image.channel[c][p] = static_cast<float>(r.channel[c][p]);
+    if (r.gridded > 0) {
+        // The gridded instances reach the frame through their series, every term below the grid's
+        // Nyquist frequency kept.
+        const auto& g = settings.grid;
+        fourier::SampledGhost cells;
+        cells.x0 = g.x0;
+        cells.y0 = g.y0;
+        cells.step = g.step;
+        cells.width = g.width;
+        cells.height = g.height;
+        cells.values.resize(static_cast<std::size_t>(g.width) * g.height * 3);
+        for (std::size_t k = 0; k < cells.values.size(); ++k)
+            cells.values[k] = static_cast<float>(r.grid[k % 3][k / 3]);
+        fourier::Coefficients z;
+        z.n = g.width / 2;
+        z.m = g.height / 2;
+        z.periodX = double(g.width) * g.step;
+        z.periodY = double(g.height) * g.step;
+        for (auto& ch : z.z) ch.assign(static_cast<std::size_t>(4) * z.n * z.m, 0.0);
+        fourier::accumulateSampledGrid(cells, z);
+        fourier::evaluate(z, fourier::Evaluation::Fft, image, fourier::Write::Add);
+    }
+    for (auto& ch : image.channel)
+        for (float& v : ch) v = std::max(0.0f, v);
     if (stats) {
         for (auto& ch : r.channel) ch = {};
+        for (auto& ch : r.grid) ch = {};
         *stats = std::move(r);
     }
     return image;

@@ -70,19 +70,26 @@ std::vector<float> renderDiffraction(const optics::Lens& lens, const std::vector
                                      const trace::ImageFrame& frame, double sensorZ, const std::string& mode,
                                      diffraction::Convolver* device, double* offFrame, std::string* summary);
 
+/// The shaped hybrid's grid (ghosts::ShapedRenderSettings::grid): cells of this many pixels, and
+/// this many cells of margin around the frame within the Fourier period.
+constexpr int kShapedGridStep = 4;
+constexpr int kShapedGridMargin = 8;
+
 /// The shaped ghosts of all lights (ghosts/shaped_ghosts.h), each light's field found as the traced
 /// scene finds it, summed with the lights' RGB flux. With `outside`, a light that no field angle
 /// images, or only one beyond the table's, draws nothing and is counted there; without it, the first
 /// throws and the second is drawn at the table's last angle. `raster`: where the polygons are drawn
-/// (null: the CPU).
+/// (null: the CPU). gridError > 0: the hybrid, the dim and soft instances through the Fourier
+/// series of a grid of kShapedGridStep pixels within that estimated relative L2 error (docs/fourier.md).
 fourier::FlareImage renderShapedScene(const optics::Lens& lens, const ghosts::ShapedTable& table,
                                       const std::vector<ghosts::Light>& lights, const trace::ImageFrame& frame,
                                       trace::SensorPlane sensor, ghosts::ShapedRender* stats = nullptr,
-                                      std::size_t* outside = nullptr, ghosts::PolygonRaster* raster = nullptr);
+                                      std::size_t* outside = nullptr, ghosts::PolygonRaster* raster = nullptr,
+                                      double gridError = 0.0);
 
 /// The shaped ghosts of lights given by their fields, as renderShapedScene draws them.
 fourier::FlareImage drawShaped(const ghosts::ShapedTable& table, const std::vector<ghosts::ShapedLight>& lights,
                                const trace::ImageFrame& frame, ghosts::ShapedRender* stats,
-                               ghosts::PolygonRaster* raster);
+                               ghosts::PolygonRaster* raster, double gridError = 0.0);
 
 } // namespace ff::scene

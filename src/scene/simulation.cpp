@@ -124,8 +124,8 @@ void Simulation::drawShaped(const image::Plate& plate, SimulatedPlate& out) {
         for (double& f : l.flux) f *= s_.gain;
     }
     ghosts::ShapedRender stats;
-    const fourier::FlareImage flare =
-        renderShapedScene(lens_, *shaped_, shifted, frame, s_.table.sensor, &stats, &out.outside, s_.raster);
+    const fourier::FlareImage flare = renderShapedScene(lens_, *shaped_, shifted, frame, s_.table.sensor, &stats,
+                                                        &out.outside, s_.raster, s_.fourier.error);
     if (out.outside)
         reporter_.note({plate.path},
                        std::to_string(out.outside) + " of " + std::to_string(out.lights.size()) +
@@ -134,8 +134,10 @@ void Simulation::drawShaped(const image::Plate& plate, SimulatedPlate& out) {
                            text::fixed(s_.sensorWidthMm, 1) + " mm wide sensor): they get no flare");
     out.flare = flare.interleaved();
     out.flareText = std::to_string(stats.drawn) + " ghost instances drawn (" + std::to_string(stats.triangles) +
-                    " triangles), " + std::to_string(stats.culled) + " culled holding at most " +
-                    text::scientific(stats.culledShare, 2) + " of a light's ghost flux";
+                    " triangles; " + std::to_string(stats.gridded) + " of them through the Fourier series, " +
+                    std::to_string(stats.gridTriangles) + " triangles on its grid, estimated error " +
+                    text::scientific(stats.gridErrorEstimate, 2) + "), " + std::to_string(stats.culled) +
+                    " culled holding at most " + text::scientific(stats.culledShare, 2) + " of a light's ghost flux";
     out.modelMeta = {{"fourierflare:ghostModel", "shaped"},
                      {"fourierflare:backend", s_.raster ? s_.fourier.backend->describe() : std::string("cpu")},
                      {"fourierflare:culled", std::to_string(stats.culled) + " ghost instances, at most " +
