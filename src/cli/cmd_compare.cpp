@@ -125,6 +125,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     // The backend (EGL) last, after every option has been checked.
     cs.fourier = o.fourier.settings(g);
     cs.raster = polygonRaster(cs.fourier);
+    if (o.fourier.errorOption && o.fourier.errorOption->count() > 0) cs.shapedError = o.fourier.error;
     cs.convolver = diffractionDevice(cs.fourier);
     scene::compareFlares(lens, cs, dir);
 }

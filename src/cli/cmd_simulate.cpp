@@ -218,6 +218,7 @@ class Simulation {
         s.convolver = diffractionDevice(s.fourier);
         if (o.ghostModel == "shaped") {
             s.raster = polygonRaster(s.fourier);
+            if (o.fourier.errorOption && o.fourier.errorOption->count() > 0) s.shapedError = o.fourier.error;
         } else if (s.fourier.basis == fourier::Basis::Separable) {
             // The Fourier-Bessel basis has no GL path (renderBessel runs on the CPU).
             if (auto* gl = dynamic_cast<gpu::GlBackend*>(s.fourier.backend.get()))

@@ -12,11 +12,11 @@
 namespace ff::cli {
 
 void FourierOptions::addTo(CLI::App& cmd) {
-    cmd.add_option("--fourier-error", error,
-                   "Relative L2 error budget: gaussian and cos2, per ghost (decides the period, N and the hybrid "
-                   "split); shaped, of the whole flare for the instances drawn through the Fourier series of a "
-                   "grid (docs/fourier.md)")
-        ->check(CLI::Range(1e-7, 0.5));
+    errorOption = cmd.add_option("--fourier-error", error,
+                                 "Relative L2 error budget: gaussian and cos2, per ghost (decides the period, N and "
+                                 "the hybrid split); shaped (simulate), of the whole flare for the instances drawn "
+                                 "through the Fourier series of a grid, default 1e-2 (docs/fourier.md)")
+                      ->check(CLI::Range(1e-7, 0.5));
     cmd.add_option("--fourier-n", n,
                    "Use N terms along x (M follows the periods' ratio) instead of the budget's choice")
         ->check(CLI::Range(1, 2048));

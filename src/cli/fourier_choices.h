@@ -13,7 +13,8 @@
 
 namespace CLI {
 class App;
-}
+class Option;
+} // namespace CLI
 
 namespace ff::cli {
 
@@ -27,7 +28,8 @@ struct FourierOptions {
     bool dropDc = false;
     bool noHybrid = false;
     std::string basis = "separable";
-    std::string backend = "auto"; ///< cpu, gl or auto
+    std::string backend = "auto";       ///< cpu, gl or auto
+    CLI::Option* errorOption = nullptr; ///< --fourier-error (given: count() > 0)
 
     void addTo(CLI::App& cmd);
     /// The settings, with the GL backend made when --backend asks for it: gl without an OpenGL 4.5

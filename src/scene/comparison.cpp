@@ -187,6 +187,29 @@ struct Comparison {
         report["shaped"]["differenceScale"] = scale;
         report["seconds"]["shapedBuild"] = buildSeconds;
         report["seconds"]["shapedDraw"] = drawSeconds;
+        if (!(s.shapedError > 0.0)) return;
+        // The shaped hybrid: the dim and soft instances through the Fourier series of a grid.
+        t0 = Clock::now();
+        ghosts::ShapedRender hr;
+        const std::vector<float> hybridRgb =
+            renderShapedScene(lens, shapedTable, lights, to.frame, to.sensor, &hr, nullptr, s.raster, s.shapedError)
+                .interleaved();
+        const double hybridSeconds = secondsSince(t0);
+        save("shaped-hybrid", hybridRgb);
+        const auto eHybrid = image::compareImages(hybridRgb, tracedRgb);
+        const auto eHybridShaped = image::compareImages(hybridRgb, shapedRgb);
+        md += row("shaped hybrid vs traced (" + std::to_string(hr.gridded) + " of " + std::to_string(hr.drawn) +
+                      " instances through a grid's series, estimated error " +
+                      text::scientific(hr.gridErrorEstimate, 2) + ")",
+                  eHybrid);
+        md += row("shaped hybrid vs shaped", eHybridShaped);
+        timing += "| shaped hybrid: draw (" + std::to_string(hr.triangles) + " + " + std::to_string(hr.gridTriangles) +
+                  " on the grid) | " + text::fixed(hybridSeconds, 3) + " |\n";
+        report["shapedHybrid"] = toJson(eHybrid);
+        report["shapedHybrid"]["vsShaped"] = toJson(eHybridShaped);
+        report["shapedHybrid"]["gridded"] = hr.gridded;
+        report["shapedHybrid"]["estimatedError"] = hr.gridErrorEstimate;
+        report["seconds"]["shapedHybridDraw"] = hybridSeconds;
     }
 
     // One profile's fitted and Fourier images against the reference, and its error against N.

@@ -10,6 +10,7 @@
 #include "ghosts/instancing.h"
 #include "ghosts/shaped_ghosts.h"
 #include "optics/lens.h"
+#include "scene/scene.h"
 
 #include <nlohmann/json_fwd.hpp>
 
@@ -34,6 +35,7 @@ struct ComparisonSettings {
     std::vector<int> ns = {16, 32, 64, 128, 256}; ///< the error against N (each 1..2048)
     std::string diffraction = "off";              ///< off, physical or traced (then the aberration-free one too)
     ghosts::PolygonRaster* raster = nullptr;      ///< where the shaped polygons are drawn (null: the CPU)
+    double shapedError = kShapedError;            ///< the shaped hybrid's budget (0: no hybrid)
     diffraction::Convolver* convolver = nullptr;  ///< the diffraction's convolution (null: FFTW)
     /// The tables (default: from the cache, or built and cached).
     std::function<ghosts::GhostTable(const optics::Lens&, const ghosts::TableSettings&)> loadTable;
@@ -47,7 +49,7 @@ struct ComparisonSettings {
 /// (Runtime) where it cannot be made.
 std::filesystem::path reportFolder(const std::string& path);
 
-/// Runs the comparison and writes into `dir` (which must exist): traced, shaped, fitted-* and
+/// Runs the comparison and writes into `dir` (which must exist): traced, shaped, shaped-hybrid, fitted-* and
 /// fourier-* as EXR and PNG, diff-*.png, error-vs-n.svg, report.md and report.json; returns the
 /// report's JSON (the numbers: relative L2, PSNR, flux ratios, the error against N, seconds).
 nlohmann::json compareFlares(const optics::Lens& lens, const ComparisonSettings& settings,

@@ -74,6 +74,9 @@ std::vector<float> renderDiffraction(const optics::Lens& lens, const std::vector
 /// this many cells of margin around the frame within the Fourier period.
 constexpr int kShapedGridStep = 4;
 constexpr int kShapedGridMargin = 8;
+/// The shaped hybrid's default budget (simulate, compare): measured 0.0005-0.0015 relative L2
+/// against every instance drawn directly on the plates of docs/performance.md ("Many lights").
+constexpr double kShapedError = 1e-2;
 
 /// The shaped ghosts of all lights (ghosts/shaped_ghosts.h), each light's field found as the traced
 /// scene finds it, summed with the lights' RGB flux. With `outside`, a light that no field angle

@@ -13,6 +13,7 @@
 #include "image/light_detection.h"
 #include "image/plate.h"
 #include "optics/lens.h"
+#include "scene/scene.h"
 
 #include <functional>
 #include <memory>
@@ -33,8 +34,11 @@ struct SimulationSettings {
     std::vector<ghosts::Light> lights;    ///< given (display-window pixels): no detection
     /// The ghost table's settings (gaussian, cos2); their sensor plane and coatings serve every model.
     ghosts::TableSettings table;
-    fourier::FourierSettings fourier;            ///< the aggregator (gaussian, cos2)
-    ghosts::PolygonRaster* raster = nullptr;     ///< where the shaped polygons are drawn (null: the CPU)
+    fourier::FourierSettings fourier;        ///< the aggregator (gaussian, cos2)
+    ghosts::PolygonRaster* raster = nullptr; ///< where the shaped polygons are drawn (null: the CPU)
+    /// shaped: the flare's relative L2 error the instances through the grid's series may add (0: all
+    /// drawn directly; docs/fourier.md, "Shaped ghosts through the series")
+    double shapedError = kShapedError;
     diffraction::Convolver* convolver = nullptr; ///< the diffraction's convolution (null: FFTW)
     /// The ghost table / shaped table of the lens (default: ghosts::tableFor / shapedTableFor with
     /// the cache); a caller that reports builds supplies its own.

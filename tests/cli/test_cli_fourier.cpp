@@ -195,10 +195,10 @@ TEST(CliCompare, WritesTheReport) {
                            out.string() + "'",
                        env);
     ASSERT_EQ(r.code, 0) << r.err;
-    for (const char* f :
-         {"report.md", "report.json", "error-vs-n.svg", "traced.exr", "traced.png", "fitted-gaussian.exr",
-          "fourier-cos2.png", "diff-fourier-gaussian-vs-traced.png", "diffraction-physical.exr",
-          "diffraction-traced.png", "diff-diffraction-traced-vs-physical.png"})
+    for (const char* f : {"report.md", "report.json", "error-vs-n.svg", "traced.exr", "traced.png",
+                          "fitted-gaussian.exr", "fourier-cos2.png", "diff-fourier-gaussian-vs-traced.png",
+                          "shaped.exr", "shaped-hybrid.exr", "shaped-hybrid.png", "diffraction-physical.exr",
+                          "diffraction-traced.png", "diff-diffraction-traced-vs-physical.png"})
         EXPECT_TRUE(std::filesystem::exists(out / f)) << f;
     const auto j = nlohmann::json::parse(ff::test::readFile(out / "report.json"));
     for (const char* p : {"gaussian", "cos2"}) {
@@ -210,6 +210,11 @@ TEST(CliCompare, WritesTheReport) {
         EXPECT_LE(prof["fourierVsFitted"]["relativeL2"].get<double>(), 1e-3); // the hybrid keeps the budget
         EXPECT_NEAR(prof["fourierVsFitted"]["fluxRatio"].get<double>(), 1.0, 1e-3);
     }
+    // The shaped hybrid keeps its estimate against every instance drawn directly (over all channels
+    // the relative L2 is at most the largest channel's).
+    EXPECT_LE(j["shapedHybrid"]["vsShaped"]["relativeL2"].get<double>(),
+              j["shapedHybrid"]["estimatedError"].get<double>() + 1e-7);
+    EXPECT_NEAR(j["shapedHybrid"]["vsShaped"]["fluxRatio"].get<double>(), 1.0, 1e-3);
     EXPECT_NE(ff::test::readFile(out / "report.md").find("| comparison | relative L2 |"), std::string::npos);
     // The reference states its own error (against twice the refinement), and it is far below the
     // profile model's, or the comparison would measure the reference.
