@@ -125,7 +125,7 @@ void Simulation::drawShaped(const image::Plate& plate, SimulatedPlate& out) {
     }
     ghosts::ShapedRender stats;
     const fourier::FlareImage flare = renderShapedScene(lens_, *shaped_, shifted, frame, s_.table.sensor, &stats,
-                                                        &out.outside, s_.raster, s_.fourier.error);
+                                                        &out.outside, s_.raster, s_.shapedError);
     if (out.outside)
         reporter_.note({plate.path},
                        std::to_string(out.outside) + " of " + std::to_string(out.lights.size()) +
