@@ -485,32 +485,83 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
     }
     out.drawn = instances.size();
 
-    // Each instance's mean irradiance (flux over the area its mesh spans, pixels) and the
-    // perimeter of its outline's bounding box.
-    std::vector<double> irradiance(instances.size(), 0.0), areaPx(instances.size(), 0.0),
-        perimeterPx(instances.size(), 0.0);
-    tbb::parallel_for(std::size_t(0), instances.size(), [&](std::size_t i) {
+    // Per instance and channel, from its mesh at the lower table angle: the cells' irradiance I
+    // (flux per pixel, a cell carrying light where a corner passes every aperture), its squared norm
+    // sum I^2 a (a lower bound of the ghost's: Cauchy-Schwarz within each cell), its jumps sum over
+    // the cells' shared sides of (I - I')^2 times the side's length (unlit cells and the grid's
+    // border count as I' = 0: a uniform ghost gives I^2 times its perimeter), and the perimeter of
+    // its outline's box. At the middle wavelength, its mean irradiance over the whole mesh sets its
+    // drawing tolerance.
+    std::vector<double> irradiance(instances.size(), 0.0);
+    std::vector<std::array<double, 3>> norm2(instances.size()), jump2(instances.size()), perimeterPx(instances.size());
+    tbb::parallel_for(std::size_t(0), instances.size() * W, [&](std::size_t k) {
+        const std::size_t i = k / W, w = k % W;
         const ShapedGhost& gh = table.ghosts[instances[i].mesh.ghost];
-        const ShapedMesh& m = gh.meshes[W / 2][instances[i].mesh.a0];
+        const ShapedMesh& m = gh.meshes[w][instances[i].mesh.a0];
+        if (m.data.empty()) return;
         const int n = gh.grid;
         const std::size_t stride = gh.stride();
+        const double px2 = frame.pitchMm * frame.pitchMm;
         auto at = [&](int x, int y) { return &m.data[(static_cast<std::size_t>(y) * (n + 1) + x) * stride]; };
-        double area = 0.0;
+        // A vertex passes when it carries light inside every stored aperture and within the iris's
+        // circumcircle on every crossing of the stop (its blades cut a little more).
+        const std::size_t nA = gh.apertureSteps.size();
+        const double iris = table.iris.blades >= 3 ? table.iris.circumradius : table.iris.radius;
+        auto passes = [&](const float* v) {
+            if (!(v[2] > 0.0f)) return false;
+            for (std::size_t a = 0; a < nA; ++a)
+                if (!(v[3 + a] >= 0.0f)) return false;
+            for (std::size_t c = 0; c < gh.stopCrossings; ++c)
+                if (!(std::hypot(v[3 + nA + 2 * c], v[4 + nA + 2 * c]) <= iris)) return false;
+            return true;
+        };
+        std::vector<double> I(static_cast<std::size_t>(n) * n, 0.0), cellArea(I.size(), 0.0);
+        double meshArea = 0.0, weights = 0.0;
         double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
-        if (!m.data.empty())
-            for (int y = 0; y < n; ++y)
-                for (int x = 0; x < n; ++x) {
-                    const float *p = at(x, y), *q = at(x + 1, y), *r = at(x + 1, y + 1), *u = at(x, y + 1);
-                    const double c = 0.5 * std::abs((r[0] - p[0]) * (u[1] - q[1]) - (r[1] - p[1]) * (u[0] - q[0]));
-                    if (!std::isfinite(c) || !(p[2] > 0.0f || q[2] > 0.0f || r[2] > 0.0f || u[2] > 0.0f)) continue;
-                    area += c;
-                    for (const float* v : {p, q, r, u})
-                        x0 = std::min(x0, double(v[0])), x1 = std::max(x1, double(v[0])),
-                        y0 = std::min(y0, double(v[1])), y1 = std::max(y1, double(v[1]));
-                }
-        areaPx[i] = area / (frame.pitchMm * frame.pitchMm);
-        perimeterPx[i] = x1 >= x0 ? 2.0 * (x1 - x0 + y1 - y0) / frame.pitchMm : 0.0;
-        irradiance[i] = areaPx[i] > 0.0 ? instances[i].flux / areaPx[i] : 0.0;
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) {
+                const float *p = at(x, y), *q = at(x + 1, y), *r = at(x + 1, y + 1), *u = at(x, y + 1);
+                const double c = 0.5 * std::abs((r[0] - p[0]) * (u[1] - q[1]) - (r[1] - p[1]) * (u[0] - q[0]));
+                if (!std::isfinite(c)) continue;
+                meshArea += c;
+                if (!(c > 0.0) || !(passes(p) || passes(q) || passes(r) || passes(u))) continue;
+                const double weight =
+                    0.25 * (std::max(0.0f, p[2]) + std::max(0.0f, q[2]) + std::max(0.0f, r[2]) + std::max(0.0f, u[2]));
+                const std::size_t cell = static_cast<std::size_t>(y) * n + x;
+                I[cell] = weight / (c / px2);
+                cellArea[cell] = c / px2;
+                weights += weight;
+                for (const float* v : {p, q, r, u})
+                    x0 = std::min(x0, double(v[0])), x1 = std::max(x1, double(v[0])), y0 = std::min(y0, double(v[1])),
+                    y1 = std::max(y1, double(v[1]));
+            }
+        if (w == W / 2 && meshArea > 0.0) irradiance[i] = instances[i].flux / (meshArea / px2);
+        if (!(weights > 0.0)) return;
+        const double scale = instances[i].channelFlux[w] / weights; // flux per unit of weight
+        double n2 = 0.0, j2 = 0.0;
+        auto side = [&](const float* a, const float* b, double fallback) {
+            const double len = std::hypot(double(a[0]) - b[0], double(a[1]) - b[1]) / frame.pitchMm;
+            return std::isfinite(len) ? len : fallback;
+        };
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) {
+                const std::size_t cell = static_cast<std::size_t>(y) * n + x;
+                const double here = scale * I[cell], fallback = std::sqrt(cellArea[cell]);
+                n2 += here * here * cellArea[cell];
+                // Its right and lower sides against the neighbour (or the border); its left and upper
+                // sides against the border.
+                const double right = x + 1 < n ? scale * I[cell + 1] : 0.0;
+                const double below = y + 1 < n ? scale * I[cell + n] : 0.0;
+                if (here > 0.0 || right > 0.0)
+                    j2 += (here - right) * (here - right) * side(at(x + 1, y), at(x + 1, y + 1), fallback);
+                if (here > 0.0 || below > 0.0)
+                    j2 += (here - below) * (here - below) * side(at(x, y + 1), at(x + 1, y + 1), fallback);
+                if (x == 0 && here > 0.0) j2 += here * here * side(at(0, y), at(0, y + 1), fallback);
+                if (y == 0 && here > 0.0) j2 += here * here * side(at(x, 0), at(x + 1, 0), fallback);
+            }
+        norm2[i][w] = n2;
+        jump2[i][w] = j2;
+        perimeterPx[i][w] = x1 >= x0 ? 2.0 * (x1 - x0 + y1 - y0) / frame.pitchMm : 0.0;
     });
     // Each instance's tolerance: settings.flatnessPx for the instance of highest mean irradiance,
     // growing in inverse proportion to the irradiance up to settings.maxFlatnessPx: a ghost's share
@@ -522,11 +573,11 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
         instances[i].mesh.irradianceStep = settings.irradianceStep * dim;
     }
 
-    // The split. Per channel c, instance i of flux F and area a has ||g||^2 >= F^2 / a (equal when
-    // uniform) and, on the grid, the squared error e^2 = (F / a)^2 gridErrorSquared(P, h). Taken
-    // in increasing order of their largest share of a channel's budget, instances go onto the grid
-    // while every channel keeps sum e^2 <= gridError^2 sum ||g||^2 (errors of different ghosts
-    // added as uncorrelated).
+    // The split. Per channel c, instance i has ||g||^2 >= norm2 and, on the grid, the squared error
+    // e^2 = gridErrorSquared(1, h) x jump2 (the edges' spectrum beyond the grid's Nyquist frequency,
+    // each side weighted by its jump squared). Taken in increasing order of their largest share of
+    // a channel's budget, instances go onto the grid while every channel keeps
+    // sum e^2 <= gridError^2 sum ||g||^2 (errors of different ghosts added as uncorrelated).
     std::vector<Instance> direct, gridded;
     const auto& grid = settings.grid;
     if (settings.gridError > 0.0 && grid.step > 0 && grid.width > 0 && grid.height > 0) {
@@ -534,14 +585,8 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
         std::vector<std::array<double, 3>> err(instances.size());
         for (std::size_t i = 0; i < instances.size(); ++i)
             for (std::size_t c = 0; c < W; ++c) {
-                const double F = instances[i].channelFlux[c];
-                if (!(areaPx[i] > 0.0)) {
-                    err[i][c] = std::numeric_limits<double>::infinity();
-                    continue;
-                }
-                budget[c] += F * F / areaPx[i];
-                const double I = F / areaPx[i];
-                err[i][c] = I * I * gridErrorSquared(perimeterPx[i], grid.step);
+                budget[c] += norm2[i][c];
+                err[i][c] = jump2[i][c] * gridErrorSquared(1.0, grid.step);
             }
         for (double& b : budget) b *= settings.gridError * settings.gridError;
         std::array<double, 3> spent{};
@@ -559,7 +604,7 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
             // of the outline's box perimeter over the grid) span at most kGridCellsPerMeshCell.
             Instance in = instances[i];
             const ShapedGhost& gh = table.ghosts[in.mesh.ghost];
-            const double cellPx = 0.25 * perimeterPx[i] / gh.grid;
+            const double cellPx = 0.25 * *std::max_element(perimeterPx[i].begin(), perimeterPx[i].end()) / gh.grid;
             in.mesh.flatnessPx = settings.gridFlatness;
             in.mesh.irradianceStep = std::numeric_limits<double>::infinity();
             in.mesh.decimation = 1;
