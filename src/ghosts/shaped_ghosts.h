@@ -153,11 +153,11 @@ struct ShapedRender {
 std::vector<char> chooseGridded(const std::vector<std::array<double, 3>>& error2, const std::array<double, 3>& budget,
                                 std::array<double, 3>& spent);
 
-/// Squared L2 error, per unit of (mean irradiance)^2, that drawing a ghost onto a grid of step h
-/// and keeping its series below the grid's Nyquist frequency adds, for a ghost of uniform
-/// irradiance whose outline has perimeter `perimeter` (pixels): kGridErrorConstant x perimeter x h
-/// (docs/fourier.md derives the constant).
-double gridErrorSquared(double perimeter, double step);
+/// Squared L2 error that drawing an edge of unit irradiance jump and `length` pixels onto a grid of
+/// `step` pixels, and keeping the grid's series below its Nyquist frequency, adds: (2 / pi^2) x
+/// length x step (the edge's spectrum beyond the Nyquist frequency and about as much aliased back;
+/// docs/fourier.md). renderShaped weighs each side of an instance's mesh cells by its jump squared.
+double gridErrorSquared(double length, double step);
 
 /// Where renderShaped draws its polygons when not on the CPU (whose trace::CoverageRaster is the
 /// reference): the same exact pixel-area coverage, each channel the sum of its polygons.

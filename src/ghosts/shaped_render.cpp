@@ -313,11 +313,11 @@ constexpr double kGridSubcellCells = 2.0;
 
 } // namespace
 
-double gridErrorSquared(double perimeter, double step) {
+double gridErrorSquared(double length, double step) {
     // An edge of unit jump has the spectrum 1 / (2 pi f) across it: beyond the grid's Nyquist
     // frequency 1 / (2 h) it holds 2 Int_{1/2h}^inf df / (4 pi^2 f^2) = h / pi^2 per unit length.
     // The cells' aliases fold about as much back below it: twice that.
-    return 2.0 / (std::numbers::pi * std::numbers::pi) * perimeter * step;
+    return 2.0 / (std::numbers::pi * std::numbers::pi) * length * step;
 }
 
 namespace {
