@@ -70,6 +70,9 @@ DeferredReporter::~DeferredReporter() = default;
 void Interruptible::operator()(std::size_t done, std::size_t total) {
     if (stopped_) throw Interrupted{};
     py::gil_scoped_acquire gil;
+    // Another thread's call may have raised while this one waited for the GIL (it sets stopped_
+    // holding it): no call after the one that raised.
+    if (stopped_) throw Interrupted{};
     try {
         if (PyErr_CheckSignals() != 0) throw py::error_already_set();
         if (callback_ && !callback_.is_none()) callback_(done, total);
