@@ -3,6 +3,7 @@
 // read), for the double Gauss 50 mm, the Nikon 28-75 mm at 28 mm and the zoom 70-200 mm at 70 mm.
 // Baseline: the warm read of the double Gauss.
 
+#include "core/file_io.h"
 #include "core/reporter.h"
 #include "ghosts/shaped_cache.h"
 #include "optics/lens_loader.h"
@@ -40,7 +41,7 @@ void cold(benchmark::State& state, const char* file) {
     CollectingReporter rep;
     std::size_t entries = 0;
     for (auto _ : state) {
-        std::filesystem::remove_all(ghosts::cacheDirectory());
+        std::filesystem::remove_all(ff::cacheDirectory());
         bool cached = true;
         const ghosts::GhostTable t = ghosts::tableFor(lens, s, true, {}, rep, &cached);
         entries = t.entryCount();
@@ -48,7 +49,7 @@ void cold(benchmark::State& state, const char* file) {
     }
     state.counters["ghosts x angles"] = double(entries);
     std::uintmax_t bytes = 0;
-    for (const auto& e : std::filesystem::directory_iterator(ghosts::cacheDirectory())) bytes += e.file_size();
+    for (const auto& e : std::filesystem::directory_iterator(ff::cacheDirectory())) bytes += e.file_size();
     state.counters["entry_MB"] = double(bytes) / 1e6;
 }
 

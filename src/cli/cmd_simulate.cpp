@@ -1,6 +1,6 @@
 // `fourierflare simulate`: a lens against an HDR plate, end to end. This file reads the plates
-// (frame ranges too), writes the EXR (every input channel plus ghosts.*, diffraction.*, flare.* and
-// composite.*), the previews and the lights, and reports; scene::Simulation makes the layers
+// (frame ranges too), writes the EXR (every input channel plus the chosen layers of ghosts.*,
+// diffraction.*, flare.* and composite.*), the previews and the lights, and reports; scene::Simulation makes the layers
 // (docs/simulate.md).
 
 #include "cli/commands.h"
@@ -21,6 +21,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -49,8 +50,37 @@ struct SimulateOptions {
     TableOptions table;
     double maxPixels = 8192.0 * 8192.0;
     std::string frames;
+    std::string layers = "ghosts,diffraction";
+    bool half = false;
     FourierOptions fourier;
 };
+
+// The layers simulate can write, in the order they are written, with what each holds.
+constexpr std::pair<const char*, const char*> kLayers[] = {
+    {"ghosts", "the ghosts"},
+    {"diffraction", "the starburst (the lights' flux spread by the iris, taken from their pixels: sums to 0)"},
+    {"flare", "ghosts + diffraction"},
+    {"composite", "plate + flare"}};
+
+// --layers: names from kLayers, comma-separated, or "all"; returned in kLayers' order.
+std::vector<std::string> parseLayers(const std::string& list) {
+    std::vector<std::string> given;
+    for (std::string_view part : text::split(list, ',')) given.emplace_back(part);
+    if (list == "all") given.clear();
+    std::vector<std::string> out;
+    for (const std::string& g : given) {
+        bool known = false;
+        for (const auto& l : kLayers) known = known || g == l.first;
+        if (!known)
+            throw Error(ErrorKind::Usage, "--layers: " + text::quoted(g) +
+                                              " is not a layer (ghosts, diffraction, flare, composite or all)");
+        if (std::count(given.begin(), given.end(), g) > 1)
+            throw Error(ErrorKind::Usage, "--layers names " + text::quoted(g) + " twice");
+    }
+    for (const auto& l : kLayers)
+        if (given.empty() || std::count(given.begin(), given.end(), l.first)) out.emplace_back(l.first);
+    return out;
+}
 
 // "name.%04d.exr" with frame 7 -> "name.0007.exr"; the pattern must hold exactly one %d or %0Nd.
 std::string frameName(const std::string& pattern, int frame, const char* what) {
@@ -81,6 +111,7 @@ struct FrameJob {
 class Simulation {
   public:
     Simulation(const SimulateOptions& o, const GlobalOptions& g) : o_(o), g_(g), reporter_(g) {
+        layers_ = parseLayers(o.layers);
         optics::Lens lens;
         scene::SimulationSettings s = settings(o, g, lens);
         sim_ = std::make_unique<scene::Simulation>(std::move(lens), std::move(s), reporter_);
@@ -113,17 +144,24 @@ class Simulation {
             {"fourierflare:lights", std::to_string(lights.size())},
             {"fourierflare:threshold", given ? std::string("lights given") : text::roundTrip(r.found.threshold)},
             {"fourierflare:sensorWidthMm", text::roundTrip(sim_->sensorWidthMm())},
-            {"fourierflare:flareGain", text::roundTrip(o_.gain)},
-            {"fourierflare:channels",
-             "input channels unchanged; ghosts.R/G/B = the ghosts; diffraction.R/G/B = the starburst (the lights' "
-             "flux spread by the iris, taken from their pixels: sums to 0); flare.R/G/B = ghosts + diffraction; "
-             "composite.R/G/B = plate + flare"}};
+            {"fourierflare:flareGain", text::roundTrip(o_.gain)}};
+        std::string channels = "input channels unchanged";
+        std::vector<image::Layer> layers;
+        for (const auto& [name, holds] : kLayers) {
+            if (std::find(layers_.begin(), layers_.end(), name) == layers_.end()) continue;
+            channels += std::string("; ") + name + ".R/G/B = " + holds + (o_.half ? " (half)" : "");
+            const std::string n = name;
+            layers.push_back({n, n == "ghosts"        ? &r.ghosts
+                                 : n == "diffraction" ? &r.diffraction
+                                 : n == "flare"       ? &r.flare
+                                                      : &r.composite});
+        }
+        meta.push_back({"fourierflare:channels", channels});
         meta.insert(meta.end(), r.modelMeta.begin(), r.modelMeta.end());
         meta.push_back({"fourierflare:diffraction", r.diffractionText});
-        image::writeSimulatedExr(
-            job.output, plate,
-            {{"ghosts", &r.ghosts}, {"diffraction", &r.diffraction}, {"flare", &r.flare}, {"composite", &r.composite}},
-            meta);
+        if (const std::size_t saturated = image::writeSimulatedExr(job.output, plate, layers, meta, o_.half))
+            note(job.output + ": " + std::to_string(saturated) +
+                 " layer values lie beyond half's range and were written as +-65504 (write float: leave out --half)");
         if (!job.preview.empty()) {
             // The preview shows the flare where the plate is NaN or infinite.
             std::vector<float> shown = r.composite;
@@ -241,6 +279,7 @@ class Simulation {
     const GlobalOptions& g_;
     ConsoleReporter reporter_;
     std::vector<ghosts::Light> manualLights_;
+    std::vector<std::string> layers_;
     std::unique_ptr<scene::Simulation> sim_;
     std::string checker_ = std::filesystem::read_symlink("/proc/self/exe").string(); // this program, for `plate-check`
 };
@@ -312,9 +351,12 @@ void addSimulateCommand(CLI::App& app, GlobalOptions& global) {
                     "Plate: any image OpenImageIO reads (EXR, HDR, TIFF, PNG, ...); with --frames a %04d pattern")
         ->required();
     cmd->add_option("-o,--output", o->output,
-                    "EXR to write: the plate's channels unchanged + ghosts.R/G/B + diffraction.R/G/B + flare.R/G/B + "
-                    "composite.R/G/B")
+                    "EXR to write: the plate's channels unchanged + the --layers (name.R/G/B each)")
         ->required();
+    cmd->add_option("--layers", o->layers,
+                    "Layers added to the EXR, comma-separated: ghosts, diffraction, flare (= ghosts + diffraction), "
+                    "composite (= plate + flare), or all");
+    cmd->add_flag("--half", o->half, "Write the layers as half floats (the plate's channels keep their own format)");
     cmd->add_option("--preview", o->preview, "Also write the composite as a tonemapped PNG");
     cmd->add_option("--preview-flare", o->previewFlare, "Also write the flare alone as a PNG (automatic exposure)");
     cmd->add_option(

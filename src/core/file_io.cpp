@@ -3,6 +3,7 @@
 #include "core/error.h"
 
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <random>
 
@@ -53,6 +54,13 @@ void writeFileAtomic(const fs::path& path, std::string_view content) {
         fs::remove(tmp, ignored);
         throwRuntimeError("cannot write '" + path.string() + "': " + ec.message());
     }
+}
+
+fs::path cacheDirectory() {
+    if (const char* d = std::getenv("FF_CACHE_DIR"); d && *d) return d;
+    if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return fs::path(x) / "fourierflare";
+    if (const char* h = std::getenv("HOME"); h && *h) return fs::path(h) / ".cache" / "fourierflare";
+    return fs::temp_directory_path() / "fourierflare-cache";
 }
 
 bool samePath(const fs::path& a, const fs::path& b) {

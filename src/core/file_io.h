@@ -19,6 +19,10 @@ void writeFileAtomic(const std::filesystem::path& path, std::string_view content
 /// True when both paths name the same existing file (or the same normalised path).
 bool samePath(const std::filesystem::path& a, const std::filesystem::path& b);
 
+/// The cache folder (ghost tables, PSFs): $FF_CACHE_DIR, else $XDG_CACHE_HOME/fourierflare, else
+/// ~/.cache/fourierflare, else fourierflare-cache in the system's temporary folder. Not created here.
+std::filesystem::path cacheDirectory();
+
 /// 64-bit FNV-1a hash of bytes, as 16 lowercase hex digits (used to key caches and record inputs).
 std::string hashHex(std::string_view bytes);
 

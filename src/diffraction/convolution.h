@@ -4,6 +4,7 @@
 
 #include "diffraction/psf.h"
 
+#include <cstddef>
 #include <functional>
 #include <vector>
 
@@ -19,10 +20,15 @@ class Convolver {
 };
 
 /// image (R, G, B interleaved, width x height) convolved with the PSF's channels (linear, not
-/// circular: zero outside the frame). The flux the kernel carries beyond the frame is added to
-/// *offFrame (summed over the channels) when given.
+/// circular: zero outside the frame): by FFT, or by adding the kernel at each non-zero pixel where
+/// there are so few that this costs less (the same values up to the transforms' rounding). The flux the kernel carries
+/// beyond the frame is added to *offFrame (summed over the channels) when given.
 std::vector<float> convolve(const std::vector<float>& image, int width, int height, const Psf& psf,
                             double* offFrame = nullptr);
+
+/// Whether convolve adds the kernel at each of `lit` non-zero values (R, G and B counted apart)
+/// rather than transforming.
+bool convolvesDirectly(std::size_t lit, int width, int height, const Psf& psf);
 
 /// The diffraction layer of the light sources `lights` (R, G, B interleaved; the part of the plate
 /// that is the lights' sharp image): gain x (lights * PSF - lights), the lights' flux spread into

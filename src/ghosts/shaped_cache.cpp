@@ -402,13 +402,6 @@ ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file
     return t;
 }
 
-fs::path cacheDirectory() {
-    if (const char* d = std::getenv("FF_CACHE_DIR"); d && *d) return d;
-    if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return fs::path(x) / "fourierflare";
-    if (const char* h = std::getenv("HOME"); h && *h) return fs::path(h) / ".cache" / "fourierflare";
-    return fs::temp_directory_path() / "fourierflare-cache";
-}
-
 fs::path cacheFile(const optics::Lens& lens, const TableSettings& s) {
     return cacheDirectory() / (hashHex(shapedCacheKey(lens, s)) + ".shaped");
 }

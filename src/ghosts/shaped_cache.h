@@ -1,7 +1,7 @@
 #pragma once
 // The table cache: shaped tables on disk (with the fits derived from them in their headers), keyed by
-// a hash of the lens file's bytes, its zoom position and every setting of the build. Folder:
-// $FF_CACHE_DIR, else $XDG_CACHE_HOME/fourierflare, else ~/.cache/fourierflare. A missing entry is
+// a hash of the lens file's bytes, its zoom position and every setting of the build, in
+// ff::cacheDirectory() (core/file_io.h). A missing entry is
 // built; an unreadable, corrupt, older-format or mismatching one is rebuilt with a note, never
 // trusted. Entries are written atomically.
 //
@@ -22,8 +22,6 @@
 #include <string_view>
 
 namespace ff::ghosts {
-
-std::filesystem::path cacheDirectory();
 
 /// The table as the cache stores it.
 std::string shapedTableToBytes(const ShapedTable& table, const std::string& key);

@@ -85,7 +85,7 @@ Drawn drawInstances(const ShapedTable& table, const std::vector<ShapedLight>& li
         for (const Instance& in : instances) bound += in.flux;
         raster->begin(frame, W, 2.0 * bound + std::numeric_limits<double>::min());
     }
-    constexpr std::size_t kChunk = 16;
+    constexpr std::size_t kChunk = 4;
     std::vector<ShapedPolygons> polys(kChunk * W);
     for (std::size_t i0 = 0; i0 < instances.size(); i0 += kChunk) {
         const std::size_t i1 = std::min(instances.size(), i0 + kChunk);

@@ -6,6 +6,7 @@
 #include <OpenEXR/ImfRgbaFile.h>
 #include <OpenImageIO/imageio.h>
 
+#include <Imath/half.h>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -342,8 +343,8 @@ Plate readPlate(const std::string& path, const PlateLimits& limits) {
     return readDirect(path, limits, true);
 }
 
-void writeSimulatedExr(const std::string& path, const Plate& plate, const std::vector<Layer>& layers,
-                       const Metadata& metadata) {
+std::size_t writeSimulatedExr(const std::string& path, const Plate& plate, const std::vector<Layer>& layers,
+                              const Metadata& metadata, bool half) {
     if (!plate.file) throwRuntimeError("writeSimulatedExr: the plate has no file");
     for (const Layer& l : layers)
         if (!l.rgb || l.rgb->size() != plate.pixelCount() * 3)
@@ -369,19 +370,21 @@ void writeSimulatedExr(const std::string& path, const Plate& plate, const std::v
     out.erase_attribute("oiio:subimages");
     out.erase_attribute("compression");
     out.attribute("compression", "zip");
+    const OIIO::TypeDesc layerFormat = half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT;
     for (const Layer& l : layers)
         for (const char* c : {".R", ".G", ".B"}) {
             out.channelnames.emplace_back(l.name + c);
-            outFormat.emplace_back(OIIO::TypeDesc::FLOAT);
+            outFormat.emplace_back(layerFormat);
         }
     out.nchannels = n + 3 * static_cast<int>(layers.size());
     out.channelformats = outFormat;
     out.format = OIIO::TypeDesc::FLOAT;
     for (const auto& [k, v] : metadata) out.attribute(k, v);
 
-    std::size_t outPixelBytes = 0;
+    std::size_t outPixelBytes = 0, saturated = 0;
     for (const auto& f : outFormat) outPixelBytes += f.size();
     std::vector<unsigned char> buffer(plate.pixelCount() * outPixelBytes);
+    constexpr float kHalfMax = 65504.0f;
     for (std::size_t p = 0; p < plate.pixelCount(); ++p) {
         unsigned char* dst = &buffer[p * outPixelBytes];
         const unsigned char* src = &plate.file->native[p * inPixelBytes];
@@ -396,11 +399,25 @@ void writeSimulatedExr(const std::string& path, const Plate& plate, const std::v
             dst += outFormat[ci].size();
         }
         for (const Layer& l : layers) {
-            std::memcpy(dst, &(*l.rgb)[p * 3], 3 * sizeof(float));
-            dst += 3 * sizeof(float);
+            if (!half) {
+                std::memcpy(dst, &(*l.rgb)[p * 3], 3 * sizeof(float));
+                dst += 3 * sizeof(float);
+                continue;
+            }
+            for (int c = 0; c < 3; ++c) {
+                float v = (*l.rgb)[p * 3 + static_cast<std::size_t>(c)];
+                if (std::isfinite(v) && std::abs(v) > kHalfMax) {
+                    v = std::copysign(kHalfMax, v);
+                    ++saturated;
+                }
+                const Imath::half h(v);
+                std::memcpy(dst, &h, sizeof h);
+                dst += sizeof h;
+            }
         }
     }
     writeAtomic(path, out, OIIO::TypeDesc::UNKNOWN, buffer.data());
+    return saturated;
 }
 
 } // namespace ff::image

@@ -64,8 +64,8 @@ Plate plateFromPixels(const std::string& name, int width, int height, std::vecto
 /// is a usable plate, else 3 with the reason on stderr (a crash or a hang is the caller's to see).
 int checkPlate(const std::string& path, const PlateLimits& limits);
 
-/// A layer simulate adds to the plate: channels name.R, name.G, name.B (float) from `rgb`, R, G, B
-/// interleaved over the data window.
+/// A layer simulate adds to the plate: channels name.R, name.G, name.B (float, or half) from `rgb`,
+/// R, G, B interleaved over the data window.
 struct Layer {
     std::string name;
     const std::vector<float>* rgb = nullptr;
@@ -74,8 +74,10 @@ struct Layer {
 /// Writes an EXR (zip, scanlines) holding every channel of the plate unchanged — names, order, data
 /// and display windows, metadata; channels stored as half, float or uint32 keep their bits, other
 /// formats (8/16-bit integers) are written as float of the values read — followed by the layers'
-/// channels in order. Atomic.
-void writeSimulatedExr(const std::string& path, const Plate& plate, const std::vector<Layer>& layers,
-                       const Metadata& metadata);
+/// channels in order, as float or, with `half`, as half (16-bit float: values beyond its largest,
+/// +-65504, are written as that, not as infinity). Atomic. Returns the number of layer values that
+/// half saturated (0 for float); a NaN or infinity stays what it is.
+std::size_t writeSimulatedExr(const std::string& path, const Plate& plate, const std::vector<Layer>& layers,
+                              const Metadata& metadata, bool half = false);
 
 } // namespace ff::image

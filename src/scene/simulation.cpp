@@ -4,6 +4,7 @@
 #include "core/stopwatch.h"
 #include "core/text.h"
 #include "core/units.h"
+#include "diffraction/psf_cache.h"
 #include "diffraction/wavefront.h"
 #include "fourier/backend.h"
 #include "fourier/render.h"
@@ -184,7 +185,7 @@ const diffraction::Psf& Simulation::idealPsf(double pitch) {
     if (!psf_ || psfPitch_ != pitch) {
         diffraction::PsfSettings ps;
         ps.pitchMm = pitch;
-        psf_ = std::make_unique<diffraction::Psf>(diffraction::pixelPsf(*aperture_, ps));
+        psf_ = std::make_unique<diffraction::Psf>(diffraction::cachedPixelPsf(*aperture_, ps, true, reporter_));
         psfPitch_ = pitch;
     }
     return *psf_;

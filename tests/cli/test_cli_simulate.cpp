@@ -104,7 +104,7 @@ TEST(CliSimulate, KeepsEveryChannelAndAddsFlareLayers) {
     ff::test::TempDir dir;
     const TestPlate plate = writePlate(dir / "plate.exr", 20, 12, 400.0f, 3, 2);
     const auto r = run(simulate(dir / "plate.exr", dir / "out.exr",
-                                "--preview '" + (dir / "out.png").string() + "' --lights-out '" +
+                                "--layers all --preview '" + (dir / "out.png").string() + "' --lights-out '" +
                                     (dir / "lights.json").string() + "'"),
                        kEnv);
     ASSERT_EQ(r.code, 0) << r.err;
@@ -150,6 +150,52 @@ TEST(CliSimulate, KeepsEveryChannelAndAddsFlareLayers) {
     EXPECT_NEAR(lights["lights"][0]["x"].get<double>(), 24.0, 1e-3);
     EXPECT_NEAR(lights["lights"][0]["y"].get<double>(), 15.0, 1e-3);
     EXPECT_NEAR(lights["lights"][0]["flux"][0].get<double>(), 4 * 400.0, 1e-6);
+}
+
+// By default the two layers a compositor grades apart; --layers chooses (written in one order),
+// --half writes them as half floats: each value the float one rounded to half, or +-65504 beyond
+// half's range (noted); a layer named twice or unknown is refused before anything is written.
+TEST(CliSimulate, LayersAndHalf) {
+    ff::test::TempDir dir;
+    writePlate(dir / "plate.exr", 20, 12, 400.0f);
+    const std::string light = " --light 40.5,30.5,1e12,1e12,1e12"; // ghosts far beyond half's range
+    ASSERT_EQ(run(simulate(dir / "plate.exr", dir / "default.exr", light), kEnv).code, 0);
+    const Exr d = readExr(dir / "default.exr");
+    EXPECT_EQ(d.spec.nchannels, 11); // R G B A Z + ghosts, diffraction
+    EXPECT_GE(d.channel("ghosts.R"), 0);
+    EXPECT_GE(d.channel("diffraction.B"), 0);
+    EXPECT_LT(d.channel("flare.R"), 0);
+    EXPECT_LT(d.channel("composite.R"), 0);
+    EXPECT_EQ(d.spec.channelformat(d.channel("ghosts.G")), OIIO::TypeDesc::FLOAT);
+    EXPECT_EQ(d.spec.get_string_attribute("fourierflare:channels").find("flare.R"), std::string::npos);
+
+    const auto h = run(simulate(dir / "plate.exr", dir / "half.exr", "--half --layers composite,ghosts" + light), kEnv);
+    ASSERT_EQ(h.code, 0) << h.err;
+    EXPECT_NE(h.err.find("beyond half's range"), std::string::npos) << h.err;
+    ASSERT_EQ(run(simulate(dir / "plate.exr", dir / "float.exr", "--layers all" + light), kEnv).code, 0);
+    const Exr a = readExr(dir / "half.exr"), b = readExr(dir / "float.exr");
+    EXPECT_EQ(a.spec.nchannels, 11);
+    EXPECT_LT(a.channel("diffraction.R"), 0);
+    std::size_t saturated = 0;
+    for (const char* name : {"ghosts.R", "ghosts.B", "composite.G"}) {
+        const int ca = a.channel(name), cb = b.channel(name);
+        ASSERT_TRUE(ca >= 0 && cb >= 0) << name;
+        EXPECT_EQ(a.spec.channelformat(ca), OIIO::TypeDesc::HALF);
+        for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) {
+            const float v = b.at(p, cb);
+            const float expected =
+                std::abs(v) > 65504.0f ? std::copysign(65504.0f, v) : static_cast<float>(static_cast<Imath::half>(v));
+            saturated += std::abs(v) > 65504.0f;
+            ASSERT_EQ(a.at(p, ca), expected) << name << " pixel " << p;
+        }
+    }
+    EXPECT_GT(saturated, 0u);
+    for (const std::string bad : {"ghosts,ghosts", "ghost", "", "all,flare"}) {
+        const auto r = run(simulate(dir / "plate.exr", dir / "bad.exr", "--layers '" + bad + "'" + light), kEnv);
+        EXPECT_EQ(r.code, 2) << bad;
+        EXPECT_NE(r.err.find("--layers"), std::string::npos) << r.err;
+    }
+    EXPECT_FALSE(fs::exists(dir / "bad.exr"));
 }
 
 // The default (shaped) flare of a light found in a plate whose data window sits inside a larger
@@ -265,7 +311,7 @@ TEST(CliSimulate, OutputDoesNotDependOnTheThreadCount) {
 TEST(CliSimulate, PlatesWithoutLightsAndTinyPlates) {
     ff::test::TempDir dir;
     writePlate(dir / "dark.exr", -1, -1, 0.0f);
-    const auto r = run(simulate(dir / "dark.exr", dir / "out.exr"), kEnv);
+    const auto r = run(simulate(dir / "dark.exr", dir / "out.exr", "--layers flare"), kEnv);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("0 lights above luminance 2.000"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("no flare, the output is the plate plus a zero flare layer"), std::string::npos) << r.err;
@@ -329,7 +375,7 @@ TEST(CliSimulate, RefusesBadInputsWithoutWritingAnything) {
 TEST(CliSimulate, DiffractionOffGainAndLightsGivenByHand) {
     ff::test::TempDir dir;
     writePlate(dir / "plate.exr", -1, -1, 0.0f);
-    const std::string light = " --light 40.5,30.5,5000,5000,5000";
+    const std::string light = " --layers ghosts,diffraction,flare --light 40.5,30.5,5000,5000,5000";
     ASSERT_EQ(run(simulate(dir / "plate.exr", dir / "off.exr", "--diffraction off" + light), kEnv).code, 0);
     ASSERT_EQ(run(simulate(dir / "plate.exr", dir / "one.exr", light), kEnv).code, 0);
     ASSERT_EQ(run(simulate(dir / "plate.exr", dir / "two.exr", "--diffraction-gain 2" + light), kEnv).code, 0);
@@ -467,7 +513,7 @@ TEST(CliSimulate, GlBackendMatchesTheCpuBackend) {
         SCOPED_TRACE(model);
         ff::test::TempDir dir;
         writePlate(dir / "plate.exr", 30, 20, 800.0f);
-        const std::string options = "--ghost-model " + model + " --fourier-n 32";
+        const std::string options = "--ghost-model " + model + " --fourier-n 32 --layers all";
         const auto gl = run(simulate(dir / "plate.exr", dir / "gl.exr", options + " --backend gl"), kEnv);
         if (gl.code == 1 && gl.err.find("no OpenGL 4.5 context") != std::string::npos) GTEST_SKIP() << gl.err;
         ASSERT_EQ(gl.code, 0) << gl.err;

@@ -26,15 +26,9 @@ Psf randomKernel(int radius, unsigned seed) {
     return psf;
 }
 
-TEST(Convolution, MatchesTheDirectSum) {
-    const int W = 37, H = 23;
-    const Psf psf = randomKernel(6, 3);
-    std::mt19937 rng(5);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    std::vector<float> image(static_cast<std::size_t>(W) * H * 3, 0.0f);
-    for (int k = 0; k < 12; ++k) // lights, some at the frame's edges
-        for (int c = 0; c < 3; ++c)
-            image[(static_cast<std::size_t>(rng() % H) * W + rng() % W) * 3 + c] = static_cast<float>(100.0 * u(rng));
+// Both routes against the sum written out here: a few lights at random (some at the frame's edges:
+// the kernel added at each) and a frame lit everywhere (by FFT).
+void expectTheDirectSum(const std::vector<float>& image, int W, int H, const Psf& psf) {
     double off = 0.0;
     const auto fft = convolve(image, W, H, psf, &off);
     double num = 0.0, den = 0.0, in = 0.0, kept = 0.0;
@@ -57,6 +51,22 @@ TEST(Convolution, MatchesTheDirectSum) {
     EXPECT_LT(std::sqrt(num / den), 1e-5);
     EXPECT_NEAR(off, in - kept, 1e-4 * in);
     EXPECT_GT(off, 0.0);
+}
+
+TEST(Convolution, MatchesTheDirectSum) {
+    const int W = 37, H = 23;
+    const Psf psf = randomKernel(6, 3);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<float> image(static_cast<std::size_t>(W) * H * 3, 0.0f);
+    for (int k = 0; k < 12; ++k) // lights, some at the frame's edges
+        for (int c = 0; c < 3; ++c)
+            image[(static_cast<std::size_t>(rng() % H) * W + rng() % W) * 3 + c] = static_cast<float>(100.0 * u(rng));
+    ASSERT_TRUE(convolvesDirectly(36, W, H, psf));
+    expectTheDirectSum(image, W, H, psf);
+    for (float& v : image) v += static_cast<float>(u(rng));
+    ASSERT_FALSE(convolvesDirectly(image.size(), W, H, psf));
+    expectTheDirectSum(image, W, H, psf);
 }
 
 // One light in the middle: the layer is the kernel around it minus the light, summing to zero; it is

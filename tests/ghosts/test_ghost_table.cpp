@@ -202,7 +202,7 @@ TEST(GhostTable, CacheHitsMissesAndRebuildsOldAndDamagedEntries) {
     bool cached = true;
     const GhostTable first = tableFor(cooke(), small(), true, {}, rep, &cached);
     EXPECT_FALSE(cached); // miss: built and stored
-    const auto file = cacheDirectory() / (hashHex(shapedCacheKey(cooke(), small())) + ".shaped");
+    const auto file = ff::cacheDirectory() / (hashHex(shapedCacheKey(cooke(), small())) + ".shaped");
     ASSERT_TRUE(std::filesystem::exists(file));
     const GhostTable second = tableFor(cooke(), small(), true, {}, rep, &cached);
     EXPECT_TRUE(cached); // hit

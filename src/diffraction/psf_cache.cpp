@@ -1,0 +1,141 @@
+#include "diffraction/psf_cache.h"
+
+#include "core/error.h"
+#include "core/file_io.h"
+#include "core/text.h"
+
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <zlib.h>
+
+namespace fs = std::filesystem;
+
+namespace ff::diffraction {
+
+namespace {
+
+constexpr char kMagic[8] = {'F', 'F', 'P', 'S', 'F', '\0', '\0', '\0'};
+constexpr std::uint32_t kVersion = 1;
+constexpr std::uintmax_t kMaxEntryBytes = std::uintmax_t(1) << 32;
+
+template <typename T>
+void put(std::string& out, T v) {
+    out.append(reinterpret_cast<const char*>(&v), sizeof v);
+}
+
+std::uint32_t crc(std::string_view s) {
+    return static_cast<std::uint32_t>(crc32(0L, reinterpret_cast<const Bytef*>(s.data()), static_cast<uInt>(s.size())));
+}
+
+struct Reader {
+    std::string_view bytes;
+    std::size_t at = 0;
+    const std::string& file;
+    template <typename T>
+    T get() {
+        if (bytes.size() - at < sizeof(T)) throw Error(ErrorKind::Input, SourceLocation{file}, "the PSF is truncated");
+        T v;
+        std::memcpy(&v, bytes.data() + at, sizeof v);
+        at += sizeof v;
+        return v;
+    }
+    std::string_view take(std::size_t n) {
+        if (bytes.size() - at < n) throw Error(ErrorKind::Input, SourceLocation{file}, "the PSF is truncated");
+        const std::string_view s = bytes.substr(at, n);
+        at += n;
+        return s;
+    }
+};
+
+} // namespace
+
+std::string psfCacheKey(const Aperture& a, const PsfSettings& s) {
+    std::string key = "psf " + std::to_string(kVersion) + "; blades " + std::to_string(a.blades) + "; rotation " +
+                      text::roundTrip(a.rotationRad) + "; N " + text::roundTrip(a.fNumber) + "; pitch " +
+                      text::roundTrip(s.pitchMm) + "; transform " + std::to_string(s.transform) + "; nm";
+    for (double l : s.wavelengthsNm) key += " " + text::roundTrip(l);
+    if (s.wavelengthsNm.empty()) key += " default";
+    return key;
+}
+
+std::string psfToBytes(const Psf& psf, const std::string& key) {
+    std::string out(kMagic, sizeof kMagic);
+    put(out, kVersion);
+    put(out, static_cast<std::uint64_t>(key.size()));
+    out += key;
+    put(out, static_cast<std::int32_t>(psf.radius));
+    put(out, psf.outside);
+    put(out, psf.edge);
+    put(out, static_cast<std::uint32_t>(psf.wavelengthsNm.size()));
+    for (std::size_t i = 0; i < psf.wavelengthsNm.size(); ++i) {
+        put(out, psf.wavelengthsNm[i]);
+        put(out, static_cast<std::int32_t>(i < psf.binning.size() ? psf.binning[i] : 0));
+    }
+    for (const auto& c : psf.channel) out.append(reinterpret_cast<const char*>(c.data()), c.size() * sizeof(float));
+    put(out, crc(out));
+    return out;
+}
+
+Psf psfFromBytes(std::string_view bytes, const std::string& file, std::string& key) {
+    auto bad = [&](const std::string& why) { throw Error(ErrorKind::Input, SourceLocation{file}, why); };
+    if (bytes.size() < sizeof kMagic + 4 || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+        bad("not a FourierFlare PSF");
+    std::uint32_t stored = 0;
+    std::memcpy(&stored, bytes.data() + bytes.size() - 4, 4);
+    if (crc(bytes.substr(0, bytes.size() - 4)) != stored) bad("the PSF fails its CRC");
+    Reader r{bytes.substr(0, bytes.size() - 4), sizeof kMagic, file};
+    if (r.get<std::uint32_t>() != kVersion) bad("the PSF is of another format version");
+    const auto keyBytes = r.get<std::uint64_t>();
+    key = std::string(r.take(static_cast<std::size_t>(std::min<std::uint64_t>(keyBytes, bytes.size()))));
+    Psf p;
+    p.radius = r.get<std::int32_t>();
+    p.outside = r.get<double>();
+    p.edge = r.get<double>();
+    const auto wavelengths = r.get<std::uint32_t>();
+    if (p.radius < 0 || p.radius > 1 << 14 || wavelengths > 1024) bad("the PSF's sizes are out of range");
+    for (std::uint32_t i = 0; i < wavelengths; ++i) {
+        p.wavelengthsNm.push_back(r.get<double>());
+        p.binning.push_back(r.get<std::int32_t>());
+    }
+    const std::size_t n = static_cast<std::size_t>(p.width()) * p.width();
+    for (auto& c : p.channel) {
+        const std::string_view v = r.take(n * sizeof(float));
+        c.resize(n);
+        std::memcpy(c.data(), v.data(), v.size());
+    }
+    if (r.at != r.bytes.size()) bad("the PSF has trailing bytes");
+    return p;
+}
+
+Psf cachedPixelPsf(const Aperture& aperture, const PsfSettings& settings, bool useCache, Reporter& reporter,
+                   bool* fromCache) {
+    if (fromCache) *fromCache = false;
+    if (settings.pupil || !useCache) return pixelPsf(aperture, settings);
+    const std::string key = psfCacheKey(aperture, settings);
+    const fs::path file = cacheDirectory() / (hashHex(key) + ".psf");
+    std::error_code ec;
+    if (fs::exists(file, ec)) {
+        try {
+            std::string stored;
+            Psf p = psfFromBytes(readFileBytes(file, kMaxEntryBytes), file.string(), stored);
+            if (stored == key) {
+                if (fromCache) *fromCache = true;
+                return p;
+            }
+            reporter.note({file.string()}, "cached PSF does not match the iris or the pixel pitch; recomputing it");
+        } catch (const Error& e) {
+            reporter.note({file.string()}, "cached PSF is unreadable (" + e.message() + "); recomputing it");
+        }
+    }
+    Psf p = pixelPsf(aperture, settings);
+    fs::create_directories(file.parent_path(), ec);
+    try {
+        writeFileAtomic(file, psfToBytes(p, key));
+    } catch (const Error& e) {
+        reporter.warning({file.string()}, "could not store the PSF in the cache: " + e.message());
+    }
+    return p;
+}
+
+} // namespace ff::diffraction
