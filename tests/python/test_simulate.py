@@ -52,7 +52,7 @@ def test_the_layers_are_the_cli_layers(ff, tmp_path, kwargs, extra):
     pixels = plate_array()
     write_plate(tmp_path / "plate.exr", pixels)
     run_cli("simulate", "--lens", COOKE, "--plate", tmp_path / "plate.exr", "-o", tmp_path / "out.exr",
-            "--lights-out", tmp_path / "lights.json", "--backend", "cpu", *extra)
+            "--lights-out", tmp_path / "lights.json", "--backend", "cpu", "--layers", "all", *extra)
     cli = read_layers(tmp_path / "out.exr")
     mine = ff.simulate(pixels, ff.Lens.load(COOKE), **kwargs)
     for layer, image in cli.items():
