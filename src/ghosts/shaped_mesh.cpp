@@ -216,7 +216,7 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
                 };
                 bool edge = false;
                 const double landing = cubic ? std::max(deviation(0), deviation(1)) : 0.0;
-                double dev = landing;
+                double edgeDev = 0.0;
                 const double sizePx = std::max(
                     {std::abs(attr[v11 * S] - attr[v00 * S]), std::abs(attr[v10 * S] - attr[v01 * S]),
                      std::abs(attr[v11 * S + 1] - attr[v00 * S + 1]), std::abs(attr[v10 * S + 1] - attr[v01 * S + 1])});
@@ -226,13 +226,15 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
                     const double lo = std::min({a, b, d, e}), hi = std::max({a, b, d, e});
                     if (!(lo < 0.0 && hi >= 0.0)) continue;
                     edge = true;
-                    if (cubic) dev = std::max(dev, deviation(3 + k) * sizePx / (hi - lo));
+                    if (cubic) edgeDev = std::max(edgeDev, deviation(3 + k) * sizePx / (hi - lo));
                 }
+                const double edgeFlatness = in.edgeFlatnessPx > 0.0 ? in.edgeFlatnessPx : in.flatnessPx;
                 if (edge && !cubic)
                     K = kEdge;
                 else
-                    K = std::clamp(static_cast<int>(std::ceil(std::sqrt(dev / in.flatnessPx))), 1,
-                                   settings.maxSubdivision);
+                    K = std::clamp(static_cast<int>(
+                                       std::ceil(std::sqrt(std::max(landing / in.flatnessPx, edgeDev / edgeFlatness)))),
+                                   1, settings.maxSubdivision);
                 // A flat sub-cell carries its mean irradiance; its neighbour's differs by the relative
                 // change of the map's Jacobian across it, about 8 dev / (K sizePx) for a map that
                 // deviates dev pixels from flat over a cell of sizePx (dev = h^2 x'' / 8, sizePx = h x').

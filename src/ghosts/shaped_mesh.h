@@ -15,6 +15,8 @@ struct MeshInstance {
     int a0 = 0;
     double t = 0.0;
     double flatnessPx = 0.0; ///< the subdivision's tolerance (ShapedRenderSettings::flatnessPx)
+    /// the tolerance where an aperture's edge crosses a cell (0: flatnessPx)
+    double edgeFlatnessPx = 0.0;
     /// the largest relative step of irradiance between neighbouring sub-cells (irradianceStep)
     double irradianceStep = std::numeric_limits<double>::infinity();
     /// Every decimation-th vertex of the mesh on each axis (a divisor of the ghost's grid): cells

@@ -335,6 +335,9 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
             Instance in = instances[i];
             const ShapedGhost& gh = table.ghosts[in.mesh.ghost];
             const double cellPx = 0.25 * *std::max_element(perimeterPx[i].begin(), perimeterPx[i].end()) / gh.grid;
+            // Where an aperture cuts a cell, its chord keeps the direct tolerance (in cells): a
+            // coarser chord of a convex outline cuts off flux (about 4/3 sag / radius of it).
+            in.mesh.edgeFlatnessPx = in.mesh.flatnessPx / grid.step;
             in.mesh.flatnessPx = settings.gridFlatness;
             in.mesh.irradianceStep = std::numeric_limits<double>::infinity();
             in.mesh.decimation = 1;
