@@ -21,32 +21,43 @@ bool convolvesDirectly(std::size_t lit, int width, int height, const Psf& psf) {
 namespace {
 
 // The same convolution by adding the kernel at each lit pixel: no transform's rounding, zero beyond
-// the kernel's reach. A pixel sums the few lights within the kernel's reach of it in float; what
-// stays in the frame is summed per light in double.
+// the kernel's reach. Summed in double over the lit pixels' box grown by the kernel's reach, then
+// rounded once to float, as the transforms' result is.
 void convolveDirect(const std::vector<float>& image, int width, int height, const Psf& psf, std::vector<float>& out,
                     std::array<double, 3>& off) {
     const int R = psf.radius, kw = psf.width();
     tbb::parallel_for(0, 3, [&](int c) {
         const std::vector<float>& kernel = psf.channel[static_cast<std::size_t>(c)];
+        int bx0 = width, by0 = height, bx1 = -1, by1 = -1;
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x)
+                if (image[(static_cast<std::size_t>(y) * width + x) * 3 + c] != 0.0f)
+                    bx0 = std::min(bx0, x), bx1 = std::max(bx1, x), by0 = std::min(by0, y), by1 = std::max(by1, y);
+        if (bx1 < 0) return;
+        bx0 = std::max(0, bx0 - R), by0 = std::max(0, by0 - R);
+        bx1 = std::min(width - 1, bx1 + R), by1 = std::min(height - 1, by1 + R);
+        const int bw = bx1 - bx0 + 1;
+        std::vector<double> acc(static_cast<std::size_t>(bw) * (by1 - by0 + 1), 0.0);
         double in = 0.0, kept = 0.0, whole = 0.0;
         for (float v : kernel) whole += v;
-        for (int y = 0; y < height; ++y)
-            for (int x = 0; x < width; ++x) {
-                const float v = image[(static_cast<std::size_t>(y) * width + x) * 3 + c];
-                if (v == 0.0f) continue;
+        for (int y = by0; y <= by1; ++y)
+            for (int x = bx0; x <= bx1; ++x) {
+                const double v = image[(static_cast<std::size_t>(y) * width + x) * 3 + c];
+                if (v == 0.0) continue;
                 in += v;
                 const int y0 = std::max(-R, -y), y1 = std::min(R, height - 1 - y);
                 const int x0 = std::max(-R, -x), x1 = std::min(R, width - 1 - x);
-                double inside = 0.0;
                 for (int dy = y0; dy <= y1; ++dy) {
                     const float* k = &kernel[static_cast<std::size_t>(dy + R) * kw + (x0 + R)];
-                    float* o = &out[((static_cast<std::size_t>(y + dy) * width + (x + x0)) * 3) + c];
-                    for (int dx = 0; dx <= x1 - x0; ++dx) {
-                        o[3 * dx] += v * k[dx];
-                        inside += k[dx];
-                    }
+                    double* a = &acc[static_cast<std::size_t>(y + dy - by0) * bw + (x + x0 - bx0)];
+                    for (int dx = 0; dx <= x1 - x0; ++dx) a[dx] += v * k[dx];
                 }
-                kept += v * inside;
+            }
+        for (int y = by0; y <= by1; ++y)
+            for (int x = bx0; x <= bx1; ++x) {
+                const double v = acc[static_cast<std::size_t>(y - by0) * bw + (x - bx0)];
+                out[(static_cast<std::size_t>(y) * width + x) * 3 + c] = static_cast<float>(v);
+                kept += v;
             }
         off[static_cast<std::size_t>(c)] = std::max(0.0, in * whole - kept);
     });

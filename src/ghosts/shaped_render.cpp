@@ -218,8 +218,9 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
     // Per instance and channel, from its mesh at the lower table angle: the cells' irradiance I
     // (flux per pixel, a cell carrying light where a corner passes every aperture), its squared norm
     // sum I^2 a (a lower bound of the ghost's: Cauchy-Schwarz within each cell), its jumps sum over
-    // the cells' shared sides of (I - I')^2 times the side's length (unlit cells and the grid's
-    // border count as I' = 0: a uniform ghost gives I^2 times its perimeter), and the perimeter of
+    // the cells' shared sides of (I - I')^2 times the side's length (unlit cells, the mesh's border
+    // and cells beyond the Fourier grid, which the grid cuts off, count as I' = 0: a uniform ghost
+    // gives I^2 times its perimeter; the norm counts the cells in the frame), and the perimeter of
     // its outline's box. At the middle wavelength, its mean irradiance over the whole mesh sets its
     // drawing tolerance.
     std::vector<double> irradiance(instances.size(), 0.0);
@@ -246,6 +247,15 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
             return true;
         };
         std::vector<double> I(static_cast<std::size_t>(n) * n, 0.0), cellArea(I.size(), 0.0);
+        std::vector<char> inFrame(I.size(), 1);
+        // Where the light's cells land (turned by its azimuth), for the grid's and the frame's extents.
+        const double cs = std::cos(lights[instances[i].light].field.azimuthRad),
+                     sn = std::sin(lights[instances[i].light].field.azimuthRad);
+        const auto& g = settings.grid;
+        auto centre = [&](const float* p, const float* q, const float* r, const float* u) {
+            const double x = 0.25 * (double(p[0]) + q[0] + r[0] + u[0]), y = 0.25 * (double(p[1]) + q[1] + r[1] + u[1]);
+            return frame.sensorToPixel(cs * x - sn * y, sn * x + cs * y);
+        };
         double meshArea = 0.0, weights = 0.0;
         double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
         for (int y = 0; y < n; ++y)
@@ -258,9 +268,16 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
                 const double weight =
                     0.25 * (std::max(0.0f, p[2]) + std::max(0.0f, q[2]) + std::max(0.0f, r[2]) + std::max(0.0f, u[2]));
                 const std::size_t cell = static_cast<std::size_t>(y) * n + x;
+                weights += weight;
+                if (settings.gridError > 0.0 && g.step > 0 && g.width > 0 && g.height > 0) {
+                    const glm::dvec2 c0 = centre(p, q, r, u);
+                    inFrame[cell] = c0.x >= 0.0 && c0.y >= 0.0 && c0.x <= frame.width && c0.y <= frame.height;
+                    if (c0.x < g.x0 || c0.y < g.y0 || c0.x > g.x0 + double(g.width) * g.step ||
+                        c0.y > g.y0 + double(g.height) * g.step)
+                        continue;
+                }
                 I[cell] = weight / (c / px2);
                 cellArea[cell] = c / px2;
-                weights += weight;
                 for (const float* v : {p, q, r, u})
                     x0 = std::min(x0, double(v[0])), x1 = std::max(x1, double(v[0])), y0 = std::min(y0, double(v[1])),
                     y1 = std::max(y1, double(v[1]));
@@ -277,7 +294,7 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
             for (int x = 0; x < n; ++x) {
                 const std::size_t cell = static_cast<std::size_t>(y) * n + x;
                 const double here = scale * I[cell], fallback = std::sqrt(cellArea[cell]);
-                n2 += here * here * cellArea[cell];
+                if (inFrame[cell]) n2 += here * here * cellArea[cell];
                 // Its right and lower sides against the neighbour (or the border); its left and upper
                 // sides against the border.
                 const double right = x + 1 < n ? scale * I[cell + 1] : 0.0;
