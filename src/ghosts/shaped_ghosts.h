@@ -122,7 +122,7 @@ struct ShapedRenderSettings {
     /// a budget, the instances whose estimated error on the grid is smallest are drawn onto it
     /// instead of the frame, as many as keep the estimated relative L2 error of every channel of
     /// the flare within gridError; the caller takes the grid to the frame (its Fourier series).
-    double gridError = 0.0;    ///< 0: every instance drawn directly
+    double gridError = 0.0;     ///< 0: every instance drawn directly
     double gridFlatness = 0.25; ///< the gridded instances' tolerance, in grid cells
     struct Grid {
         int step = 0;              ///< cell size, frame pixels (0: no grid)
