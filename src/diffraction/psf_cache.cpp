@@ -17,7 +17,7 @@ namespace {
 
 constexpr char kMagic[8] = {'F', 'F', 'P', 'S', 'F', '\0', '\0', '\0'};
 constexpr std::uint32_t kVersion = 1;
-constexpr std::uintmax_t kMaxEntryBytes = std::uintmax_t(1) << 32;
+constexpr std::uintmax_t kMaxEntryBytes = std::uintmax_t(1) << 31; // within zlib's 32-bit CRC length
 
 template <typename T>
 void put(std::string& out, T v) {
