@@ -1,5 +1,6 @@
 #include "diffraction/psf_cache.h"
 
+#include "core/byte_io.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/text.h"
@@ -19,34 +20,9 @@ constexpr char kMagic[8] = {'F', 'F', 'P', 'S', 'F', '\0', '\0', '\0'};
 constexpr std::uint32_t kVersion = 1;
 constexpr std::uintmax_t kMaxEntryBytes = std::uintmax_t(1) << 31; // within zlib's 32-bit CRC length
 
-template <typename T>
-void put(std::string& out, T v) {
-    out.append(reinterpret_cast<const char*>(&v), sizeof v);
-}
-
 std::uint32_t crc(std::string_view s) {
     return static_cast<std::uint32_t>(crc32(0L, reinterpret_cast<const Bytef*>(s.data()), static_cast<uInt>(s.size())));
 }
-
-struct Reader {
-    std::string_view bytes;
-    std::size_t at = 0;
-    const std::string& file;
-    template <typename T>
-    T get() {
-        if (bytes.size() - at < sizeof(T)) throw Error(ErrorKind::Input, SourceLocation{file}, "the PSF is truncated");
-        T v;
-        std::memcpy(&v, bytes.data() + at, sizeof v);
-        at += sizeof v;
-        return v;
-    }
-    std::string_view take(std::size_t n) {
-        if (bytes.size() - at < n) throw Error(ErrorKind::Input, SourceLocation{file}, "the PSF is truncated");
-        const std::string_view s = bytes.substr(at, n);
-        at += n;
-        return s;
-    }
-};
 
 } // namespace
 
@@ -61,19 +37,19 @@ std::string psfCacheKey(const Aperture& a, const PsfSettings& s) {
 
 std::string psfToBytes(const Psf& psf, const std::string& key) {
     std::string out(kMagic, sizeof kMagic);
-    put(out, kVersion);
-    put(out, static_cast<std::uint64_t>(key.size()));
+    putBytes(out, kVersion);
+    putBytes(out, static_cast<std::uint64_t>(key.size()));
     out += key;
-    put(out, static_cast<std::int32_t>(psf.radius));
-    put(out, psf.outside);
-    put(out, psf.edge);
-    put(out, static_cast<std::uint32_t>(psf.wavelengthsNm.size()));
+    putBytes(out, static_cast<std::int32_t>(psf.radius));
+    putBytes(out, psf.outside);
+    putBytes(out, psf.edge);
+    putBytes(out, static_cast<std::uint32_t>(psf.wavelengthsNm.size()));
     for (std::size_t i = 0; i < psf.wavelengthsNm.size(); ++i) {
-        put(out, psf.wavelengthsNm[i]);
-        put(out, static_cast<std::int32_t>(i < psf.binning.size() ? psf.binning[i] : 0));
+        putBytes(out, psf.wavelengthsNm[i]);
+        putBytes(out, static_cast<std::int32_t>(i < psf.binning.size() ? psf.binning[i] : 0));
     }
     for (const auto& c : psf.channel) out.append(reinterpret_cast<const char*>(c.data()), c.size() * sizeof(float));
-    put(out, crc(out));
+    putBytes(out, crc(out));
     return out;
 }
 
@@ -84,7 +60,7 @@ Psf psfFromBytes(std::string_view bytes, const std::string& file, std::string& k
     std::uint32_t stored = 0;
     std::memcpy(&stored, bytes.data() + bytes.size() - 4, 4);
     if (crc(bytes.substr(0, bytes.size() - 4)) != stored) bad("the PSF fails its CRC");
-    Reader r{bytes.substr(0, bytes.size() - 4), sizeof kMagic, file};
+    ByteReader r{bytes.substr(0, bytes.size() - 4), sizeof kMagic, file, "the PSF is truncated"};
     if (r.get<std::uint32_t>() != kVersion) bad("the PSF is of another format version");
     const auto keyBytes = r.get<std::uint64_t>();
     key = std::string(r.take(static_cast<std::size_t>(std::min<std::uint64_t>(keyBytes, bytes.size()))));

@@ -1,5 +1,6 @@
 #include "ghosts/shaped_cache.h"
 
+#include "core/byte_io.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/text.h"
@@ -28,35 +29,6 @@ constexpr std::uint16_t kLost = 65535;
 constexpr double kLevels = 65534.0;
 constexpr std::uintmax_t kMaxEntryBytes = std::uintmax_t(4) << 30;
 constexpr std::uint64_t kMaxHeaderBytes = std::uint64_t(1) << 30;
-
-template <class T>
-void put(std::string& out, T v) {
-    char b[sizeof(T)];
-    std::memcpy(b, &v, sizeof(T));
-    out.append(b, sizeof(T));
-}
-
-// Reads fixed-size values from a byte range, throwing on a short read.
-struct Reader {
-    std::string_view bytes;
-    std::size_t at = 0;
-    const std::string& file;
-    template <class T>
-    T get() {
-        if (bytes.size() - at < sizeof(T))
-            throw Error(ErrorKind::Input, SourceLocation{file}, "truncated shaped-table entry");
-        T v;
-        std::memcpy(&v, bytes.data() + at, sizeof(T));
-        at += sizeof(T);
-        return v;
-    }
-    std::string_view take(std::uint64_t n) {
-        if (bytes.size() - at < n) throw Error(ErrorKind::Input, SourceLocation{file}, "truncated shaped-table entry");
-        const std::string_view s = bytes.substr(at, static_cast<std::size_t>(n));
-        at += static_cast<std::size_t>(n);
-        return s;
-    }
-};
 
 std::size_t vertices(const ShapedGhost& g) {
     return static_cast<std::size_t>(g.grid + 1) * (g.grid + 1);
@@ -127,8 +99,8 @@ std::string encodeGhost(const ShapedGhost& g) {
             for (std::size_t v = 0; v < V && !m.data.empty(); ++v) out.push_back(lostAt(m, S, v) ? 1 : 0);
         for (std::size_t z = 0; z < S; ++z) {
             const auto [lo, hi] = range(perAngle, V, S, z);
-            put(out, lo);
-            put(out, hi);
+            putBytes(out, lo);
+            putBytes(out, hi);
             const double scale = hi > lo ? kLevels / (double(hi) - double(lo)) : 0.0;
             std::string low, high;
             walkCodes(perAngle, V, row, [&](std::size_t a, std::size_t v, std::uint16_t pred) {
@@ -169,7 +141,7 @@ void quantiseGhost(ShapedGhost& g) {
 
 void decodeGhost(ShapedGhost& g, std::string_view raw, const std::string& file) {
     const std::size_t V = vertices(g), S = g.stride(), row = static_cast<std::size_t>(g.grid) + 1;
-    Reader r{raw, 0, file};
+    ByteReader r{raw, 0, file, "truncated shaped-table entry"};
     for (auto& perAngle : g.meshes) {
         std::vector<std::string_view> lost(perAngle.size());
         std::size_t present = 0;
@@ -259,10 +231,10 @@ std::string shapedTableToBytes(const ShapedTable& t, const std::string& key) {
     }
     const std::string header = h.dump();
     std::string out(kMagic, sizeof kMagic);
-    put(out, kVersion);
-    put(out, static_cast<std::uint64_t>(header.size()));
+    putBytes(out, kVersion);
+    putBytes(out, static_cast<std::uint64_t>(header.size()));
     out += header;
-    put(out, crc(header));
+    putBytes(out, crc(header));
     for (const std::string& c : chunks) out += c;
     return out;
 }
@@ -270,7 +242,7 @@ std::string shapedTableToBytes(const ShapedTable& t, const std::string& key) {
 namespace {
 
 // The entry's header (magic, format version, JSON with its CRC), checked; r is left after it.
-std::string_view readHeader(Reader& r, const std::string& file) {
+std::string_view readHeader(ByteReader& r, const std::string& file) {
     if (r.take(sizeof kMagic) != std::string_view(kMagic, sizeof kMagic))
         throw Error(ErrorKind::Input, SourceLocation{file}, "not a shaped-table entry");
     if (const auto v = r.get<std::uint32_t>(); v != kVersion)
@@ -294,7 +266,7 @@ GhostTable fittedFrom(const nlohmann::json& h, const std::string& file) {
 } // namespace
 
 ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file, std::string& key) {
-    Reader r{bytes, 0, file};
+    ByteReader r{bytes, 0, file, "truncated shaped-table entry"};
     const std::string_view header = readHeader(r, file);
     ShapedTable t;
     std::vector<std::string_view> chunks;
@@ -475,7 +447,7 @@ GhostTable tableFor(const optics::Lens& lens, const TableSettings& s, bool useCa
                     in.read(head.data() + sizeof kMagic + 12, static_cast<std::streamsize>(n + 4));
                 }
             }
-            Reader r{head, 0, file.string()};
+            ByteReader r{head, 0, file.string(), "truncated shaped-table entry"};
             const nlohmann::json h = nlohmann::json::parse(readHeader(r, file.string()));
             if (h.at("key").get<std::string>() == key) {
                 GhostTable t = fittedFrom(h, file.string());
