@@ -4,6 +4,7 @@
 
 #include "diffraction/psf.h"
 
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <vector>
@@ -20,15 +21,20 @@ class Convolver {
 };
 
 /// image (R, G, B interleaved, width x height) convolved with the PSF's channels (linear, not
-/// circular: zero outside the frame): by FFT, or by adding the kernel at each non-zero pixel where
+/// circular: zero outside the frame; the kernel with its far field reaching from the lights to the
+/// frame's far edges, frameKernel): by FFT, or by adding the kernel at each non-zero pixel where
 /// there are so few that this costs less (the same values up to the transforms' rounding). The flux the kernel carries
 /// beyond the frame is added to *offFrame (summed over the channels) when given.
 std::vector<float> convolve(const std::vector<float>& image, int width, int height, const Psf& psf,
                             double* offFrame = nullptr);
 
-/// Whether convolve adds the kernel at each of `lit` non-zero values (R, G and B counted apart)
+/// How far (x, y) convolve's kernel reaches: the PSF's square without a far field; with one, from the
+/// image's non-zero pixels to the frame's far edges.
+std::array<int, 2> kernelReach(const std::vector<float>& image, int width, int height, const Psf& psf);
+
+/// Whether convolve adds the kernel at each of image's non-zero values (R, G and B counted apart)
 /// rather than transforming.
-bool convolvesDirectly(std::size_t lit, int width, int height, const Psf& psf);
+bool convolvesDirectly(const std::vector<float>& image, int width, int height, const Psf& psf);
 
 /// The diffraction layer of the light sources `lights` (R, G, B interleaved; the part of the plate
 /// that is the lights' sharp image): gain x (lights * PSF - lights), the lights' flux spread into

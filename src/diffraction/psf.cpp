@@ -39,7 +39,8 @@ Aperture apertureOf(const optics::Lens& lens) {
 namespace {
 
 constexpr int kMaxTransform = 16384;
-constexpr double kTaper = 0.6; // share of the kernel's reach left whole
+constexpr double kJoin = 0.2, kJoinEnd = 0.4; // of the transform's reach: the near field's blend into the far
+constexpr int kAliases = 4;                    // neighbouring periods subtracted each way
 
 // The PSF's samples in the transform's order (sample (i, j) at offset ((i, j) mod F) x spacing from
 // the light, +y up the rows): share of the flux per sample, summing to 1.
@@ -223,17 +224,19 @@ std::vector<std::array<double, 3>> channelWeights(const PsfSettings& settings, s
     return weights;
 }
 
-// One wavelength's kernel binned over pixels, its reach, samples per pixel, the flux it leaves out
-// (kept in the centre pixel) and its value where the taper starts over the centre.
+// One wavelength's kernel binned over pixels, its reach, samples per pixel, its far field and its
+// value where the far field takes over, over the centre.
 struct WavelengthKernel {
     std::vector<double> kernel; ///< (2 radius + 1)^2, rows down
     int radius = 0, binning = 0;
-    double outside = 0.0, edge = 0.0;
+    double edge = 0.0;
+    FarField far; ///< this wavelength's alone (weights 1)
 };
 
 WavelengthKernel wavelengthKernel(const Aperture& aperture, const PsfSettings& settings, double lambdaNm) {
     const int F = settings.transform;
     WavelengthKernel k;
+    k.far = farField(aperture, settings.pitchMm, {lambdaNm}, {{1.0, 1.0, 1.0}});
     const double lambdaN = lambdaNm * 1e-6 * aperture.fNumber;
     // S samples per pixel, at most lambda N / 2 apart (the intensity's Nyquist rate).
     // S and K (below) have no prime factor above 7: the transform's size K S stays fast.
@@ -268,33 +271,58 @@ WavelengthKernel wavelengthKernel(const Aperture& aperture, const PsfSettings& s
         return k;
     }
     const std::vector<double> P = binned(intensity(aperture, lambdaNm, spacing, T, pupil.opd, pupil.open), T, S);
-    // The transform's intensity is periodic: near half the period the neighbouring periods' tails
-    // are as strong as the light's own (and strongest along the axes: a false cross). A quarter
-    // of the period keeps them under (1/3)^3 of the tail there, and the taper brings it to 0.
+    // The transform's intensity is periodic (K pixels): it holds the light's own PSF plus its
+    // neighbouring periods' tails, strongest along the spikes. Those tails are the far field's,
+    // subtracted (periods within kAliases each way: what is left of the 1 / r^2 sum is under 1 % of
+    // the spike at half the reach). The near field is kept to kJoin of the reach and blends into
+    // the far field by kJoinEnd.
     const int R = K / 4;
     k.radius = R;
     const int w = 2 * R + 1;
     std::vector<double>& b = k.kernel;
     b.assign(static_cast<std::size_t>(w) * w, 0.0);
-    double kept = 0.0, centre = 0.0, tail = 0.0;
+    const double start = kJoin * R, end = kJoinEnd * R;
+    double centre = 0.0, joint = 0.0;
     for (int my = -R; my <= R; ++my)
         for (int mx = -R; mx <= R; ++mx) {
-            // Pixel rows run down, sample rows up; rounding in the transforms can leave tiny negatives.
-            const double v = std::max(
-                0.0, P[static_cast<std::size_t>((-my * S + T) % T) * T + static_cast<std::size_t>((mx * S + T) % T)]);
-            // A round taper, 1 inside kTaper (R + 1), cos^2 down to 0 at R + 1: the kernel ends
-            // smoothly and round, not at a square's edge (which shows around a bright extended light).
-            const double r = std::hypot(mx, my), t = (r - kTaper * (R + 1)) / ((1.0 - kTaper) * (R + 1));
-            const double taper = t <= 0.0 ? 1.0 : t >= 1.0 ? 0.0 : std::pow(std::cos(0.5 * std::numbers::pi * t), 2);
+            const double r = std::hypot(mx, my), t = (r - start) / (end - start);
+            const double near = t <= 0.0 ? 1.0 : t >= 1.0 ? 0.0 : std::pow(std::cos(0.5 * std::numbers::pi * t), 2);
+            double v = 0.0;
+            if (near > 0.0) {
+                // Pixel rows run down, sample rows up.
+                double p =
+                    P[static_cast<std::size_t>((-my * S + T) % T) * T + static_cast<std::size_t>((mx * S + T) % T)];
+                for (int j = -kAliases; j <= kAliases; ++j)
+                    for (int i = -kAliases; i <= kAliases; ++i)
+                        if (i != 0 || j != 0) p -= k.far.at(0, mx + i * K, my + j * K);
+                v = near * std::max(0.0, p); // rounding in the transforms can leave tiny negatives
+            }
+            if (near < 1.0) v += (1.0 - near) * k.far.at(0, mx, my);
             if (mx == 0 && my == 0) centre = v;
-            if (t >= 0.0) tail = std::max(tail, v);
-            b[static_cast<std::size_t>(my + R) * w + (mx + R)] = v * taper;
-            kept += v * taper;
+            if (t >= 0.0) joint = std::max(joint, v);
+            b[static_cast<std::size_t>(my + R) * w + (mx + R)] = v;
         }
-    k.edge = centre > 0.0 ? tail / centre : 0.0;
-    k.outside = std::max(0.0, 1.0 - kept);
-    b[static_cast<std::size_t>(R) * w + R] += k.outside;
+    k.edge = centre > 0.0 ? joint / centre : 0.0;
     return k;
+}
+
+// The share of channel c's flux the far field carries outside the square |dx|, |dy| <= inner: summed
+// over the pixels to 4 inner (at least 64) from the light, in closed form beyond (each line's
+// profile integrated across, times 2 / r along its two rays; 2 pi airy / r).
+double farOutside(const FarField& far, int c, int inner) {
+    const int reach = std::max(64, 4 * inner);
+    double sum = 0.0;
+    for (int y = -reach; y <= reach; ++y)
+        for (int x = -reach; x <= reach; ++x)
+            if ((std::abs(x) > inner || std::abs(y) > inner) && double(x) * x + double(y) * y <= double(reach) * reach)
+                sum += far.at(c, x, y);
+    const std::size_t k = static_cast<std::size_t>(c);
+    for (const FarField::Line& l : far.lines) {
+        double across = 2.0 * l.tail[k] / l.reach();
+        for (double v : l.profile[k]) across += v * l.step;
+        sum += 2.0 * across / reach;
+    }
+    return sum + 2.0 * std::numbers::pi * far.airy[k] / reach;
 }
 
 } // namespace
@@ -310,19 +338,28 @@ Psf pixelPsf(const Aperture& aperture, const PsfSettings& settings) {
     for (const WavelengthKernel& k : kernels) {
         out.binning.push_back(k.binning);
         out.radius = std::max(out.radius, k.radius);
-        out.outside = std::max(out.outside, k.outside);
         out.edge = std::max(out.edge, k.edge);
     }
+    out.far = farField(aperture, settings.pitchMm, out.wavelengthsNm, weights);
     const int w = out.width();
     for (int c = 0; c < 3; ++c) {
         std::vector<double> sum(static_cast<std::size_t>(w) * w, 0.0);
         for (std::size_t i = 0; i < W; ++i) {
-            const int R = kernels[i].radius, wi = 2 * R + 1, o = out.radius - R;
-            for (int y = 0; y < wi; ++y)
-                for (int x = 0; x < wi; ++x)
-                    sum[static_cast<std::size_t>(y + o) * w + (x + o)] +=
-                        weights[i][c] * kernels[i].kernel[static_cast<std::size_t>(y) * wi + x];
+            // A wavelength's kernel reaching less far than the square: its far field beyond.
+            const int R = kernels[i].radius, wi = 2 * R + 1;
+            for (int y = -out.radius; y <= out.radius; ++y)
+                for (int x = -out.radius; x <= out.radius; ++x) {
+                    const double v = std::abs(x) <= R && std::abs(y) <= R
+                                         ? kernels[i].kernel[static_cast<std::size_t>(y + R) * wi + (x + R)]
+                                         : kernels[i].far.at(0, x, y);
+                    sum[static_cast<std::size_t>(y + out.radius) * w + (x + out.radius)] += weights[i][c] * v;
+                }
         }
+        double kept = 0.0;
+        for (double v : sum) kept += v;
+        const double missing = 1.0 - kept - farOutside(out.far, c, out.radius);
+        out.outside = std::max(out.outside, std::abs(missing));
+        sum[static_cast<std::size_t>(out.radius) * w + out.radius] += missing;
         out.channel[c].assign(sum.begin(), sum.end());
     }
     return out;

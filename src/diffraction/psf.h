@@ -19,6 +19,7 @@
 // functions through linear sRGB (trace::colourWeights), negatives clipped, each channel's weights
 // summing to 1.
 
+#include "diffraction/far_field.h"
 #include "optics/lens.h"
 
 #include <array>
@@ -84,27 +85,32 @@ struct PsfSettings {
     std::function<PupilFunction(double lambdaNm)> pupil;
 };
 
-/// The RGB PSF binned over the sensor's pixels.
+/// The RGB PSF binned over the sensor's pixels: the transform's near field in a square, the far
+/// field (closed form) beyond it, to any distance.
 struct Psf {
     int radius = 0;                            ///< (2 radius + 1)^2 pixels; the light's own pixel at the centre
     std::array<std::vector<float>, 3> channel; ///< share of the light's flux per pixel, rows top to bottom
+    FarField far;                              ///< beyond the square; empty: nothing there
     std::vector<double> wavelengthsNm;
     std::vector<int> binning; ///< per wavelength: samples per pixel side (S)
-    double outside = 0.0;     ///< largest share of a wavelength's flux the taper and the kernel's end leave out
-    double edge = 0.0; ///< largest pixel where the taper starts (0.6 radius and beyond) over the centre, a wavelength's
+    /// Largest share of a channel's flux that the square and the far field together miss (or
+    /// exceed): kept in the light's own pixel, so that each channel sums to 1.
+    double outside = 0.0;
+    double edge = 0.0; ///< largest pixel where the far field takes over (0.5 of a wavelength's reach and beyond) over the centre
     int width() const { return 2 * radius + 1; }
-    float at(int c, int dx, int dy) const { ///< offset (dx right, dy down) from the light's pixel
+    float at(int c, int dx, int dy) const { ///< offset (dx right, dy down) from the light's pixel, within the square
         return channel[c][static_cast<std::size_t>(dy + radius) * width() + (dx + radius)];
     }
 };
 
 /// Bins each wavelength's PSF over pixels of settings.pitchMm (S x S samples per pixel, the samples
-/// at most lambda N / 2 apart; the transform rounded to a whole number of pixels) and combines them
-/// into RGB. The kernel reaches about transform / (4 S) pixels from the light (a quarter of the period), tapered round
-/// from 0.6 of that reach (cos^2 to 0 a pixel beyond it); where a pixel spans more than 16384 / 4 samples (over 2 000
-/// lambda N: a tiny plate on a large sensor) the PSF is the light's own pixel. Each channel sums to
-/// 1: the flux the taper and the kernel's end leave out (Psf::outside) stays in the light's own
-/// pixel, where the sharp image holds it.
+/// at most lambda N / 2 apart; the transform rounded to a whole number K of pixels per period) and
+/// combines them into RGB. The transform's near field is kept to half its reach (K / 4 pixels), less
+/// the neighbouring periods' far fields (which the transform folds onto it), and blends (cos^2) into
+/// the far field by 0.9 of that reach; the far field (FarField) goes on from there to any distance.
+/// Where a pixel spans more than 16384 / 4 samples (over 2 000 lambda N: a tiny plate on a large
+/// sensor) the near field is the light's own pixel. Each channel sums to 1 over the plane
+/// (Psf::outside).
 Psf pixelPsf(const Aperture& aperture, const PsfSettings& settings);
 
 } // namespace ff::diffraction

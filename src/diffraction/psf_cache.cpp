@@ -17,7 +17,7 @@ namespace ff::diffraction {
 namespace {
 
 constexpr char kMagic[8] = {'F', 'F', 'P', 'S', 'F', '\0', '\0', '\0'};
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;
 constexpr std::uintmax_t kMaxEntryBytes = std::uintmax_t(1) << 31; // within zlib's 32-bit CRC length
 
 std::uint32_t crc(std::string_view s) {
@@ -49,6 +49,19 @@ std::string psfToBytes(const Psf& psf, const std::string& key) {
         putBytes(out, static_cast<std::int32_t>(i < psf.binning.size() ? psf.binning[i] : 0));
     }
     for (const auto& c : psf.channel) out.append(reinterpret_cast<const char*>(c.data()), c.size() * sizeof(float));
+    for (double a : psf.far.airy) putBytes(out, a);
+    putBytes(out, static_cast<std::uint32_t>(psf.far.lines.size()));
+    for (const FarField::Line& l : psf.far.lines) {
+        putBytes(out, l.nx);
+        putBytes(out, l.ny);
+        putBytes(out, l.step);
+        putBytes(out, static_cast<std::int32_t>(l.half));
+        for (int c = 0; c < 3; ++c) {
+            putBytes(out, l.tail[static_cast<std::size_t>(c)]);
+            const std::vector<double>& v = l.profile[static_cast<std::size_t>(c)];
+            out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(double));
+        }
+    }
     putBytes(out, crc(out));
     return out;
 }
@@ -79,6 +92,25 @@ Psf psfFromBytes(std::string_view bytes, const std::string& file, std::string& k
         const std::string_view v = r.take(n * sizeof(float));
         c.resize(n);
         std::memcpy(c.data(), v.data(), v.size());
+    }
+    for (double& a : p.far.airy) a = r.get<double>();
+    const auto lines = r.get<std::uint32_t>();
+    if (lines > 1024) bad("the PSF's far field is out of range");
+    for (std::uint32_t i = 0; i < lines; ++i) {
+        FarField::Line l;
+        l.nx = r.get<double>();
+        l.ny = r.get<double>();
+        l.step = r.get<double>();
+        l.half = r.get<std::int32_t>();
+        if (!(l.step > 0.0) || l.half < 1 || l.half > 1 << 16) bad("the PSF's far field is out of range");
+        for (int c = 0; c < 3; ++c) {
+            l.tail[static_cast<std::size_t>(c)] = r.get<double>();
+            std::vector<double>& v = l.profile[static_cast<std::size_t>(c)];
+            v.resize(static_cast<std::size_t>(2 * l.half + 1));
+            const std::string_view b = r.take(v.size() * sizeof(double));
+            std::memcpy(v.data(), b.data(), b.size());
+        }
+        p.far.lines.push_back(std::move(l));
     }
     if (r.at != r.bytes.size()) bad("the PSF has trailing bytes");
     return p;

@@ -102,9 +102,9 @@ std::vector<float> GlFft::convolve(const std::vector<float>& image, int width, i
     if (image.size() != pixels * 3) throw Error(ErrorKind::Runtime, "convolve: the image does not match its size");
     std::vector<float> out(pixels * 3, 0.0f);
     if (pixels == 0) return out;
-    const int R = psf.radius, kw = psf.width();
-    // Linear convolution: a period of at least W + R keeps what wraps around out of the frame.
-    const int P = nextPowerOfTwo(width + R), Q = nextPowerOfTwo(height + R);
+    const auto [rx, ry] = diffraction::kernelReach(image, width, height, psf);
+    // Linear convolution: a period of at least W + rx keeps what wraps around out of the frame.
+    const int P = nextPowerOfTwo(width + rx), Q = nextPowerOfTwo(height + ry);
     if (P > kMaxSide || Q > kMaxSide) throw Error(ErrorKind::Runtime, "the frame is too large for the GL FFT");
     const std::size_t N = static_cast<std::size_t>(P) * Q;
     std::vector<std::complex<double>> field(N), kernel(N);
@@ -113,18 +113,17 @@ std::vector<float> GlFft::convolve(const std::vector<float>& image, int width, i
         std::fill(field.begin(), field.end(), 0.0);
         std::fill(kernel.begin(), kernel.end(), 0.0);
         double in = 0.0, sum = 0.0, kept = 0.0;
+        const std::vector<float> k = diffraction::frameKernel(psf, c, rx, ry, &sum);
         for (int y = 0; y < height; ++y)
             for (int x = 0; x < width; ++x) {
                 const float v = image[(static_cast<std::size_t>(y) * width + x) * 3 + c];
                 field[static_cast<std::size_t>(y) * P + x] = v;
                 in += v;
             }
-        for (int dy = -R; dy <= R; ++dy)
-            for (int dx = -R; dx <= R; ++dx) {
-                const float v = psf.channel[c][static_cast<std::size_t>(dy + R) * kw + (dx + R)];
-                kernel[static_cast<std::size_t>((dy + Q) % Q) * P + (dx + P) % P] = v;
-                sum += v;
-            }
+        for (int dy = -ry; dy <= ry; ++dy)
+            for (int dx = -rx; dx <= rx; ++dx)
+                kernel[static_cast<std::size_t>((dy + Q) % Q) * P + (dx + P) % P] =
+                    k[static_cast<std::size_t>(dy + ry) * (2 * rx + 1) + (dx + rx)];
         a_->upload(field.data(), N * sizeof(std::complex<double>));
         b_->upload(kernel.data(), N * sizeof(std::complex<double>));
         transform(a_, scratch_, P, Q, false);

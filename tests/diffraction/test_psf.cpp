@@ -184,7 +184,8 @@ TEST(Psf, PixelsHoldTheIntegralOfTheIrradianceOverThem) {
     }
 }
 
-// The RGB kernel carries the light's flux in every channel, stays centred (symmetric through the
+// The RGB kernel carries the light's flux in every channel (with its far field: 14 spikes of
+// L beta / (4 pi^2 A r^2) per pixel leave about 5e-5 beyond 2 000 px), stays centred (symmetric through the
 // light's pixel: |P^|^2 of a real pupil is), and spreads red wider than blue (the pattern scales with
 // lambda).
 TEST(Psf, RgbKernelIsCentredAndCarriesTheFlux) {
@@ -205,13 +206,16 @@ TEST(Psf, RgbKernelIsCentredAndCarriesTheFlux) {
                 moment += v * std::min(double(dx * dx + dy * dy), 100.0);
                 EXPECT_NEAR(v, psf.at(c, -dx, -dy), 1e-6 * psf.at(c, 0, 0));
             }
-        EXPECT_NEAR(sum, 1.0, 1e-6) << c; // float entries
+        double whole = 0.0;
+        for (float v : frameKernel(psf, c, 2000, 2000)) whole += v;
+        EXPECT_NEAR(whole, 1.0, 2e-4) << c;
+        EXPECT_LT(sum, whole) << c;
         EXPECT_EQ(peak, psf.at(c, 0, 0)) << c;
         spread[static_cast<std::size_t>(c)] = moment;
     }
     EXPECT_GT(spread[0], spread[1]);
     EXPECT_GT(spread[1], spread[2]);
-    EXPECT_LT(psf.outside, 1e-2);
+    EXPECT_LT(psf.outside, 2e-3);
 }
 
 // The lens's aperture: an image-space working f-number from the exit pupil equals EFL / entrance pupil

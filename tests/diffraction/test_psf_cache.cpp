@@ -31,6 +31,17 @@ void expectSame(const Psf& a, const Psf& b) {
     EXPECT_EQ(a.wavelengthsNm, b.wavelengthsNm);
     EXPECT_EQ(a.binning, b.binning);
     for (int c = 0; c < 3; ++c) EXPECT_EQ(a.channel[c], b.channel[c]) << c;
+    EXPECT_EQ(a.far.airy, b.far.airy);
+    ASSERT_EQ(a.far.lines.size(), b.far.lines.size());
+    for (std::size_t i = 0; i < a.far.lines.size(); ++i) {
+        const FarField::Line &p = a.far.lines[i], &q = b.far.lines[i];
+        EXPECT_EQ(p.nx, q.nx);
+        EXPECT_EQ(p.ny, q.ny);
+        EXPECT_EQ(p.step, q.step);
+        EXPECT_EQ(p.half, q.half);
+        EXPECT_EQ(p.profile, q.profile);
+        EXPECT_EQ(p.tail, q.tail);
+    }
 }
 
 TEST(PsfCache, BytesRoundTripAndDamageIsRefused) {
