@@ -2,6 +2,7 @@
 
 #include "cli/commands.h"
 #include "cli/conventions.h"
+#include "cli/dirt_choices.h"
 #include "cli/fourier_choices.h"
 #include "cli/option_parsing.h"
 #include "cli/trace_choices.h"
@@ -22,6 +23,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 namespace ff::cli {
@@ -36,6 +38,7 @@ struct RenderOptions {
     std::string size = "1280x720";
     std::string mode = "traced";
     std::string diffraction = "physical"; ///< --mode diffraction: physical or traced
+    DirtOptions dirt;                     ///< --mode diffraction
     std::string ghostModel = "gaussian";
     std::string output, preview;
     std::vector<std::string> probes;
@@ -187,7 +190,10 @@ fourier::FlareImage renderLensFlare(const RenderOptions& o, const GlobalOptions&
         o.lightsFile.empty() ? std::vector<ghosts::Light>{} : scene::readLightsJson(o.lightsFile);
     for (const std::string& l : o.lights) lights.push_back(scene::parseLight(l));
     if (o.mode == "shaped") s.raster = polygonRaster(s.fourier);
-    if (o.mode == "diffraction") s.convolver = diffractionDevice(s.fourier);
+    if (o.mode == "diffraction") {
+        s.convolver = diffractionDevice(s.fourier);
+        s.dirt = o.dirt.mask(std::filesystem::read_symlink("/proc/self/exe").string());
+    }
     s.loadTable = [&](const optics::Lens& l, const ghosts::TableSettings&) {
         return loadTable(l, o.table, g, reporter);
     };
@@ -286,6 +292,7 @@ void addRenderCommand(CLI::App& app, GlobalOptions& global) {
                     "With --mode diffraction: physical (the iris's aberration-free PSF) or traced (each light through "
                     "the PSF with the lens's traced wavefront and vignetting at its field)")
         ->check(CLI::IsMember({"physical", "traced"}));
+    o->dirt.addTo(*cmd);
     cmd->add_option("--ghost-model", o->ghostModel,
                     "The table's fitted profile drawn by fitted and fourier: gaussian or cos2 (the shaped model is "
                     "--mode shaped)")

@@ -5,6 +5,7 @@
 
 #include "cli/commands.h"
 #include "cli/conventions.h"
+#include "cli/dirt_choices.h"
 #include "cli/fourier_choices.h"
 #include "cli/option_parsing.h"
 #include "core/error.h"
@@ -51,6 +52,7 @@ struct SimulateOptions {
     double maxPixels = 8192.0 * 8192.0;
     std::string frames;
     std::string layers = "ghosts,diffraction";
+    DirtOptions dirt;
     bool half = false;
     FourierOptions fourier;
 };
@@ -210,6 +212,7 @@ class Simulation {
         s.diffraction = o.diffraction;
         s.gain = o.gain;
         s.diffractionGain = o.diffractionGain;
+        if (o.diffraction != "off") s.dirt = o.dirt.mask(checker_);
         if (o.gain < 0.0 || !std::isfinite(o.gain))
             throw Error(ErrorKind::Usage, "--flare-gain must be a finite number >= 0");
         if (o.diffractionGain < 0.0 || !std::isfinite(o.diffractionGain))
@@ -388,6 +391,7 @@ void addSimulateCommand(CLI::App& app, GlobalOptions& global) {
         ->check(CLI::IsMember({"off", "physical", "traced"}));
     cmd->add_option("--diffraction-gain", o->diffractionGain,
                     "Multiply the diffraction layer (1 = physical); a pixel never loses more than its light");
+    o->dirt.addTo(*cmd);
     cmd->add_option("--ghost-model", o->ghostModel,
                     "Ghost model: shaped (each ghost's traced mesh), gaussian or cos2 (the ghost table's fits, "
                     "aggregated through Fourier)")

@@ -1,7 +1,6 @@
 #include "diffraction/convolution.h"
 
 #include "core/error.h"
-#include "diffraction/far_field.h"
 #include "diffraction/fftw.h"
 
 #include <tbb/parallel_for.h>
@@ -15,6 +14,26 @@ namespace ff::diffraction {
 namespace {
 
 } // namespace
+
+std::vector<float> frameKernel(const Psf& psf, int c, int rx, int ry, double* total) {
+    if (rx < 0 || ry < 0) throw Error(ErrorKind::Runtime, "frameKernel: a negative reach");
+    const int kw = 2 * rx + 1, R = psf.radius, pw = psf.width();
+    std::vector<float> k(static_cast<std::size_t>(kw) * (2 * ry + 1), 0.0f);
+    double sum = 0.0;
+    for (int y = -std::min(R, ry); y <= std::min(R, ry); ++y)
+        for (int x = -std::min(R, rx); x <= std::min(R, rx); ++x)
+            k[static_cast<std::size_t>(y + ry) * kw + (x + rx)] =
+                psf.channel[static_cast<std::size_t>(c)][static_cast<std::size_t>(y + R) * pw + (x + R)];
+    for (float v : psf.channel[static_cast<std::size_t>(c)]) sum += v;
+    if (!psf.far.empty()) {
+        psf.far.forEach(c, rx, ry, R, [&](int x, int y, double v) {
+            k[static_cast<std::size_t>(y + ry) * kw + (x + rx)] += static_cast<float>(v);
+        });
+        sum = 1.0;
+    }
+    if (total) *total = sum;
+    return k;
+}
 
 std::array<int, 2> kernelReach(const std::vector<float>& image, int width, int height, const Psf& psf) {
     if (psf.far.empty()) return {psf.radius, psf.radius};

@@ -28,6 +28,11 @@ class Convolver {
 std::vector<float> convolve(const std::vector<float>& image, int width, int height, const Psf& psf,
                             double* offFrame = nullptr);
 
+/// Channel c of the PSF over the offsets |dx| <= rx, |dy| <= ry ((2 rx + 1) x (2 ry + 1), rows down):
+/// the kernel's square, and beyond it the far field. *total is the channel's flux to any distance:
+/// 1 with a far field (what lies beyond rx, ry leaves the frame), the square's sum without.
+std::vector<float> frameKernel(const Psf& psf, int c, int rx, int ry, double* total = nullptr);
+
 /// How far (x, y) convolve's kernel reaches: the PSF's square without a far field; with one, from the
 /// image's non-zero pixels to the frame's far edges.
 std::array<int, 2> kernelReach(const std::vector<float>& image, int width, int height, const Psf& psf);

@@ -1,7 +1,6 @@
 #include "diffraction/far_field.h"
 
 #include "core/error.h"
-#include "diffraction/psf.h"
 #include "trace/aperture.h"
 
 #include <algorithm>
@@ -13,7 +12,7 @@ namespace ff::diffraction {
 namespace {
 
 constexpr double kProfileStep = 1.0 / 32.0; // pixels
-constexpr double kProfileReach = 12.0;      // pixels across the line
+constexpr double kProfileReach = 24.0;      // pixels across the line
 
 double sinc2(double x) {
     if (std::abs(x) < 1e-8) return 1.0;
@@ -36,6 +35,8 @@ double chord(double s, double tx, double ty) {
 double acrossPixel(double d, double L, double beta, double tx, double ty) {
     const double a = std::max(std::abs(tx), std::abs(ty)), b = std::min(std::abs(tx), std::abs(ty));
     const double outer = 0.5 * (a + b);
+    // A fringe under 1/256 of a pixel (a tiny plate on a large sensor): sinc^2 is beta / L times a delta.
+    if (beta / L < 1.0 / 256.0) return beta / L * chord(d, tx, ty);
     const double h0 = std::min(beta / (8.0 * L), 1.0 / 64.0);
     const int n = 2 * static_cast<int>(std::ceil(outer / h0));
     const double h = 2.0 * outer / n;
@@ -57,16 +58,11 @@ double FarField::at(int c, double dx, double dy) const {
     for (const Line& l : lines) {
         const double rho = dx * l.nx + dy * l.ny, d = dy * l.nx - dx * l.ny;
         const double u = d / l.step + l.half;
-        double p;
-        if (u >= 0.0 && u <= 2.0 * l.half) {
-            const std::vector<double>& f = l.profile[static_cast<std::size_t>(c)];
-            const std::size_t i = std::min(static_cast<std::size_t>(u), f.size() - 2);
-            const double t = u - static_cast<double>(i);
-            p = f[i] + t * (f[i + 1] - f[i]);
-        } else {
-            p = l.tail[static_cast<std::size_t>(c)] / (d * d);
-        }
-        v += p * rho * rho / (r2 * r2);
+        if (!(u >= 0.0 && u <= 2.0 * l.half)) continue;
+        const std::vector<double>& f = l.profile[static_cast<std::size_t>(c)];
+        const std::size_t i = std::min(static_cast<std::size_t>(u), f.size() - 2);
+        const double t = u - static_cast<double>(i);
+        v += (f[i] + t * (f[i + 1] - f[i])) * rho * rho / (r2 * r2);
     }
     return v;
 }
@@ -135,36 +131,15 @@ FarField farField(const Aperture& aperture, double pitchMm, const std::vector<do
             const double beta = wavelengthsNm[i] * 1e-6 * aperture.fNumber / pitchMm;
             const double scale = perLine * L * L / (4.0 * pi * pi * A);
             for (int j = 0; j <= 2 * line.half; ++j) {
-                const double h = scale * acrossPixel((j - line.half) * line.step, L, beta, tx, ty);
+                const double d = std::abs(j - line.half) / double(line.half); // of the reach
+                const double end = d <= 0.5 ? 1.0 : std::pow(std::cos(std::numbers::pi * (d - 0.5)), 2);
+                const double h = end * scale * acrossPixel((j - line.half) * line.step, L, beta, tx, ty);
                 for (int c = 0; c < 3; ++c) line.profile[static_cast<std::size_t>(c)][static_cast<std::size_t>(j)] += weights[i][c] * h;
             }
-            // sinc^2 -> (beta / (pi L d))^2 x 1/2 (its fringes averaged over the pixel).
-            for (int c = 0; c < 3; ++c)
-                line.tail[static_cast<std::size_t>(c)] += weights[i][c] * scale * beta * beta / (2.0 * pi * pi * L * L);
         }
         far.lines.push_back(std::move(line));
     }
     return far;
-}
-
-std::vector<float> frameKernel(const Psf& psf, int c, int rx, int ry, double* total) {
-    if (rx < 0 || ry < 0) throw Error(ErrorKind::Runtime, "frameKernel: a negative reach");
-    const int kw = 2 * rx + 1, R = psf.radius, pw = psf.width();
-    std::vector<float> k(static_cast<std::size_t>(kw) * (2 * ry + 1), 0.0f);
-    double sum = 0.0;
-    for (int y = -std::min(R, ry); y <= std::min(R, ry); ++y)
-        for (int x = -std::min(R, rx); x <= std::min(R, rx); ++x)
-            k[static_cast<std::size_t>(y + ry) * kw + (x + rx)] =
-                psf.channel[static_cast<std::size_t>(c)][static_cast<std::size_t>(y + R) * pw + (x + R)];
-    for (float v : psf.channel[static_cast<std::size_t>(c)]) sum += v;
-    if (!psf.far.empty()) {
-        psf.far.forEach(c, rx, ry, R, [&](int x, int y, double v) {
-            k[static_cast<std::size_t>(y + ry) * kw + (x + rx)] += static_cast<float>(v);
-        });
-        sum = 1.0;
-    }
-    if (total) *total = sum;
-    return k;
 }
 
 } // namespace ff::diffraction

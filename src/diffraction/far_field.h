@@ -19,14 +19,13 @@
 // (beta / L, under a pixel at f/8 on a 1080p frame) is integrated over the pixel's footprint exactly
 // (Line::profile). A round iris gives the Airy pattern's mean far field, beta / (pi^3 r^3) per pixel.
 
+#include "diffraction/aperture.h"
+
 #include <array>
 #include <functional>
 #include <vector>
 
 namespace ff::diffraction {
-
-struct Aperture;
-struct Psf;
 
 /// One wavelength's or an RGB mixture's far field, in pixels (+x right, +y down, offsets from the
 /// light's pixel).
@@ -38,9 +37,10 @@ struct FarField {
         double step = 0.0;         ///< pixels between the profile's samples
         int half = 0;              ///< the profile holds d = (i - half) step, i = 0 .. 2 half
         /// Per channel: L^2 / (4 pi^2 A) x Int_pixel sinc^2(pi L d / beta), summed over the line's
-        /// edges and the wavelengths (weighted): the share times rho^2 (rho >> d).
+        /// edges and the wavelengths (weighted): the share times rho^2 (rho >> d). It ends smoothly
+        /// (cos^2 from half its reach to 0 at it): the edges' faint halo between the spikes (under
+        /// 1e-3 of the spike's flux) ends there without an edge, the same everywhere.
         std::array<std::vector<double>, 3> profile;
-        std::array<double, 3> tail{}; ///< beyond the profile, profile(d) = tail / d^2 (fringes averaged)
         double reach() const { return half * step; }
     };
     std::vector<Line> lines;
@@ -50,9 +50,9 @@ struct FarField {
     /// Share of the light's flux on the pixel at offset (dx, dy), channel c; 0 at the light's pixel.
     double at(int c, double dx, double dy) const;
     /// Calls add(dx, dy, share) for every pixel within |dx| <= rx, |dy| <= ry outside the square
-    /// |dx|, |dy| <= inner where the far field is not negligible: each line's band (its profile's reach
-    /// across it, the line's own share there), the whole plane for a round iris. The edges' halo between
-    /// the lines (below 1e-10 of the flux per pixel beyond the profile's reach) is left out there.
+    /// |dx|, |dy| <= inner where the far field is not zero: each line's band (its profile's reach
+    /// across it, the line's own share there; the shares of several lines at a pixel add up to at()),
+    /// the whole plane for a round iris.
     void forEach(int c, int rx, int ry, int inner, const std::function<void(int dx, int dy, double share)>& add) const;
 };
 
@@ -60,10 +60,5 @@ struct FarField {
 /// (weights[i][c] for wavelength i).
 FarField farField(const Aperture& aperture, double pitchMm, const std::vector<double>& wavelengthsNm,
                   const std::vector<std::array<double, 3>>& weights);
-
-/// Channel c of the PSF over the offsets |dx| <= rx, |dy| <= ry ((2 rx + 1) x (2 ry + 1), rows down):
-/// the kernel's square, and beyond it the far field. *total is the channel's flux to any distance:
-/// 1 with a far field (what lies beyond rx, ry leaves the frame), the square's sum without.
-std::vector<float> frameKernel(const Psf& psf, int c, int rx, int ry, double* total = nullptr);
 
 } // namespace ff::diffraction

@@ -41,11 +41,12 @@ namespace {
 constexpr int kMaxTransform = 16384;
 constexpr double kJoin = 0.2, kJoinEnd = 0.4; // of the transform's reach: the near field's blend into the far
 constexpr int kAliases = 4;                    // neighbouring periods subtracted each way
+constexpr double kDirtTaper = 0.6;             // of the transform's reach: the dirt's diffraction tapered to 0 at it
 
 // The PSF's samples in the transform's order (sample (i, j) at offset ((i, j) mod F) x spacing from
 // the light, +y up the rows): share of the flux per sample, summing to 1.
 std::vector<double> intensity(const Aperture& aperture, double lambdaNm, double spacingMm, int F,
-                              const Wavefront& wavefront, const Transmission& open) {
+                              const Wavefront& wavefront, const Transmission& open, const PupilMask* mask) {
     if (F < 64 || F > kMaxTransform || F % 2 != 0)
         throw Error(ErrorKind::Usage, "the PSF's transform must be even, 64 to " + std::to_string(kMaxTransform));
     const double lambdaN = lambdaNm * 1e-6 * aperture.fNumber; // mm
@@ -96,6 +97,12 @@ std::vector<double> intensity(const Aperture& aperture, double lambdaNm, double 
                     (y > -reach && through[at(x, y - 1)] != t) || (y < reach && through[at(x, y + 1)] != t);
                 c *= edge ? fraction(4, x, y, [&](double a, double b) { return open(a * unit, b * unit); }) : double(t);
             }
+    }
+    if (mask && !mask->empty()) {
+        const double toMask = 1.0 / iris.circumradius;
+        for (int y = -reach; y <= reach; ++y)
+            for (int x = -reach; x <= reach; ++x)
+                if (double& c = coverage[at(x, y)]; c > 0.0) c *= mask->at(x * toMask, y * toMask);
     }
     double power = 0.0;
     std::vector<double> I(N * N);
@@ -153,8 +160,8 @@ std::vector<double> intensity(const Aperture& aperture, double lambdaNm, double 
 } // namespace
 
 SampledPsf sampledPsf(const Aperture& aperture, double lambdaNm, double spacingMm, int transform,
-                      const Wavefront& wavefront, const Transmission& open) {
-    const std::vector<double> I = intensity(aperture, lambdaNm, spacingMm, transform, wavefront, open);
+                      const Wavefront& wavefront, const Transmission& open, const PupilMask* mask) {
+    const std::vector<double> I = intensity(aperture, lambdaNm, spacingMm, transform, wavefront, open, mask);
     const int F = transform;
     SampledPsf psf;
     psf.size = F;
@@ -270,7 +277,15 @@ WavelengthKernel wavelengthKernel(const Aperture& aperture, const PsfSettings& s
         k.kernel = {1.0};
         return k;
     }
-    const std::vector<double> P = binned(intensity(aperture, lambdaNm, spacing, T, pupil.opd, pupil.open), T, S);
+    const std::vector<double> P =
+        binned(intensity(aperture, lambdaNm, spacing, T, pupil.opd, pupil.open, nullptr), T, S);
+    // Dirt: what it changes in the transform's intensity, added over the transform's reach (tapered
+    // from kDirtTaper): the same sampling's errors cancel in the difference.
+    std::vector<double> dirt;
+    if (settings.mask && !settings.mask->empty()) {
+        dirt = binned(intensity(aperture, lambdaNm, spacing, T, pupil.opd, pupil.open, settings.mask.get()), T, S);
+        for (std::size_t i = 0; i < dirt.size(); ++i) dirt[i] -= P[i];
+    }
     // The transform's intensity is periodic (K pixels): it holds the light's own PSF plus its
     // neighbouring periods' tails, strongest along the spikes. Those tails are the far field's,
     // subtracted (periods within kAliases each way: what is left of the 1 / r^2 sum is under 1 % of
@@ -298,6 +313,12 @@ WavelengthKernel wavelengthKernel(const Aperture& aperture, const PsfSettings& s
                 v = near * std::max(0.0, p); // rounding in the transforms can leave tiny negatives
             }
             if (near < 1.0) v += (1.0 - near) * k.far.at(0, mx, my);
+            if (!dirt.empty()) {
+                const double d = (r - kDirtTaper * R) / ((1.0 - kDirtTaper) * R);
+                const double keep = d <= 0.0 ? 1.0 : d >= 1.0 ? 0.0 : std::pow(std::cos(0.5 * std::numbers::pi * d), 2);
+                v = std::max(0.0, v + keep * dirt[static_cast<std::size_t>((-my * S + T) % T) * T +
+                                                   static_cast<std::size_t>((mx * S + T) % T)]);
+            }
             if (mx == 0 && my == 0) centre = v;
             if (t >= 0.0) joint = std::max(joint, v);
             b[static_cast<std::size_t>(my + R) * w + (mx + R)] = v;
@@ -318,7 +339,7 @@ double farOutside(const FarField& far, int c, int inner) {
                 sum += far.at(c, x, y);
     const std::size_t k = static_cast<std::size_t>(c);
     for (const FarField::Line& l : far.lines) {
-        double across = 2.0 * l.tail[k] / l.reach();
+        double across = 0.0;
         for (double v : l.profile[k]) across += v * l.step;
         sum += 2.0 * across / reach;
     }

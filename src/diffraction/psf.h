@@ -19,23 +19,18 @@
 // functions through linear sRGB (trace::colourWeights), negatives clipped, each channel's weights
 // summing to 1.
 
+#include "diffraction/aperture.h"
 #include "diffraction/far_field.h"
+#include "diffraction/pupil_mask.h"
 #include "optics/lens.h"
 
 #include <array>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace ff::diffraction {
-
-/// The diffracting aperture: the iris's shape in the sensor's frame (+x right, +y up) and the
-/// image-space working f-number.
-struct Aperture {
-    int blades = 0;           ///< straight blades; < 3: circular
-    double rotationRad = 0.0; ///< as trace::Iris: the blades' edge normals at rotation + (k + 1/2) 2 pi / blades
-    double fNumber = 0.0;     ///< working f-number: exit pupil to sensor over the exit pupil's diameter
-};
 
 /// The lens's aperture at its working opening (d line): the stop's blades and rotation, and the
 /// f-number from the paraxial exit pupil (the header's f-number where the exit pupil is at infinity).
@@ -72,9 +67,10 @@ struct SampledPsf {
 /// intensity, band-limited at twice the pupil, would alias). With a wavefront the pupil function is
 /// the iris x open x exp(2 pi i W / lambda) (a complex transform); its phase must change by under
 /// pi from one pupil sample to the next (refused otherwise, ff::Error Input): the rays then land
-/// within half a period of the light.
+/// within half a period of the light. A mask (dirt) multiplies the iris.
 SampledPsf sampledPsf(const Aperture& aperture, double lambdaNm, double spacingMm, int transform,
-                      const Wavefront& wavefront = {}, const Transmission& open = {});
+                      const Wavefront& wavefront = {}, const Transmission& open = {},
+                      const PupilMask* mask = nullptr);
 
 struct PsfSettings {
     double pitchMm = 0.0;              ///< the sensor's pixel pitch
@@ -83,6 +79,9 @@ struct PsfSettings {
     /// Per wavelength, the pupil function beyond the bare iris (the traced wavefront and vignetting,
     /// wavefront.h); none: the aberration-free PSF. The transform grows with its maxSlopeMm.
     std::function<PupilFunction(double lambdaNm)> pupil;
+    /// Dirt on the front element multiplying the iris (none: clean). Its diffraction reaches the
+    /// transform's reach (K / 4 pixels), tapered from 0.6 of it.
+    std::shared_ptr<const PupilMask> mask;
 };
 
 /// The RGB PSF binned over the sensor's pixels: the transform's near field in a square, the far

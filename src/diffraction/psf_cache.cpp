@@ -32,6 +32,7 @@ std::string psfCacheKey(const Aperture& a, const PsfSettings& s) {
                       text::roundTrip(s.pitchMm) + "; transform " + std::to_string(s.transform) + "; nm";
     for (double l : s.wavelengthsNm) key += " " + text::roundTrip(l);
     if (s.wavelengthsNm.empty()) key += " default";
+    if (s.mask && !s.mask->empty()) key += "; " + s.mask->key;
     return key;
 }
 
@@ -57,7 +58,6 @@ std::string psfToBytes(const Psf& psf, const std::string& key) {
         putBytes(out, l.step);
         putBytes(out, static_cast<std::int32_t>(l.half));
         for (int c = 0; c < 3; ++c) {
-            putBytes(out, l.tail[static_cast<std::size_t>(c)]);
             const std::vector<double>& v = l.profile[static_cast<std::size_t>(c)];
             out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(double));
         }
@@ -104,7 +104,6 @@ Psf psfFromBytes(std::string_view bytes, const std::string& file, std::string& k
         l.half = r.get<std::int32_t>();
         if (!(l.step > 0.0) || l.half < 1 || l.half > 1 << 16) bad("the PSF's far field is out of range");
         for (int c = 0; c < 3; ++c) {
-            l.tail[static_cast<std::size_t>(c)] = r.get<double>();
             std::vector<double>& v = l.profile[static_cast<std::size_t>(c)];
             v.resize(static_cast<std::size_t>(2 * l.half + 1));
             const std::string_view b = r.take(v.size() * sizeof(double));

@@ -9,7 +9,7 @@
 // radius (32 bits), Psf::outside and Psf::edge (doubles), the wavelengths' count (32 bits), each
 // wavelength (double) and its binning (32 bits), the three channels' (2 radius + 1)^2 floats, the
 // far field (FarField::airy's three doubles; the lines' count (32 bits), each line's nx, ny, step
-// (doubles), half (32 bits) and per channel its tail (double) and 2 half + 1 profile doubles), and the
+// (doubles), half (32 bits) and per channel its 2 half + 1 profile doubles), and the
 // CRC-32 of everything before it. Little-endian, as the machine writes it.
 
 #include "core/reporter.h"

@@ -52,7 +52,7 @@ RenderedFlare renderFlare(const optics::Lens& lens, const std::vector<ghosts::Li
     } else if (s.mode == "diffraction") {
         const std::vector<float> spread =
             renderDiffraction(lens, lights, t.frame, trace::sensorPlaneZ(lens, t.sensor), s.diffraction, s.convolver,
-                              &r.offFrame, &r.diffractionText);
+                              &r.offFrame, &r.diffractionText, s.dirt);
         r.image = fourier::FlareImage(t.frame.width, t.frame.height);
         for (std::size_t p = 0; p < r.image.pixels(); ++p)
             for (int c = 0; c < 3; ++c) r.image.channel[c][p] = spread[p * 3 + c];

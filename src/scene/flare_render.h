@@ -31,6 +31,7 @@ struct FlareSettings {
     fourier::FourierSettings fourier;               ///< fourier
     ghosts::PolygonRaster* raster = nullptr;        ///< shaped: where the polygons are drawn (null: the CPU)
     diffraction::Convolver* convolver = nullptr;    ///< diffraction: the convolution (null: FFTW)
+    std::shared_ptr<const diffraction::PupilMask> dirt; ///< diffraction: on the front element (null: clean)
     /// The tables (default: from the cache, or built and cached).
     std::function<ghosts::GhostTable(const optics::Lens&, const ghosts::TableSettings&)> loadTable;
     std::function<ghosts::ShapedTable(const optics::Lens&, const ghosts::TableSettings&)> loadShaped;

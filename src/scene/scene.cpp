@@ -324,11 +324,13 @@ std::string describePsf(const diffraction::Aperture& aperture, const diffraction
 
 std::vector<float> renderDiffraction(const optics::Lens& lens, const std::vector<ghosts::Light>& lights,
                                      const trace::ImageFrame& frame, double sensorZ, const std::string& mode,
-                                     diffraction::Convolver* device, double* offFrame, std::string* summary) {
+                                     diffraction::Convolver* device, double* offFrame, std::string* summary,
+                                     std::shared_ptr<const diffraction::PupilMask> dirt) {
     const int W = frame.width, H = frame.height;
     const diffraction::Aperture aperture = diffraction::apertureOf(lens);
     diffraction::PsfSettings ps;
     ps.pitchMm = frame.pitchMm;
+    ps.mask = std::move(dirt);
     auto convolve = [&](const std::vector<float>& l, const diffraction::Psf& p) {
         return device ? device->convolve(l, W, H, p, offFrame) : diffraction::convolve(l, W, H, p, offFrame);
     };

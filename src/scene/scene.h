@@ -65,10 +65,12 @@ std::string describePsf(const diffraction::Aperture& aperture, const diffraction
 /// The lights through the lens's PSF (render --mode diffraction, compare): the aberration-free PSF
 /// ("physical"), or each light through the PSF with the lens's traced wavefront at its field
 /// ("traced"; sensor plane sensorZ). The convolution runs on `device` when given. `offFrame` (summed
-/// over the channels) and `summary` receive what left the frame and a description of the PSFs.
+/// over the channels) and `summary` receive what left the frame and a description of the PSFs. `dirt`
+/// multiplies the iris (diffraction::PsfSettings::mask).
 std::vector<float> renderDiffraction(const optics::Lens& lens, const std::vector<ghosts::Light>& lights,
                                      const trace::ImageFrame& frame, double sensorZ, const std::string& mode,
-                                     diffraction::Convolver* device, double* offFrame, std::string* summary);
+                                     diffraction::Convolver* device, double* offFrame, std::string* summary,
+                                     std::shared_ptr<const diffraction::PupilMask> dirt = nullptr);
 
 /// The shaped hybrid's grid (ghosts::ShapedRenderSettings::grid): cells of this many pixels, and
 /// this many cells of margin around the frame within the Fourier period.

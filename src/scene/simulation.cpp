@@ -185,6 +185,7 @@ const diffraction::Psf& Simulation::idealPsf(double pitch) {
     if (!psf_ || psfPitch_ != pitch) {
         diffraction::PsfSettings ps;
         ps.pitchMm = pitch;
+        ps.mask = s_.dirt;
         psf_ = std::make_unique<diffraction::Psf>(diffraction::cachedPixelPsf(*aperture_, ps, true, reporter_));
         psfPitch_ = pitch;
     }
@@ -209,6 +210,7 @@ void Simulation::diffract(const image::Plate& plate, SimulatedPlate& out) {
             const double yMm = (0.5 * plate.displayHeight - (y + plate.originY - plate.displayY)) * pitch;
             diffraction::PsfSettings ps;
             ps.pitchMm = pitch;
+            ps.mask = s_.dirt;
             try {
                 ps.pupil = diffraction::tracedPupil(lens_, xMm, yMm, trace::sensorPlaneZ(lens_, s_.table.sensor));
                 diffraction::Psf p = diffraction::pixelPsf(*aperture_, ps);

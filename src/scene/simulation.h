@@ -28,6 +28,7 @@ struct SimulationSettings {
     std::string diffraction = "physical"; ///< off | physical | traced
     double gain = 1.0;                    ///< the flare's gain (1 = physical)
     double diffractionGain = 1.0;         ///< the diffraction layer's gain (1 = physical)
+    std::shared_ptr<const diffraction::PupilMask> dirt; ///< on the front element, multiplying the iris (null: clean)
     double sensorWidthMm = 0.0;           ///< the plate spans this width; 0: from fovDeg, else the lens file's, else 36
     double fovDeg = 0.0;                  ///< > 0 (with sensorWidthMm 0): the width 2 EFL tan(fov / 2)
     image::DetectionSettings detection;   ///< how lights are found (lightImage is set here)

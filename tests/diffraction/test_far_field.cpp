@@ -6,6 +6,7 @@
 // spectrum). And the joined kernel against the same transform four times larger (whose near field
 // reaches four times as far), its flux, and no false cross.
 
+#include "diffraction/convolution.h"
 #include "diffraction/far_field.h"
 #include "diffraction/psf.h"
 #include "trace/traced_flare.h"

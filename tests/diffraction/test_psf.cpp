@@ -2,6 +2,7 @@
 // pupil (first dark ring, encircled energy, peak irradiance, pixel integrals by quadrature), the spikes
 // of an N-blade iris, and the energy and symmetry of the binned RGB kernel.
 
+#include "diffraction/convolution.h"
 #include "diffraction/psf.h"
 #include "optics/lens_loader.h"
 #include "optics/paraxial.h"
