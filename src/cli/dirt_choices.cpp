@@ -39,8 +39,8 @@ std::shared_ptr<const diffraction::PupilMask> DirtOptions::mask(const std::strin
         errno = 0;
         const unsigned long long seed = std::strtoull(seedText.c_str(), &end, 10);
         if (seedText.empty() || seedText[0] == '-' || *end != '\0' || errno == ERANGE)
-            throw Error(ErrorKind::Usage, "--dirt takes SEED[,DENSITY] with SEED a whole number >= 0, got " +
-                                              text::quoted(dirt));
+            throw Error(ErrorKind::Usage,
+                        "--dirt takes SEED[,DENSITY] with SEED a whole number >= 0, got " + text::quoted(dirt));
         double density = 1.0;
         if (comma != std::string::npos) {
             const std::string d = dirt.substr(comma + 1);

@@ -11,9 +11,7 @@
 
 namespace ff::diffraction {
 
-namespace {
-
-} // namespace
+namespace {} // namespace
 
 std::vector<float> frameKernel(const Psf& psf, int c, int rx, int ry, double* total) {
     if (rx < 0 || ry < 0) throw Error(ErrorKind::Runtime, "frameKernel: a negative reach");
@@ -134,12 +132,10 @@ std::vector<float> convolve(const std::vector<float>& image, int width, int heig
     const std::size_t row = 2 * (static_cast<std::size_t>(Wp) / 2 + 1), size = row * Hp;
     const std::size_t complex = size / 2;
     auto a = fftwArray<double>(size);
-    const Plan forward([&] {
-        return fftw_plan_dft_r2c_2d(Hp, Wp, a.get(), reinterpret_cast<fftw_complex*>(a.get()), FFTW_ESTIMATE);
-    });
-    const Plan backward([&] {
-        return fftw_plan_dft_c2r_2d(Hp, Wp, reinterpret_cast<fftw_complex*>(a.get()), a.get(), FFTW_ESTIMATE);
-    });
+    const Plan forward(
+        [&] { return fftw_plan_dft_r2c_2d(Hp, Wp, a.get(), reinterpret_cast<fftw_complex*>(a.get()), FFTW_ESTIMATE); });
+    const Plan backward(
+        [&] { return fftw_plan_dft_c2r_2d(Hp, Wp, reinterpret_cast<fftw_complex*>(a.get()), a.get(), FFTW_ESTIMATE); });
     tbb::parallel_for(0, 3, [&](int c) {
         auto img = fftwArray<double>(size);
         auto ker = fftwArray<double>(size);

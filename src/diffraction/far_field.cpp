@@ -134,7 +134,8 @@ FarField farField(const Aperture& aperture, double pitchMm, const std::vector<do
                 const double d = std::abs(j - line.half) / double(line.half); // of the reach
                 const double end = d <= 0.5 ? 1.0 : std::pow(std::cos(std::numbers::pi * (d - 0.5)), 2);
                 const double h = end * scale * acrossPixel((j - line.half) * line.step, L, beta, tx, ty);
-                for (int c = 0; c < 3; ++c) line.profile[static_cast<std::size_t>(c)][static_cast<std::size_t>(j)] += weights[i][c] * h;
+                for (int c = 0; c < 3; ++c)
+                    line.profile[static_cast<std::size_t>(c)][static_cast<std::size_t>(j)] += weights[i][c] * h;
             }
         }
         far.lines.push_back(std::move(line));

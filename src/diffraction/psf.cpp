@@ -40,8 +40,8 @@ namespace {
 
 constexpr int kMaxTransform = 16384;
 constexpr double kJoin = 0.2, kJoinEnd = 0.4; // of the transform's reach: the near field's blend into the far
-constexpr int kAliases = 4;                    // neighbouring periods subtracted each way
-constexpr double kDirtTaper = 0.6;             // of the transform's reach: the dirt's diffraction tapered to 0 at it
+constexpr int kAliases = 4;                   // neighbouring periods subtracted each way
+constexpr double kDirtTaper = 0.6;            // of the transform's reach: the dirt's diffraction tapered to 0 at it
 
 // The PSF's samples in the transform's order (sample (i, j) at offset ((i, j) mod F) x spacing from
 // the light, +y up the rows): share of the flux per sample, summing to 1.
@@ -317,7 +317,7 @@ WavelengthKernel wavelengthKernel(const Aperture& aperture, const PsfSettings& s
                 const double d = (r - kDirtTaper * R) / ((1.0 - kDirtTaper) * R);
                 const double keep = d <= 0.0 ? 1.0 : d >= 1.0 ? 0.0 : std::pow(std::cos(0.5 * std::numbers::pi * d), 2);
                 v = std::max(0.0, v + keep * dirt[static_cast<std::size_t>((-my * S + T) % T) * T +
-                                                   static_cast<std::size_t>((mx * S + T) % T)]);
+                                                  static_cast<std::size_t>((mx * S + T) % T)]);
             }
             if (mx == 0 && my == 0) centre = v;
             if (t >= 0.0) joint = std::max(joint, v);

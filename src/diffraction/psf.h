@@ -69,8 +69,7 @@ struct SampledPsf {
 /// pi from one pupil sample to the next (refused otherwise, ff::Error Input): the rays then land
 /// within half a period of the light. A mask (dirt) multiplies the iris.
 SampledPsf sampledPsf(const Aperture& aperture, double lambdaNm, double spacingMm, int transform,
-                      const Wavefront& wavefront = {}, const Transmission& open = {},
-                      const PupilMask* mask = nullptr);
+                      const Wavefront& wavefront = {}, const Transmission& open = {}, const PupilMask* mask = nullptr);
 
 struct PsfSettings {
     double pitchMm = 0.0;              ///< the sensor's pixel pitch
@@ -95,7 +94,8 @@ struct Psf {
     /// Largest share of a channel's flux that the square and the far field together miss (or
     /// exceed): kept in the light's own pixel, so that each channel sums to 1.
     double outside = 0.0;
-    double edge = 0.0; ///< largest pixel where the far field takes over (0.5 of a wavelength's reach and beyond) over the centre
+    double edge =
+        0.0; ///< largest pixel where the far field takes over (0.5 of a wavelength's reach and beyond) over the centre
     int width() const { return 2 * radius + 1; }
     float at(int c, int dx, int dy) const { ///< offset (dx right, dy down) from the light's pixel, within the square
         return channel[c][static_cast<std::size_t>(dy + radius) * width() + (dx + radius)];

@@ -63,7 +63,8 @@ void stamp(PupilMask& m, double x0, double y0, double x1, double y1, double half
 
 PupilMask proceduralDirt(std::uint64_t seed, double density, int size) {
     if (!(density > 0.0) || !(density <= 100.0))
-        throw Error(ErrorKind::Usage, "the dirt's density must be above 0 and at most 100, got " + text::roundTrip(density));
+        throw Error(ErrorKind::Usage,
+                    "the dirt's density must be above 0 and at most 100, got " + text::roundTrip(density));
     if (size < 16 || size > 8192) throw Error(ErrorKind::Usage, "the dirt's raster must be 16 to 8192 samples");
     PupilMask m;
     m.size = size;

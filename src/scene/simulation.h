@@ -24,15 +24,15 @@
 namespace ff::scene {
 
 struct SimulationSettings {
-    std::string ghostModel = "shaped";    ///< shaped | gaussian | cos2
-    std::string diffraction = "physical"; ///< off | physical | traced
-    double gain = 1.0;                    ///< the flare's gain (1 = physical)
-    double diffractionGain = 1.0;         ///< the diffraction layer's gain (1 = physical)
+    std::string ghostModel = "shaped";                  ///< shaped | gaussian | cos2
+    std::string diffraction = "physical";               ///< off | physical | traced
+    double gain = 1.0;                                  ///< the flare's gain (1 = physical)
+    double diffractionGain = 1.0;                       ///< the diffraction layer's gain (1 = physical)
     std::shared_ptr<const diffraction::PupilMask> dirt; ///< on the front element, multiplying the iris (null: clean)
-    double sensorWidthMm = 0.0;           ///< the plate spans this width; 0: from fovDeg, else the lens file's, else 36
-    double fovDeg = 0.0;                  ///< > 0 (with sensorWidthMm 0): the width 2 EFL tan(fov / 2)
-    image::DetectionSettings detection;   ///< how lights are found (lightImage is set here)
-    std::vector<ghosts::Light> lights;    ///< given (display-window pixels): no detection
+    double sensorWidthMm = 0.0;         ///< the plate spans this width; 0: from fovDeg, else the lens file's, else 36
+    double fovDeg = 0.0;                ///< > 0 (with sensorWidthMm 0): the width 2 EFL tan(fov / 2)
+    image::DetectionSettings detection; ///< how lights are found (lightImage is set here)
+    std::vector<ghosts::Light> lights;  ///< given (display-window pixels): no detection
     /// The ghost table's settings (gaussian, cos2); their sensor plane and coatings serve every model.
     ghosts::TableSettings table;
     fourier::FourierSettings fourier;        ///< the aggregator (gaussian, cos2)
