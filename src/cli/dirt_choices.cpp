@@ -46,8 +46,9 @@ std::shared_ptr<const diffraction::PupilMask> DirtOptions::mask(const std::strin
             const std::string d = dirt.substr(comma + 1);
             char* dend = nullptr;
             density = std::strtod(d.c_str(), &dend);
-            if (d.empty() || *dend != '\0')
-                throw Error(ErrorKind::Usage, "--dirt's DENSITY must be a number, got " + text::quoted(d));
+            if (d.empty() || *dend != '\0' || !(density > 0.0 && density <= 100.0))
+                throw Error(ErrorKind::Usage,
+                            "--dirt's DENSITY must be a number above 0 and at most 100, got " + text::quoted(d));
         }
         m = diffraction::combine(m, diffraction::proceduralDirt(seed, density));
     }

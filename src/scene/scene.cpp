@@ -312,14 +312,18 @@ std::vector<float> splatLights(const std::vector<ghosts::Light>& lights, int wid
     return rgb;
 }
 
-std::string describePsf(const diffraction::Aperture& aperture, const diffraction::Psf& psf) {
+std::string describePsf(const diffraction::Aperture& aperture, const diffraction::Psf& psf,
+                        const diffraction::PupilMask* dirt) {
     return "working f/" + text::fixed(aperture.fNumber, 2) + ", " +
            (aperture.blades >= 3 ? std::to_string(aperture.blades) + " blades" : std::string("circular iris")) + "; " +
            std::to_string(psf.wavelengthsNm.size()) + " wavelengths " +
            text::fixed(*std::min_element(psf.wavelengthsNm.begin(), psf.wavelengthsNm.end()), 0) + "-" +
-           text::fixed(*std::max_element(psf.wavelengthsNm.begin(), psf.wavelengthsNm.end()), 0) + " nm; PSF to " +
-           std::to_string(psf.radius) + " px (tapered from 0.6 of it, where it is at " + text::scientific(psf.edge, 2) +
-           " of the centre)";
+           text::fixed(*std::max_element(psf.wavelengthsNm.begin(), psf.wavelengthsNm.end()), 0) +
+           " nm; the transform's near field (to " + std::to_string(psf.radius) + " px) joined from " +
+           text::fixed(0.2 * psf.radius, 0) + " px to the far field (" +
+           (aperture.blades >= 3 ? "the blades' edge diffraction" : "the Airy pattern's mean") + ", at " +
+           text::scientific(psf.edge, 2) + " of the centre there) reaching the frame's edges" +
+           (dirt && !dirt->empty() ? "; dirt on the front element (" + dirt->key + ")" : std::string());
 }
 
 std::vector<float> renderDiffraction(const optics::Lens& lens, const std::vector<ghosts::Light>& lights,
@@ -336,7 +340,7 @@ std::vector<float> renderDiffraction(const optics::Lens& lens, const std::vector
     };
     if (mode != "traced") {
         const diffraction::Psf psf = diffraction::pixelPsf(aperture, ps);
-        if (summary) *summary = mode + "; " + describePsf(aperture, psf);
+        if (summary) *summary = mode + "; " + describePsf(aperture, psf, ps.mask.get());
         return convolve(splatLights(lights, W, H), psf);
     }
     // Each light through the PSF with the lens's traced wavefront at its own field (described by the
@@ -349,7 +353,7 @@ std::vector<float> renderDiffraction(const optics::Lens& lens, const std::vector
         const diffraction::Psf own = diffraction::pixelPsf(aperture, ps);
         const std::vector<float> one = convolve(splatLights({l}, W, H), own);
         for (std::size_t i = 0; i < spread.size(); ++i) spread[i] += one[i];
-        if (text == mode) text += "; " + describePsf(aperture, own);
+        if (text == mode) text += "; " + describePsf(aperture, own, ps.mask.get());
         text += "; at (" + text::fixed(l.xPx, 1) + ", " + text::fixed(l.yPx, 1) +
                 ") the lens's traced wavefront, PSF to " + std::to_string(own.radius) + " px";
     }

@@ -58,9 +58,11 @@ TracedScene renderTracedField(const optics::Lens& lens, const trace::TracedFlare
 std::vector<float> splatLights(const std::vector<ghosts::Light>& lights, int width, int height, double originX = 0.0,
                                double originY = 0.0);
 
-/// "working f/N, B blades; W wavelengths from the shortest to the longest (nm); PSF to R px, its edge at E of the
-/// centre".
-std::string describePsf(const diffraction::Aperture& aperture, const diffraction::Psf& psf);
+/// "working f/N, B blades; W wavelengths from the shortest to the longest (nm); the transform's near field (to R
+/// px) joined from R/5 px to the far field (..., at E of the centre there) reaching the frame's edges[; dirt on the
+/// front element (its key)]".
+std::string describePsf(const diffraction::Aperture& aperture, const diffraction::Psf& psf,
+                        const diffraction::PupilMask* dirt = nullptr);
 
 /// The lights through the lens's PSF (render --mode diffraction, compare): the aberration-free PSF
 /// ("physical"), or each light through the PSF with the lens's traced wavefront at its field

@@ -214,7 +214,7 @@ void Simulation::diffract(const image::Plate& plate, SimulatedPlate& out) {
             try {
                 ps.pupil = diffraction::tracedPupil(lens_, xMm, yMm, trace::sensorPlaneZ(lens_, s_.table.sensor));
                 diffraction::Psf p = diffraction::pixelPsf(*aperture_, ps);
-                if (psfText.empty()) psfText = describePsf(*aperture_, p);
+                if (psfText.empty()) psfText = describePsf(*aperture_, p, s_.dirt.get());
                 zones.push_back(text::fixed(x, 0) + "," + text::fixed(y, 0) + ": to " + std::to_string(p.radius) +
                                 " px");
                 return p;
@@ -222,14 +222,14 @@ void Simulation::diffract(const image::Plate& plate, SimulatedPlate& out) {
                 reporter_.note({}, "the lights near pixel (" + text::fixed(x, 0) + ", " + text::fixed(y, 0) +
                                        ") get the aberration-free PSF: " + e.what());
                 zones.push_back(text::fixed(x, 0) + "," + text::fixed(y, 0) + ": aberration-free");
-                if (psfText.empty()) psfText = describePsf(*aperture_, idealPsf(pitch));
+                if (psfText.empty()) psfText = describePsf(*aperture_, idealPsf(pitch), s_.dirt.get());
                 return idealPsf(pitch);
             }
         };
         out.diffraction = diffraction::zonedDiffractionLayer(lightRgb, plate.width, plate.height, kZones, kZones, psfAt,
                                                              s_.diffractionGain, &offFrame, s_.convolver);
     } else {
-        psfText = describePsf(*aperture_, idealPsf(pitch));
+        psfText = describePsf(*aperture_, idealPsf(pitch), s_.dirt.get());
         out.diffraction = diffraction::diffractionLayer(lightRgb, plate.width, plate.height, idealPsf(pitch),
                                                         s_.diffractionGain, &offFrame, s_.convolver);
     }
