@@ -41,7 +41,7 @@ namespace {
 constexpr int kMaxTransform = 16384;
 constexpr double kJoin = 0.2, kJoinEnd = 0.4; // of the transform's reach: the near field's blend into the far
 constexpr int kAliases = 4;                   // neighbouring periods subtracted each way
-constexpr double kDirtTaper = 0.6;            // of the transform's reach: the dirt's diffraction tapered to 0 at it
+constexpr double kDirtTaper = 0.3; // of the shortest reach: the dirt's diffraction tapered from it to 0 there
 
 // The PSF's samples in the transform's order (sample (i, j) at offset ((i, j) mod F) x spacing from
 // the light, +y up the rows): share of the flux per sample, summing to 1.
@@ -237,7 +237,8 @@ struct WavelengthKernel {
     std::vector<double> kernel; ///< (2 radius + 1)^2, rows down
     int radius = 0, binning = 0;
     double edge = 0.0;
-    FarField far; ///< this wavelength's alone (weights 1)
+    FarField far;             ///< this wavelength's alone (weights 1)
+    std::vector<double> dirt; ///< what the dirt adds to the kernel (its layout); empty: clean
 };
 
 WavelengthKernel wavelengthKernel(const Aperture& aperture, const PsfSettings& settings, double lambdaNm) {
@@ -279,8 +280,8 @@ WavelengthKernel wavelengthKernel(const Aperture& aperture, const PsfSettings& s
     }
     const std::vector<double> P =
         binned(intensity(aperture, lambdaNm, spacing, T, pupil.opd, pupil.open, nullptr), T, S);
-    // Dirt: what it changes in the transform's intensity, added over the transform's reach (tapered
-    // from kDirtTaper): the same sampling's errors cancel in the difference.
+    // Dirt: what it changes in the transform's intensity (the same sampling's errors cancel in the
+    // difference), added over the transform's reach when the wavelengths are combined.
     std::vector<double> dirt;
     if (settings.mask && !settings.mask->empty()) {
         dirt = binned(intensity(aperture, lambdaNm, spacing, T, pupil.opd, pupil.open, settings.mask.get()), T, S);
@@ -313,12 +314,9 @@ WavelengthKernel wavelengthKernel(const Aperture& aperture, const PsfSettings& s
                 v = near * std::max(0.0, p); // rounding in the transforms can leave tiny negatives
             }
             if (near < 1.0) v += (1.0 - near) * k.far.at(0, mx, my);
-            if (!dirt.empty()) {
-                const double d = (r - kDirtTaper * R) / ((1.0 - kDirtTaper) * R);
-                const double keep = d <= 0.0 ? 1.0 : d >= 1.0 ? 0.0 : std::pow(std::cos(0.5 * std::numbers::pi * d), 2);
-                v = std::max(0.0, v + keep * dirt[static_cast<std::size_t>((-my * S + T) % T) * T +
-                                                  static_cast<std::size_t>((mx * S + T) % T)]);
-            }
+            if (!dirt.empty())
+                k.dirt.push_back(
+                    dirt[static_cast<std::size_t>((-my * S + T) % T) * T + static_cast<std::size_t>((mx * S + T) % T)]);
             if (mx == 0 && my == 0) centre = v;
             if (t >= 0.0) joint = std::max(joint, v);
             b[static_cast<std::size_t>(my + R) * w + (mx + R)] = v;
@@ -362,6 +360,10 @@ Psf pixelPsf(const Aperture& aperture, const PsfSettings& settings) {
         out.edge = std::max(out.edge, k.edge);
     }
     out.far = farField(aperture, settings.pitchMm, out.wavelengthsNm, weights);
+    // The dirt's diffraction to the shortest reach, tapered from kDirtTaper of it: every wavelength's
+    // ends at the same radius (no coloured rim).
+    int dirtReach = out.radius;
+    for (const WavelengthKernel& k : kernels) dirtReach = std::min(dirtReach, k.radius);
     const int w = out.width();
     for (int c = 0; c < 3; ++c) {
         std::vector<double> sum(static_cast<std::size_t>(w) * w, 0.0);
@@ -375,7 +377,18 @@ Psf pixelPsf(const Aperture& aperture, const PsfSettings& settings) {
                                          : kernels[i].far.at(0, x, y);
                     sum[static_cast<std::size_t>(y + out.radius) * w + (x + out.radius)] += weights[i][c] * v;
                 }
+            if (kernels[i].dirt.empty()) continue;
+            for (int y = -dirtReach; y <= dirtReach; ++y)
+                for (int x = -dirtReach; x <= dirtReach; ++x) {
+                    const double d = (std::hypot(x, y) - kDirtTaper * dirtReach) / ((1.0 - kDirtTaper) * dirtReach);
+                    const double keep = d <= 0.0   ? 1.0
+                                        : d >= 1.0 ? 0.0
+                                                   : std::pow(std::cos(0.5 * std::numbers::pi * d), 2);
+                    sum[static_cast<std::size_t>(y + out.radius) * w + (x + out.radius)] +=
+                        weights[i][c] * keep * kernels[i].dirt[static_cast<std::size_t>(y + R) * wi + (x + R)];
+                }
         }
+        for (double& v : sum) v = std::max(0.0, v);
         double kept = 0.0;
         for (double v : sum) kept += v;
         const double missing = 1.0 - kept - farOutside(out.far, c, out.radius);

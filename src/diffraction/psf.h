@@ -79,7 +79,7 @@ struct PsfSettings {
     /// wavefront.h); none: the aberration-free PSF. The transform grows with its maxSlopeMm.
     std::function<PupilFunction(double lambdaNm)> pupil;
     /// Dirt on the front element multiplying the iris (none: clean). Its diffraction reaches the
-    /// transform's reach (K / 4 pixels), tapered from 0.6 of it.
+    /// transform's reach (K / 4 pixels, the shortest wavelength's), tapered from 0.3 of it.
     std::shared_ptr<const PupilMask> mask;
 };
 
