@@ -39,8 +39,9 @@ Aperture apertureOf(const optics::Lens& lens) {
 namespace {
 
 constexpr int kMaxTransform = 16384;
-constexpr double kJoin = 0.2, kJoinEnd = 0.4; // of the transform's reach: the near field's blend into the far
-constexpr int kAliases = 4;                   // neighbouring periods subtracted each way
+constexpr double kJoin = 0.2, kJoinEnd = 0.4;    // of the transform's reach: the near field's blend into the far
+constexpr double kJoinAberrated[2] = {0.6, 0.9}; // the same with a traced wavefront or vignetting
+constexpr int kAliases = 4;                      // neighbouring periods subtracted each way
 constexpr double kDirtTaper = 0.3; // of the shortest reach: the dirt's diffraction tapered from it to 0 there
 
 // The PSF's samples in the transform's order (sample (i, j) at offset ((i, j) mod F) x spacing from
@@ -297,7 +298,11 @@ WavelengthKernel wavelengthKernel(const Aperture& aperture, const PsfSettings& s
     const int w = 2 * R + 1;
     std::vector<double>& b = k.kernel;
     b.assign(static_cast<std::size_t>(w) * w, 0.0);
-    const double start = kJoin * R, end = kJoinEnd * R;
+    // An aberrated PSF (a traced wavefront, vignetting) spreads over up to its reach (the transform is
+    // sized for its spot): kept to kJoinAberrated of it, where only the edges' spikes remain.
+    const bool aberrated = pupil.opd || pupil.open;
+    const double start = (aberrated ? kJoinAberrated[0] : kJoin) * R,
+                 end = (aberrated ? kJoinAberrated[1] : kJoinEnd) * R;
     double centre = 0.0, joint = 0.0;
     for (int my = -R; my <= R; ++my)
         for (int mx = -R; mx <= R; ++mx) {

@@ -104,9 +104,10 @@ struct Psf {
 
 /// Bins each wavelength's PSF over pixels of settings.pitchMm (S x S samples per pixel, the samples
 /// at most lambda N / 2 apart; the transform rounded to a whole number K of pixels per period) and
-/// combines them into RGB. The transform's near field is kept to half its reach (K / 4 pixels), less
+/// combines them into RGB. The transform's near field is kept to a fifth of its reach (K / 4 pixels;
+/// with a pupil function, 0.6 of it: the aberrated spot lies within it), less
 /// the neighbouring periods' far fields (which the transform folds onto it), and blends (cos^2) into
-/// the far field by 0.9 of that reach; the far field (FarField) goes on from there to any distance.
+/// the far field by 0.4 (0.9) of that reach; the far field (FarField) goes on from there to any distance.
 /// Where a pixel spans more than 16384 / 4 samples (over 2 000 lambda N: a tiny plate on a large
 /// sensor) the near field is the light's own pixel. Each channel sums to 1 over the plane
 /// (Psf::outside).

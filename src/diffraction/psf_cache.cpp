@@ -17,7 +17,7 @@ namespace ff::diffraction {
 namespace {
 
 constexpr char kMagic[8] = {'F', 'F', 'P', 'S', 'F', '\0', '\0', '\0'};
-constexpr std::uint32_t kVersion = 4;
+constexpr std::uint32_t kVersion = 5;
 constexpr std::uintmax_t kMaxEntryBytes = std::uintmax_t(1) << 31; // within zlib's 32-bit CRC length
 
 std::uint32_t crc(std::string_view s) {
