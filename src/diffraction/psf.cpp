@@ -291,8 +291,8 @@ WavelengthKernel wavelengthKernel(const Aperture& aperture, const PsfSettings& s
     // The transform's intensity is periodic (K pixels): it holds the light's own PSF plus its
     // neighbouring periods' tails, strongest along the spikes. Those tails are the far field's,
     // subtracted (periods within kAliases each way: what is left of the 1 / r^2 sum is under 1 % of
-    // the spike at half the reach). The near field is kept to kJoin of the reach and blends into
-    // the far field by kJoinEnd.
+    // the spike where the far field takes over). The near field is kept to kJoin of the reach and
+    // blends into the far field by kJoinEnd.
     const int R = K / 4;
     k.radius = R;
     const int w = 2 * R + 1;
@@ -382,7 +382,7 @@ Psf pixelPsf(const Aperture& aperture, const PsfSettings& settings) {
                                          : kernels[i].far.at(0, x, y);
                     sum[static_cast<std::size_t>(y + out.radius) * w + (x + out.radius)] += weights[i][c] * v;
                 }
-            if (kernels[i].dirt.empty()) continue;
+            if (kernels[i].dirt.empty() || dirtReach == 0) continue;
             for (int y = -dirtReach; y <= dirtReach; ++y)
                 for (int x = -dirtReach; x <= dirtReach; ++x) {
                     const double d = (std::hypot(x, y) - kDirtTaper * dirtReach) / ((1.0 - kDirtTaper) * dirtReach);
