@@ -1,9 +1,9 @@
 #pragma once
 // The aberration-free PSF on disk, beside the ghost tables (ff::cacheDirectory()): a warm run pays
 // only the convolution. Keyed by everything pixelPsf reads: the iris (blades, rotation), the working
-// f-number, the pixel pitch, the wavelengths and the transform, with the format's version. A missing
-// entry is computed and stored (atomically); an unreadable, corrupt or mismatching one is recomputed
-// with a note, never trusted.
+// f-number, the pixel pitch, the wavelengths, the transform and the dirt (PupilMask::key), with the
+// format's version. A missing entry is computed and stored (atomically); an unreadable, corrupt or
+// mismatching one is recomputed with a note, never trusted.
 //
 // Format: the magic "FFPSF\0\0\0", a 32-bit format version, the key's length (64 bits) and text, the
 // radius (32 bits), Psf::outside and Psf::edge (doubles), the wavelengths' count (32 bits), each
