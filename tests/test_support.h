@@ -3,6 +3,7 @@
 // and running the CLI.
 
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -49,6 +50,21 @@ inline void writeFile(const std::filesystem::path& p, const std::string& content
 inline std::string readFile(const std::filesystem::path& p) {
     std::ifstream in(p, std::ios::binary);
     return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+/// Copies the zip-compressed EXR `from` to `to` with its data and display windows rewritten to
+/// claim 16384 x 16384 pixels (and bytes enough for the line-offset table, so the header opens): a
+/// hostile file to be refused before anything is allocated. False when a window is not found.
+inline bool writeHugeHeaderCopy(const std::filesystem::path& from, const std::filesystem::path& to) {
+    std::string bytes = readFile(from);
+    const int huge[4] = {0, 0, 16383, 16383};
+    for (const std::string& key : {std::string("dataWindow\0box2i\0", 17), std::string("displayWindow\0box2i\0", 20)}) {
+        const auto at = bytes.find(key);
+        if (at == std::string::npos || at + key.size() + 4 + sizeof huge > bytes.size()) return false;
+        std::memcpy(&bytes[at + key.size() + 4], huge, sizeof huge);
+    }
+    writeFile(to, bytes + std::string(8 * 1024, '\0'));
+    return true;
 }
 
 } // namespace ff::test

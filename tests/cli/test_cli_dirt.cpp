@@ -5,7 +5,6 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <filesystem>
 
 #include "cli_runner.h"
@@ -83,17 +82,7 @@ TEST(CliDirt, BadMasksAndValuesExitTwoAndWriteNothing) {
     ff::test::writeFile(dir / "text.png", "not an image at all\n");
     // A header claiming 16384 x 16384 (above the masks' 8192 x 8192).
     writeImage(dir / "small.exr", 8, 8, 1, 1.0f);
-    {
-        std::string bytes = ff::test::readFile(dir / "small.exr");
-        const int huge[4] = {0, 0, 16383, 16383};
-        for (const std::string& key :
-             {std::string("dataWindow\0box2i\0", 17), std::string("displayWindow\0box2i\0", 20)}) {
-            const auto at = bytes.find(key);
-            ASSERT_NE(at, std::string::npos);
-            std::memcpy(&bytes[at + key.size() + 4], huge, sizeof huge);
-        }
-        ff::test::writeFile(dir / "huge.exr", bytes + std::string(8 * 1024, '\0'));
-    }
+    ASSERT_TRUE(ff::test::writeHugeHeaderCopy(dir / "small.exr", dir / "huge.exr"));
     const fs::path out = dir / "out.exr";
     for (const fs::path& bad : {dir / "missing.png", dir / "empty.png", dir / "text.png", dir / "huge.exr"}) {
         const auto r = run(simulate(dir / "plate.exr", out, "--aperture-mask '" + bad.string() + "'"), kEnv);

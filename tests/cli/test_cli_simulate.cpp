@@ -342,18 +342,7 @@ TEST(CliSimulate, RefusesBadInputsWithoutWritingAnything) {
     }
     // A header claiming 16384 x 16384: refused before anything is allocated, unless allowed.
     writePlate(dir / "small.exr", -1, -1, 0.0f);
-    {
-        std::string bytes = ff::test::readFile(dir / "small.exr");
-        const int huge[4] = {0, 0, 16383, 16383};
-        for (const std::string& key :
-             {std::string("dataWindow\0box2i\0", 17), std::string("displayWindow\0box2i\0", 20)}) {
-            const auto at = bytes.find(key);
-            ASSERT_NE(at, std::string::npos);
-            std::memcpy(&bytes[at + key.size() + 4], huge, sizeof huge);
-        }
-        // Bytes enough for the 16384 / 16 line-offset entries of a zip file, so the header opens.
-        ff::test::writeFile(dir / "huge.exr", bytes + std::string(8 * 1024, '\0'));
-    }
+    ASSERT_TRUE(ff::test::writeHugeHeaderCopy(dir / "small.exr", dir / "huge.exr"));
     const auto huge = run(simulate(dir / "huge.exr", out), kEnv);
     EXPECT_EQ(huge.code, 2) << huge.err;
     EXPECT_NE(huge.err.find("16384x16384 = 268435456 pixels, above the limit of 67108864 (--max-pixels raises it)"),
