@@ -8,6 +8,7 @@
 
 #include <cerrno>
 #include <cstdlib>
+#include <optional>
 
 namespace ff::cli {
 
@@ -44,11 +45,11 @@ std::shared_ptr<const diffraction::PupilMask> DirtOptions::mask(const std::strin
         double density = 1.0;
         if (comma != std::string::npos) {
             const std::string d = dirt.substr(comma + 1);
-            char* dend = nullptr;
-            density = std::strtod(d.c_str(), &dend);
-            if (d.empty() || *dend != '\0' || !(density > 0.0 && density <= 100.0))
+            const std::optional<double> given = text::parseNumber(d);
+            if (!given || !(*given > 0.0 && *given <= 100.0))
                 throw Error(ErrorKind::Usage,
                             "--dirt's DENSITY must be a number above 0 and at most 100, got " + text::quoted(d));
+            density = *given;
         }
         m = diffraction::combine(m, diffraction::proceduralDirt(seed, density));
     }
