@@ -18,6 +18,8 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
+#include <memory>
 #include <random>
 
 #include "gl_bench.h"
@@ -81,8 +83,11 @@ void BM_PsfFromCache(benchmark::State& state) {
 BENCHMARK(BM_PsfFromCache)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The layer of `lights` lights (300: the FFT; 3: the kernel added at each) at the frame's pitch,
-// convolved by `device` (null: the CPU).
-void layers(benchmark::State& state, Convolver* device, int count = 300) {
+// convolved by `device` (null: diffraction::convolve, a shot's first frame on the CPU), or by one
+// made anew for each frame by `fresh` (a shot's first frame on it). A kept device has convolved one
+// frame before the timing (a shot's later frames: the kernel's spectra kept).
+void layers(benchmark::State& state, Convolver* device, int count = 300,
+            const std::function<std::unique_ptr<Convolver>()>& fresh = nullptr) {
     const int W = kWidths[state.range(0)], H = W * 9 / 16;
     PsfSettings s;
     s.pitchMm = 36.0 / W;
@@ -93,17 +98,25 @@ void layers(benchmark::State& state, Convolver* device, int count = 300) {
         const std::size_t p = (static_cast<std::size_t>(rng() % H) * W + rng() % W) * 3;
         lights[p] = lights[p + 1] = lights[p + 2] = 1000.0f;
     }
+    if (device) diffractionLayer(lights, W, H, psf, 1.0, nullptr, device);
     for (auto _ : state) {
-        const auto layer = diffractionLayer(lights, W, H, psf, 1.0, nullptr, device);
+        std::unique_ptr<Convolver> made = fresh ? fresh() : nullptr;
+        const auto layer = diffractionLayer(lights, W, H, psf, 1.0, nullptr, made ? made.get() : device);
         benchmark::DoNotOptimize(layer.data());
     }
     state.counters["radius_px"] = psf.radius;
 }
 
 void BM_Convolve(benchmark::State& state) {
-    layers(state, nullptr);
+    FftwConvolver cpu;
+    layers(state, &cpu);
 }
 BENCHMARK(BM_Convolve)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_ConvolveFirstFrame(benchmark::State& state) {
+    layers(state, nullptr);
+}
+BENCHMARK(BM_ConvolveFirstFrame)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_ConvolveThreeLights(benchmark::State& state) {
     layers(state, nullptr, 3);
@@ -117,6 +130,13 @@ void BM_ConvolveGl(benchmark::State& state) {
     layers(state, &fft);
 }
 BENCHMARK(BM_ConvolveGl)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_ConvolveGlFirstFrame(benchmark::State& state) {
+    const ff::gpu::GlContext* context = ff::bench::glContextFor(state, state.range(0) > 0, "2160p");
+    if (!context) return;
+    layers(state, nullptr, 300, [&] { return std::make_unique<ff::gpu::GlFft>(*context); });
+}
+BENCHMARK(BM_ConvolveGlFirstFrame)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 } // namespace
 

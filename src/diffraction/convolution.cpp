@@ -35,6 +35,30 @@ std::vector<float> frameKernel(const Psf& psf, int c, int rx, int ry, double* to
     return k;
 }
 
+std::uint64_t kernelFingerprint(const Psf& psf) {
+    std::uint64_t h = 14695981039346656037ull;
+    const auto add = [&](const void* data, std::size_t bytes) {
+        for (std::size_t i = 0; i < bytes; ++i) {
+            h ^= static_cast<const unsigned char*>(data)[i];
+            h *= 1099511628211ull;
+        }
+    };
+    const auto addVector = [&](const auto& v) {
+        const std::size_t n = v.size();
+        add(&n, sizeof n);
+        add(v.data(), n * sizeof(v[0]));
+    };
+    add(&psf.radius, sizeof psf.radius);
+    for (const auto& c : psf.channel) addVector(c);
+    add(psf.far.airy.data(), sizeof psf.far.airy);
+    for (const FarField::Line& line : psf.far.lines) {
+        const double header[] = {line.nx, line.ny, line.step, static_cast<double>(line.half)};
+        add(header, sizeof header);
+        for (const auto& c : line.profile) addVector(c);
+    }
+    return h;
+}
+
 std::array<int, 2> kernelReach(const std::vector<float>& image, int width, int height, const Psf& psf) {
     if (psf.far.empty()) return {psf.radius, psf.radius};
     int x0 = width, y0 = height, x1 = -1, y1 = -1;
@@ -163,11 +187,13 @@ struct Fftw<float> {
 };
 
 // The linear convolution of a frame's channel with a kernel reaching (kx, ky), by transforms of
-// period (fastSize(W + kx), fastSize(H + ky)) in place (each row padded to Wp / 2 + 1 complex
+// period (fastSize(W + kx), oddSize(H + ky)) in place (each row padded to Wp / 2 + 1 complex
 // values): what wraps around the period falls outside the frame.
 template <class Real>
 class FftConvolution {
     using F = Fftw<Real>;
+
+  public:
     struct Buffer {
         Real* p;
         /// Uninitialised (planning with FFTW_ESTIMATE does not touch it) unless zeroed.
@@ -180,7 +206,6 @@ class FftConvolution {
         Buffer& operator=(const Buffer&) = delete;
     };
 
-  public:
     FftConvolution(int width, int height, int kx, int ky)
         : W_(width), H_(height), Wp_(fastSize(width + kx)), Hp_(oddSize(height + ky)),
           row_(2 * (static_cast<std::size_t>(Wp_) / 2 + 1)) {
@@ -198,22 +223,32 @@ class FftConvolution {
     FftConvolution(const FftConvolution&) = delete;
     FftConvolution& operator=(const FftConvolution&) = delete;
 
-    /// Adds channel c of `image` (R, G, B interleaved) convolved with the kernel to `sum` (the same
-    /// layout); kernel(put) calls put(dx, dy, value) for its non-zero offsets (|dx| <= kx, |dy| <= ky).
+    int period() const { return Wp_; }
+    int rows() const { return Hp_; }
+
+    /// The kernel's spectrum: kernel(put) calls put(dx, dy, value) for its non-zero offsets
+    /// (|dx| <= Wp - W, |dy| <= Hp - H: no further, or it would wrap around into the frame).
     template <class Kernel>
-    void run(const std::vector<float>& image, int c, std::vector<double>& sum, Kernel&& kernel) const {
-        Buffer img(size()), ker(size());
+    std::unique_ptr<Buffer> spectrum(Kernel&& kernel) const {
+        auto ker = std::make_unique<Buffer>(size());
+        kernel([&](int dx, int dy, double v) {
+            ker->p[static_cast<std::size_t>((dy + Hp_) % Hp_) * row_ + (dx + Wp_) % Wp_] += static_cast<Real>(v);
+        });
+        F::forward(forward_, ker->p);
+        return ker;
+    }
+
+    /// Adds channel c of `image` (R, G, B interleaved) convolved with the kernel whose spectrum is
+    /// `kernel` to `sum` (the same layout).
+    void run(const std::vector<float>& image, int c, std::vector<double>& sum, const Buffer& kernel) const {
+        Buffer img(size());
         for (int y = 0; y < H_; ++y)
             for (int x = 0; x < W_; ++x)
                 img.p[static_cast<std::size_t>(y) * row_ + x] =
                     static_cast<Real>(image[(static_cast<std::size_t>(y) * W_ + x) * 3 + c]);
-        kernel([&](int dx, int dy, double v) {
-            ker.p[static_cast<std::size_t>((dy + Hp_) % Hp_) * row_ + (dx + Wp_) % Wp_] += static_cast<Real>(v);
-        });
         F::forward(forward_, img.p);
-        F::forward(forward_, ker.p);
         auto* I = reinterpret_cast<typename F::Complex*>(img.p);
-        const auto* K = reinterpret_cast<const typename F::Complex*>(ker.p);
+        const auto* K = reinterpret_cast<const typename F::Complex*>(kernel.p);
         const Real scale = Real(1) / (static_cast<Real>(Wp_) * static_cast<Real>(Hp_));
         for (std::size_t k = 0; k < size() / 2; ++k) {
             const Real re = I[k][0] * K[k][0] - I[k][1] * K[k][1];
@@ -236,6 +271,47 @@ class FftConvolution {
 
 } // namespace
 
+// The transforms of the last frame's size and PSF, and the kernel's spectra with them.
+struct FftwConvolver::Kept {
+    struct Key {
+        std::uint64_t psf = 0;
+        int width = 0, height = 0, kx = 0, ky = 0, rx = 0,
+            ry = 0; ///< the near square's and the far field's periods' reach
+        bool operator==(const Key&) const = default;
+    };
+    Key key;
+    std::unique_ptr<FftConvolution<double>> near;
+    std::unique_ptr<FftConvolution<float>> far; ///< null: no far field reaches the frame
+    std::array<std::unique_ptr<FftConvolution<double>::Buffer>, 3> nearSpectrum;
+    std::array<std::unique_ptr<FftConvolution<float>::Buffer>, 3> farSpectrum;
+
+    Kept(const Key& k, const Psf& psf, bool withFar) : key(k) {
+        const int W = k.width, H = k.height, R = psf.radius;
+        near = std::make_unique<FftConvolution<double>>(W, H, k.kx, k.ky);
+        // Each kernel over every offset that cannot wrap around its period into the frame (at least
+        // the lights' reach): the same spectra serve any frame that needs these periods.
+        const int nx = std::min({R, near->period() - W, W - 1}), ny = std::min({R, near->rows() - H, H - 1});
+        tbb::parallel_for(0, 3, [&](int c) {
+            const std::vector<float>& ch = psf.channel[static_cast<std::size_t>(c)];
+            nearSpectrum[static_cast<std::size_t>(c)] = near->spectrum([&](auto&& put) {
+                for (int dy = -ny; dy <= ny; ++dy)
+                    for (int dx = -nx; dx <= nx; ++dx)
+                        put(dx, dy, ch[static_cast<std::size_t>(dy + R) * psf.width() + (dx + R)]);
+            });
+        });
+        if (!withFar) return;
+        far = std::make_unique<FftConvolution<float>>(W, H, k.rx, k.ry);
+        const int fx = std::min(W - 1, far->period() - W), fy = std::min(H - 1, far->rows() - H);
+        // One channel at a time, each transform on FFTW's threads.
+        for (int c = 0; c < 3; ++c)
+            farSpectrum[static_cast<std::size_t>(c)] = far->spectrum(
+                [&](auto&& put) { psf.far.forEach(c, fx, fy, R, [&](int dx, int dy, double v) { put(dx, dy, v); }); });
+    }
+};
+
+FftwConvolver::FftwConvolver() = default;
+FftwConvolver::~FftwConvolver() = default;
+
 bool convolvesDirectly(const std::vector<float>& image, int width, int height, const Psf& psf) {
     const std::size_t lit =
         static_cast<std::size_t>(std::count_if(image.begin(), image.end(), [](float v) { return v != 0.0f; }));
@@ -243,7 +319,8 @@ bool convolvesDirectly(const std::vector<float>& image, int width, int height, c
     return direct(lit, width, height, rx, ry);
 }
 
-std::vector<float> convolve(const std::vector<float>& image, int width, int height, const Psf& psf, double* offFrame) {
+std::vector<float> FftwConvolver::convolve(const std::vector<float>& image, int width, int height, const Psf& psf,
+                                           double* offFrame) {
     const std::size_t pixels = static_cast<std::size_t>(std::max(width, 0)) * std::max(height, 0);
     if (image.size() != pixels * 3) throw Error(ErrorKind::Runtime, "convolve: the image does not match its size");
     std::vector<float> out(pixels * 3, 0.0f);
@@ -260,25 +337,25 @@ std::vector<float> convolve(const std::vector<float>& image, int width, int heig
     // The PSF's square in double (the transforms' rounding spreads ~1e-16 of the lights' flux over
     // the frame; float's 1e-7 of a 60 000-valued source would show on a night plate); the far field
     // beyond it (under 1e-4 of the flux per pixel) in float, over the larger period it needs.
-    const int R = psf.radius, kx = std::min(R, rx), ky = std::min(R, ry);
+    const int R = psf.radius;
     const bool far = !psf.far.empty() && (rx > R || ry > R);
+    // The periods (fastSize, oddSize) are the key, not the reach itself: frames whose lights reach
+    // differently but need the same periods reuse the kernel's spectra.
+    const Kept::Key key{kernelFingerprint(psf),
+                        width,
+                        height,
+                        fastSize(width + std::min(R, rx)) - width,
+                        oddSize(height + std::min(R, ry)) - height,
+                        far ? fastSize(width + rx) - width : 0,
+                        far ? oddSize(height + ry) - height : 0};
+    if (!kept_ || !(kept_->key == key)) {
+        kept_.reset();
+        kept_ = std::make_unique<Kept>(key, psf, far);
+    }
     std::vector<double> sum(pixels * 3, 0.0);
-    const FftConvolution<double> nearPart(width, height, kx, ky);
-    std::unique_ptr<FftConvolution<float>> farPart;
-    if (far) farPart = std::make_unique<FftConvolution<float>>(width, height, rx, ry);
-    tbb::parallel_for(0, 3, [&](int c) {
-        const std::vector<float>& k = psf.channel[static_cast<std::size_t>(c)];
-        nearPart.run(image, c, sum, [&](auto&& put) {
-            for (int dy = -ky; dy <= ky; ++dy)
-                for (int dx = -kx; dx <= kx; ++dx)
-                    put(dx, dy, k[static_cast<std::size_t>(dy + R) * psf.width() + (dx + R)]);
-        });
-    });
-    // The far field one channel at a time, each transform on FFTW's threads.
-    for (int c = 0; far && c < 3; ++c)
-        farPart->run(image, c, sum, [&](auto&& put) {
-            psf.far.forEach(c, rx, ry, R, [&](int dx, int dy, double v) { put(dx, dy, v); });
-        });
+    tbb::parallel_for(
+        0, 3, [&](int c) { kept_->near->run(image, c, sum, *kept_->nearSpectrum[static_cast<std::size_t>(c)]); });
+    for (int c = 0; far && c < 3; ++c) kept_->far->run(image, c, sum, *kept_->farSpectrum[static_cast<std::size_t>(c)]);
     tbb::parallel_for(0, 3, [&](int c) {
         const std::vector<float>& k = psf.channel[static_cast<std::size_t>(c)];
         double in = 0.0, kept = 0.0, whole = 0.0;
@@ -293,6 +370,10 @@ std::vector<float> convolve(const std::vector<float>& image, int width, int heig
     });
     if (offFrame) *offFrame += off[0] + off[1] + off[2];
     return out;
+}
+
+std::vector<float> convolve(const std::vector<float>& image, int width, int height, const Psf& psf, double* offFrame) {
+    return FftwConvolver().convolve(image, width, height, psf, offFrame);
 }
 
 std::vector<float> diffractionLayer(const std::vector<float>& lights, int width, int height, const Psf& psf,

@@ -6,7 +6,9 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 namespace ff::diffraction {
@@ -18,6 +20,23 @@ class Convolver {
     /// As diffraction::convolve.
     virtual std::vector<float> convolve(const std::vector<float>& image, int width, int height, const Psf& psf,
                                         double* offFrame) = 0;
+};
+
+/// The convolution on the CPU (FFTW), as convolve, keeping the transforms' plans and the kernel's
+/// spectra of the last frame for the next frame of the same size and PSF whose lights need the same
+/// periods (a shot's frames: each transforms only its lights; about 150 MB kept at 1080p).
+class FftwConvolver final : public Convolver {
+  public:
+    FftwConvolver();
+    ~FftwConvolver() override;
+    FftwConvolver(const FftwConvolver&) = delete;
+    FftwConvolver& operator=(const FftwConvolver&) = delete;
+    std::vector<float> convolve(const std::vector<float>& image, int width, int height, const Psf& psf,
+                                double* offFrame) override;
+
+  private:
+    struct Kept;
+    std::unique_ptr<Kept> kept_;
 };
 
 /// image (R, G, B interleaved, width x height) convolved with the PSF's channels (linear, not
@@ -32,6 +51,10 @@ std::vector<float> convolve(const std::vector<float>& image, int width, int heig
 /// the kernel's square, and beyond it the far field. *total is the channel's flux to any distance:
 /// 1 with a far field (what lies beyond rx, ry leaves the frame), the square's sum without.
 std::vector<float> frameKernel(const Psf& psf, int c, int rx, int ry, double* total = nullptr);
+
+/// A 64-bit hash (FNV-1a) of everything the kernel is made from (the square, the far field): equal
+/// fingerprints, equal kernels. Keys a convolver's cached transform of the kernel across frames.
+std::uint64_t kernelFingerprint(const Psf& psf);
 
 /// How far (x, y) convolve's kernel reaches: the PSF's square without a far field; with one, from the
 /// image's non-zero pixels to the frame's far edges.

@@ -28,10 +28,11 @@ int nextPowerOfTwo(int n) {
 
 } // namespace
 
-GlFft::GlFft(const GlContext&)
-    : a_(std::make_unique<Buffer>()), b_(std::make_unique<Buffer>()), scratch_(std::make_unique<Buffer>()) {
+GlFft::GlFft(const GlContext&) : a_(std::make_unique<Buffer>()), scratch_(std::make_unique<Buffer>()) {
     pass_ = std::make_unique<ComputeProgram>("fft_pass.comp", embedded("fft_pass.comp"), kGroup);
     product_ = std::make_unique<ComputeProgram>("spectrum_product.comp", embedded("spectrum_product.comp"), kGroup);
+    scatter_ = std::make_unique<ComputeProgram>("fft_scatter.comp", embedded("fft_scatter.comp"), kGroup);
+    gather_ = std::make_unique<ComputeProgram>("fft_gather.comp", embedded("fft_gather.comp"), kGroup);
 }
 
 GlFft::~GlFft() = default;
@@ -50,15 +51,23 @@ void GlFft::twiddles(int length) {
 }
 
 void GlFft::transform(std::unique_ptr<Buffer>& data, std::unique_ptr<Buffer>& scratch, int width, int height,
-                      bool inverse) {
+                      bool inverse, int used) {
+    if (used <= 0 || used > height) used = height;
     twiddles(std::max(width, height));
-    scratch->upload(nullptr, static_cast<std::size_t>(width) * height * 2 * sizeof(double));
+    const std::size_t rowBytes = static_cast<std::size_t>(width) * 2 * sizeof(double);
+    scratch->upload(nullptr, rowBytes * height);
+    // The forward transform's rows from `used` on are zero, and stay so through the row passes,
+    // which skip them: both buffers hold zeros there.
+    if (!inverse && used < height) {
+        data->zeros(rowBytes * used, rowBytes * (height - used));
+        scratch->zeros(rowBytes * used, rowBytes * (height - used));
+    }
     pass_->use();
     pass_->set("inverse", inverse ? 1 : 0);
     twiddle_.bind(2);
-    // Rows (stride 1, one transform per row), then columns (stride = width, one per column).
-    for (const auto [n, stride, batch, count] :
-         {std::array<int, 4>{width, 1, width, height}, std::array<int, 4>{height, width, 1, width}}) {
+    // Length n, element stride, transform stride, transforms: along rows (stride 1, one transform
+    // per row) or columns (stride = width, one per column).
+    const auto passes = [&](int n, int stride, int batch, int count) {
         pass_->set("n", n);
         pass_->set("stride", stride);
         pass_->set("batch", batch);
@@ -79,7 +88,11 @@ void GlFft::transform(std::unique_ptr<Buffer>& data, std::unique_ptr<Buffer>& sc
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
             std::swap(data, scratch);
         }
-    }
+    };
+    // Forward: the `used` rows, then every column; inverse: every column, then the `used` rows.
+    if (!inverse) passes(width, 1, width, used);
+    passes(height, width, 1, width);
+    if (inverse) passes(width, 1, width, used);
     checkGl("fft_pass.comp");
 }
 
@@ -96,6 +109,35 @@ std::vector<std::complex<double>> GlFft::transform(const std::vector<std::comple
     return out;
 }
 
+void GlFft::dispatch(std::size_t invocations) const {
+    const auto groups = static_cast<GLuint>((invocations + kGroup - 1) / kGroup);
+    glDispatchCompute(std::min(groups, kMaxGroups), (groups + kMaxGroups - 1) / kMaxGroups, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+void GlFft::kernelSpectra(const diffraction::Psf& psf, int width, int height, int period, int rows) {
+    const KernelKey key{diffraction::kernelFingerprint(psf), width, height, period, rows};
+    if (key == key_ && spectrum_[0]) return;
+    // Every offset that cannot wrap around the period into the frame (at least the lights' reach,
+    // kernelReach): the same spectrum then serves any lights in a frame of this size.
+    const int kx = std::min(width - 1, period - width), ky = std::min(height - 1, rows - height);
+    const std::size_t N = static_cast<std::size_t>(period) * rows;
+    std::vector<std::complex<double>> kernel(N);
+    for (int c = 0; c < 3; ++c) {
+        std::fill(kernel.begin(), kernel.end(), 0.0);
+        const std::vector<float> k = diffraction::frameKernel(psf, c, kx, ky, &flux_[static_cast<std::size_t>(c)]);
+        for (int dy = -ky; dy <= ky; ++dy)
+            for (int dx = -kx; dx <= kx; ++dx)
+                kernel[static_cast<std::size_t>((dy + rows) % rows) * period + (dx + period) % period] =
+                    k[static_cast<std::size_t>(dy + ky) * (2 * kx + 1) + (dx + kx)];
+        auto& s = spectrum_[static_cast<std::size_t>(c)];
+        if (!s) s = std::make_unique<Buffer>();
+        s->upload(kernel.data(), N * sizeof(std::complex<double>));
+        transform(s, scratch_, period, rows, false);
+    }
+    key_ = key;
+}
+
 std::vector<float> GlFft::convolve(const std::vector<float>& image, int width, int height, const diffraction::Psf& psf,
                                    double* offFrame) {
     const std::size_t pixels = static_cast<std::size_t>(std::max(width, 0)) * std::max(height, 0);
@@ -107,47 +149,57 @@ std::vector<float> GlFft::convolve(const std::vector<float>& image, int width, i
     const int P = nextPowerOfTwo(width + rx), Q = nextPowerOfTwo(height + ry);
     if (P > kMaxSide || Q > kMaxSide) throw Error(ErrorKind::Runtime, "the frame is too large for the GL FFT");
     const std::size_t N = static_cast<std::size_t>(P) * Q;
-    std::vector<std::complex<double>> field(N), kernel(N);
-    double off = 0.0;
-    for (int c = 0; c < 3; ++c) {
-        std::fill(field.begin(), field.end(), 0.0);
-        std::fill(kernel.begin(), kernel.end(), 0.0);
-        double in = 0.0, sum = 0.0, kept = 0.0;
-        const std::vector<float> k = diffraction::frameKernel(psf, c, rx, ry, &sum);
-        for (int y = 0; y < height; ++y)
-            for (int x = 0; x < width; ++x) {
-                const float v = image[(static_cast<std::size_t>(y) * width + x) * 3 + c];
-                field[static_cast<std::size_t>(y) * P + x] = v;
-                in += v;
-            }
-        for (int dy = -ry; dy <= ry; ++dy)
-            for (int dx = -rx; dx <= rx; ++dx)
-                kernel[static_cast<std::size_t>((dy + Q) % Q) * P + (dx + P) % P] =
-                    k[static_cast<std::size_t>(dy + ry) * (2 * rx + 1) + (dx + rx)];
-        a_->upload(field.data(), N * sizeof(std::complex<double>));
-        b_->upload(kernel.data(), N * sizeof(std::complex<double>));
-        transform(a_, scratch_, P, Q, false);
-        transform(b_, scratch_, P, Q, false);
+    kernelSpectra(psf, width, height, P, Q);
+    image_.upload(image.data(), image.size() * sizeof(float));
+    frame_.upload(nullptr, pixels * sizeof(std::complex<double>));
+    a_->upload(nullptr, N * sizeof(std::complex<double>));
+    std::vector<std::complex<double>> frame(pixels);
+    std::array<double, 3> in{}, kept{};
+    for (std::size_t p = 0; p < pixels; ++p)
+        for (std::size_t c = 0; c < 3; ++c) in[c] += image[p * 3 + c];
+    // Red and green as one complex transform (r + i g), then blue.
+    for (const auto [first, second] : {std::array<int, 2>{0, 1}, std::array<int, 2>{2, -1}}) {
+        scatter_->use();
+        scatter_->set("width", width);
+        scatter_->set("period", P);
+        scatter_->set("count", static_cast<int>(static_cast<std::size_t>(P) * height));
+        scatter_->set("first", first);
+        scatter_->set("second", second);
+        a_->bind(0);
+        image_.bind(1);
+        dispatch(static_cast<std::size_t>(P) * height);
+        checkGl("fft_scatter.comp");
+        transform(a_, scratch_, P, Q, false, height);
         product_->use();
-        product_->set("count", static_cast<int>(N));
+        product_->set("period", P);
+        product_->set("rows", Q);
         product_->setDouble("scale", 1.0 / static_cast<double>(N));
         a_->bind(0);
-        b_->bind(1);
-        const auto groups = static_cast<GLuint>((N + kGroup - 1) / kGroup);
-        glDispatchCompute(std::min(groups, kMaxGroups), (groups + kMaxGroups - 1) / kMaxGroups, 1);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        spectrum_[static_cast<std::size_t>(first)]->bind(1);
+        spectrum_[static_cast<std::size_t>(second < 0 ? first : second)]->bind(2);
+        dispatch(N);
         checkGl("spectrum_product.comp");
-        transform(a_, scratch_, P, Q, true);
+        transform(a_, scratch_, P, Q, true, height);
+        gather_->use();
+        gather_->set("width", width);
+        gather_->set("period", P);
+        gather_->set("count", static_cast<int>(pixels));
+        a_->bind(0);
+        frame_.bind(1);
+        dispatch(pixels);
+        checkGl("fft_gather.comp");
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        a_->download(field.data(), N * sizeof(std::complex<double>));
-        for (int y = 0; y < height; ++y)
-            for (int x = 0; x < width; ++x) {
-                const double v = field[static_cast<std::size_t>(y) * P + x].real();
-                out[(static_cast<std::size_t>(y) * width + x) * 3 + c] = static_cast<float>(v);
-                kept += v;
-            }
-        off += std::max(0.0, in * sum - kept);
+        frame_.download(frame.data(), pixels * sizeof(std::complex<double>));
+        for (std::size_t p = 0; p < pixels; ++p) {
+            out[p * 3 + static_cast<std::size_t>(first)] = static_cast<float>(frame[p].real());
+            kept[static_cast<std::size_t>(first)] += frame[p].real();
+            if (second < 0) continue;
+            out[p * 3 + static_cast<std::size_t>(second)] = static_cast<float>(frame[p].imag());
+            kept[static_cast<std::size_t>(second)] += frame[p].imag();
+        }
     }
+    double off = 0.0;
+    for (std::size_t c = 0; c < 3; ++c) off += std::max(0.0, in[c] * flux_[c] - kept[c]);
     if (offFrame) *offFrame += off;
     return out;
 }

@@ -52,6 +52,12 @@ void Buffer::zeros(std::size_t bytes) {
     checkGl("a buffer clear");
 }
 
+void Buffer::zeros(std::size_t offset, std::size_t bytes) {
+    glClearNamedBufferSubData(id_, GL_R32F, static_cast<GLintptr>(offset), static_cast<GLsizeiptr>(bytes), GL_RED,
+                              GL_FLOAT, nullptr);
+    checkGl("a buffer clear");
+}
+
 Texture::Texture() = default;
 Texture::~Texture() {
     if (id_) glDeleteTextures(1, &id_);

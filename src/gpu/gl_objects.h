@@ -25,6 +25,8 @@ class Buffer {
     void upload(const void* data, std::size_t bytes);
     /// Makes the buffer `bytes` long and all zero (keeps the storage when the size is unchanged).
     void zeros(std::size_t bytes);
+    /// Zeroes `bytes` from `offset` (both multiples of 4, within the buffer).
+    void zeros(std::size_t offset, std::size_t bytes);
     void download(void* data, std::size_t bytes) const;
     void bind(GLuint binding) const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id_); }
     std::size_t bytes() const { return bytes_; }

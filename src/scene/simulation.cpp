@@ -201,6 +201,7 @@ void Simulation::diffract(const image::Plate& plate, SimulatedPlate& out) {
         lightRgb = splatLights(out.lights, plate.width, plate.height, plate.originX - plate.displayX,
                                plate.originY - plate.displayY);
     double offFrame = 0.0;
+    diffraction::Convolver* convolver = s_.convolver ? s_.convolver : &cpuConvolver_;
     if (s_.diffraction == "traced") {
         // The lens's own wavefront at the lights' fields: one PSF per tile of the frame that holds
         // light, at its lights' centre (pixels of the data window; the axis at the display window's
@@ -227,11 +228,11 @@ void Simulation::diffract(const image::Plate& plate, SimulatedPlate& out) {
             }
         };
         out.diffraction = diffraction::zonedDiffractionLayer(lightRgb, plate.width, plate.height, kZones, kZones, psfAt,
-                                                             s_.diffractionGain, &offFrame, s_.convolver);
+                                                             s_.diffractionGain, &offFrame, convolver);
     } else {
         psfText = describePsf(*aperture_, idealPsf(pitch), s_.dirt.get());
         out.diffraction = diffraction::diffractionLayer(lightRgb, plate.width, plate.height, idealPsf(pitch),
-                                                        s_.diffractionGain, &offFrame, s_.convolver);
+                                                        s_.diffractionGain, &offFrame, convolver);
     }
     std::string zoneText;
     for (const std::string& z : zones) zoneText += (zoneText.empty() ? "" : "; ") + z;

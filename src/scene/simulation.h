@@ -92,7 +92,9 @@ class Simulation {
     std::unique_ptr<ghosts::ShapedTable> shaped_;
     std::pair<int, int> shapedFor_;         ///< the display window shaped_ was made for
     std::unique_ptr<diffraction::Psf> psf_; ///< aberration-free (the traced PSFs' fallback)
-    double psfPitch_ = 0.0;                 ///< the pixel pitch psf_ was made for
+    /// The CPU's convolution where no device is given, kept from frame to frame (its kernel's spectra).
+    diffraction::FftwConvolver cpuConvolver_;
+    double psfPitch_ = 0.0; ///< the pixel pitch psf_ was made for
     std::string tableKey_;
 };
 

@@ -2,6 +2,7 @@
 // frame), and the diffraction layer's energy rule.
 
 #include "diffraction/convolution.h"
+#include "diffraction/psf.h"
 
 #include <gtest/gtest.h>
 
@@ -67,6 +68,47 @@ TEST(Convolution, MatchesTheDirectSum) {
     for (float& v : image) v += static_cast<float>(u(rng));
     ASSERT_FALSE(convolvesDirectly(image, W, H, psf));
     expectTheDirectSum(image, W, H, psf);
+}
+
+// A convolver kept from frame to frame (its kernel's spectra kept while the frame's size, the PSF
+// and the periods stay) gives what a fresh one gives, to the bit, as the lights' reach and the PSF
+// change; the lights fill enough of the frame for the transforms.
+TEST(Convolution, AKeptConvolverGivesWhatAFreshOneGives) {
+    const int W = 90, H = 50;
+    PsfSettings s;
+    s.pitchMm = 36.0 / W;
+    s.wavelengthsNm = {450.0, 550.0, 650.0};
+    s.transform = 256;
+    const Psf six = pixelPsf({6, 0.0, 8.0}, s), five = pixelPsf({5, 9.0, 11.0}, s);
+    ASSERT_FALSE(six.far.empty());
+    const auto frame = [&](int x0, int y0, int x1, int y1, unsigned seed) {
+        std::mt19937 rng(seed);
+        std::uniform_real_distribution<double> u(0.0, 1.0);
+        std::vector<float> image(static_cast<std::size_t>(W) * H * 3, 0.0f);
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x)
+                for (int c = 0; c < 3; ++c)
+                    image[(static_cast<std::size_t>(y) * W + x) * 3 + c] = static_cast<float>(100.0 * u(rng));
+        return image;
+    };
+    struct Case {
+        std::vector<float> image;
+        const Psf* psf;
+    };
+    // The second and third frames need the same periods (their lights reach 59 and 58 px across, 34
+    // down), the fourth only changes the PSF.
+    const Case cases[] = {{frame(0, 0, W, H, 1), &six},     {frame(30, 15, 60, 35, 2), &six},
+                          {frame(31, 16, 59, 35, 3), &six}, {frame(31, 16, 59, 35, 3), &five},
+                          {frame(0, 0, W, H, 1), &six},     {frame(30, 15, 60, 35, 4), &five}};
+    FftwConvolver kept;
+    for (const Case& k : cases) {
+        ASSERT_FALSE(convolvesDirectly(k.image, W, H, *k.psf));
+        double offKept = 0.0, offFresh = 0.0;
+        const auto a = kept.convolve(k.image, W, H, *k.psf, &offKept);
+        const auto b = convolve(k.image, W, H, *k.psf, &offFresh);
+        EXPECT_EQ(a, b);
+        EXPECT_EQ(offKept, offFresh);
+    }
 }
 
 // One light in the middle: the layer is the kernel around it minus the light, summing to zero; it is
