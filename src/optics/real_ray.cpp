@@ -39,6 +39,10 @@ std::optional<double> vertexBranchRoot(double a, double B, double C) {
 
 } // namespace
 
+std::optional<glm::dvec3> surfaceNormalAt(const Surface& s, double vertexZ, const glm::dvec3& point) {
+    return surfaceNormal(s, glm::dvec3(point.x, point.y, point.z - vertexZ));
+}
+
 std::optional<SurfaceHit> intersectSurface(const Surface& s, double vertexZ, const Ray& ray, double tMin) {
     auto hit = intersectSurfacePoint(s, vertexZ, ray, tMin);
     if (!hit) return std::nullopt;
