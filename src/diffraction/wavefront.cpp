@@ -153,9 +153,9 @@ TracedWavefront tracedWavefront(const optics::Lens& lens, double angleRad, doubl
         if (s.status != optics::RayStatus::Ok) return std::nullopt;
         Traced t;
         t.stop = glm::dvec2(points[stopStep]);
-        t.opl = L.nBefore[steps.front().surface] * glm::dot(points.front(), d);
-        for (std::size_t k = 0; k + 1 < steps.size(); ++k)
-            t.opl += L.nAfter[steps[k].surface] * glm::length(points[k + 1] - points[k]);
+        // From the plane through the pupil's centre normal to the ray, then along the traced path
+        // (curved through a graded element).
+        t.opl = L.nBefore[steps.front().surface] * glm::dot(points.front(), d) + s.opticalPath;
         t.last = {points.back(), s.ray.dir};
         return t;
     };

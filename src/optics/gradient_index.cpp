@@ -9,11 +9,6 @@
 
 namespace ff::optics {
 
-double GradientTerm::at(double lambdaNm) const {
-    const double l = nmToUm(lambdaNm), ld = nmToUm(lines::d);
-    return atD + dispersion * (1.0 / (l * l) - 1.0 / (ld * ld));
-}
-
 GradientField::GradientField(double n0, const GradientIndex& g, double lambdaNm, double vertexZ)
     : n0_(n0), vertexZ_(vertexZ) {
     for (const GradientTerm& t : g.radial) a_.push_back(t.at(lambdaNm));
@@ -93,10 +88,15 @@ double side(const Surface& s, double vertexZ, const glm::dvec3& p) {
 
 } // namespace
 
-std::optional<GradientHit> propagate(const GradientField& field, const Ray& ray, const Surface& from, double fromZ,
-                                     const Surface& to, double toZ, double maxRadius,
-                                     const GradientSettings& settings) {
-    if (toZ == fromZ) return std::nullopt;
+std::optional<GradientHit> propagate(const GradientField& field, const glm::dvec3& origin, const glm::dvec3& dir,
+                                     const Surface& from, double fromZ, const Surface& to, double toZ, double maxRadius,
+                                     const GradientSettings& settings, GradientLoss* loss) {
+    const auto lost = [&](GradientLoss why) -> std::optional<GradientHit> {
+        if (loss) *loss = why;
+        return std::nullopt;
+    };
+    if (loss) *loss = GradientLoss::None;
+    if (toZ == fromZ) return lost(GradientLoss::TurnedBack);
     // The space lies on this side of `from` and on the other side of `to`.
     const double sign = toZ > fromZ ? 1.0 : -1.0;
     const bool fixed = settings.step > 0.0;
@@ -108,10 +108,10 @@ std::optional<GradientHit> propagate(const GradientField& field, const Ray& ray,
         return half ? rk4(field, *half, h / 2) : std::nullopt;
     };
     State y;
-    y.p = ray.origin;
-    const double n0 = field.index(ray.origin);
-    if (!(n0 > 0.0) || !std::isfinite(n0)) return std::nullopt;
-    y.v = glm::normalize(ray.dir) * n0;
+    y.p = origin;
+    const double n0 = field.index(origin);
+    if (!(n0 > 0.0) || !std::isfinite(n0)) return lost(GradientLoss::Index);
+    y.v = glm::normalize(dir) * n0;
     double h = fixed ? settings.step : settings.initialStep, length = 0.0;
     std::size_t steps = 0; // accepted
     for (std::size_t tries = 0; tries < settings.maxSteps; ++tries) {
@@ -122,7 +122,7 @@ std::optional<GradientHit> propagate(const GradientField& field, const Ray& ray,
         } else {
             const auto single = rk4(field, y, h);
             next = step(y, h);
-            if (!single || !next) return std::nullopt;
+            if (!single || !next) return lost(GradientLoss::Index);
             const double error = glm::length(single->p - next->p) / 15.0, allowed = settings.tolerance * h;
             const double factor = error > 0.0 ? 0.9 * std::pow(allowed / error, 0.2) : 4.0;
             if (error > allowed && h > 1e-9) {
@@ -131,9 +131,9 @@ std::optional<GradientHit> propagate(const GradientField& field, const Ray& ray,
             }
             hNext = h * std::clamp(factor, 0.2, 4.0);
         }
-        if (!next) return std::nullopt;
+        if (!next) return lost(GradientLoss::Index);
         const double past = side(to, toZ, next->p) * sign;
-        if (std::isnan(past)) return std::nullopt;
+        if (std::isnan(past)) return lost(GradientLoss::Barrel); // beyond the surface's conic
         if (past >= 0.0) {
             // The crossing lies within this step: the Illinois method on the step's length.
             double a = 0.0, fa = side(to, toZ, y.p) * sign, b = h, fb = past;
@@ -141,9 +141,9 @@ std::optional<GradientHit> propagate(const GradientField& field, const Ray& ray,
             for (int i = 0; i < 200 && std::abs(fb) > 1e-13 && std::abs(b - a) > 1e-15; ++i) {
                 const double c = fa == fb ? (a + b) / 2 : b - fb * (b - a) / (fb - fa);
                 const auto yc = step(y, c);
-                if (!yc) return std::nullopt;
+                if (!yc) return lost(GradientLoss::Index);
                 const double fc = side(to, toZ, yc->p) * sign;
-                if (std::isnan(fc)) return std::nullopt;
+                if (std::isnan(fc)) return lost(GradientLoss::Barrel);
                 if ((fc < 0.0) == (fb < 0.0)) {
                     fa /= 2.0;
                 } else {
@@ -156,8 +156,8 @@ std::optional<GradientHit> propagate(const GradientField& field, const Ray& ray,
             }
             GradientHit hit;
             hit.point = at.p;
-            const auto normal = surfaceNormalAt(to, toZ, at.p);
-            if (!normal) return std::nullopt;
+            const auto normal = to.normal({at.p.x, at.p.y, at.p.z - toZ});
+            if (!normal) return lost(GradientLoss::Barrel);
             hit.normal = *normal;
             hit.dir = glm::normalize(at.v);
             hit.index = field.index(at.p);
@@ -166,14 +166,14 @@ std::optional<GradientHit> propagate(const GradientField& field, const Ray& ray,
             hit.steps = steps + 1;
             return hit;
         }
-        if (side(from, fromZ, next->p) * sign < -1e-9) return std::nullopt; // turned back
-        if (maxRadius > 0.0 && std::hypot(next->p.x, next->p.y) > maxRadius) return std::nullopt;
+        if (side(from, fromZ, next->p) * sign < -1e-9) return lost(GradientLoss::TurnedBack);
+        if (maxRadius > 0.0 && std::hypot(next->p.x, next->p.y) > maxRadius) return lost(GradientLoss::Barrel);
         y = *next;
         length += h;
         h = hNext;
         ++steps;
     }
-    return std::nullopt;
+    return lost(GradientLoss::Steps);
 }
 
 } // namespace ff::optics

@@ -1,5 +1,5 @@
 #pragma once
-// Graded-index (GRIN) media and rays through them (docs/grin.md).
+// Rays through graded-index (GRIN) media (docs/grin.md; the media themselves: Medium::gradient).
 //
 // The index after a surface, in that surface's frame (r from the axis, z from its vertex, mm):
 //
@@ -21,7 +21,6 @@
 // step; the crossing is found within the step by the Illinois variant of regula falsi on the
 // step's length (each trial a fresh RK4 step from the step's start).
 
-#include "optics/real_ray.h"
 #include "optics/surface.h"
 
 #include <glm/vec3.hpp>
@@ -30,21 +29,6 @@
 #include <vector>
 
 namespace ff::optics {
-
-/// One coefficient of a gradient and its dispersion (Cauchy form through the d line).
-struct GradientTerm {
-    double atD = 0.0;        ///< the value at the d line (587.56 nm), mm^-k for the term in r^k or z^k
-    double dispersion = 0.0; ///< D: the change per 1 / L^2 (L in um), same units times um^2
-    double at(double lambdaNm) const;
-    bool operator==(const GradientTerm&) const = default;
-};
-
-/// The gradient part of a medium: coefficients of r^2, r^4, ... and of z, z^2, ...
-struct GradientIndex {
-    std::vector<GradientTerm> radial; ///< a_1, a_2, ...: of r^2, r^4, ...
-    std::vector<GradientTerm> axial;  ///< b_1, b_2, ...: of z, z^2, ...
-    bool operator==(const GradientIndex&) const = default;
-};
 
 /// A gradient at one wavelength, placed in the lens frame (the surface's vertex at vertexZ).
 class GradientField {
@@ -78,12 +62,16 @@ struct GradientHit {
     std::size_t steps = 0;    ///< RK4 steps taken (accepted ones)
 };
 
-/// Propagates `ray` (starting on or before the space's first surface, unit direction) through the
+/// Why a ray through a gradient did not arrive.
+enum class GradientLoss { None, Barrel, TurnedBack, Index, Steps };
+
+/// Propagates the ray from `origin` along `dir` (on or before the space's first surface) through the
 /// field until it meets surface `to` (vertex at toZ). Lost (nullopt) if the ray turns back across
 /// surface `from` (vertex at fromZ) first, leaves the clear radius maxRadius (0: unlimited), meets
-/// an index <= 0 or not finite, or runs out of steps.
-std::optional<GradientHit> propagate(const GradientField& field, const Ray& ray, const Surface& from, double fromZ,
-                                     const Surface& to, double toZ, double maxRadius = 0.0,
-                                     const GradientSettings& settings = {});
+/// an index <= 0 or not finite, or runs out of steps; *loss, where given, says which.
+std::optional<GradientHit> propagate(const GradientField& field, const glm::dvec3& origin, const glm::dvec3& dir,
+                                     const Surface& from, double fromZ, const Surface& to, double toZ,
+                                     double maxRadius = 0.0, const GradientSettings& settings = {},
+                                     GradientLoss* loss = nullptr);
 
 } // namespace ff::optics

@@ -335,12 +335,45 @@ class LensTextParser {
                 s.coating = parseCoatingSpec(val, at(valCol));
                 return;
             }
+            if (key == "grin_r" || key == "grin_z") {
+                parseGradient(s, key, val, tok.column, valCol);
+                return;
+            }
             fail(tok.column, "unknown surface option " + text::quoted(key) +
-                                 "; valid options: conic=K, asph=A4,A6,..., coating=SPEC");
+                                 "; valid options: conic=K, asph=A4,A6,..., coating=SPEC, grin_r=A1:D1,..., "
+                                 "grin_z=B1:D1,...");
         }
         fail(tok.column, "unexpected " + text::quoted(v) +
                              " after the surface columns; expected 'stop', a shape "
-                             "(sph, cyl_x, cyl_y, toric), conic=K, asph=A4,A6,... or coating=SPEC");
+                             "(sph, cyl_x, cyl_y, toric), conic=K, asph=A4,A6,..., coating=SPEC, grin_r=... or "
+                             "grin_z=...");
+    }
+
+    // grin_r=A1:D1,A2:D2,... (coefficients of r^2, r^4, ...) or grin_z=B1:D1,... (of z, z^2, ...): each
+    // coefficient at the d line and its dispersion D (GradientTerm), both required.
+    void parseGradient(Surface& s, std::string_view key, std::string_view val, int keyCol, int valCol) const {
+        if (!s.medium.gradient) {
+            s.medium.gradient.emplace();
+            s.medium.gradient->origin = at(keyCol);
+        }
+        auto& terms = key == "grin_r" ? s.medium.gradient->radial : s.medium.gradient->axial;
+        if (!terms.empty()) fail(keyCol, "'" + std::string(key) + "' given twice in one row");
+        int col = valCol;
+        for (std::string_view part : text::split(val, ',')) {
+            const auto colon = part.find(':');
+            if (colon == std::string_view::npos)
+                fail(col, "the gradient coefficient " + text::quoted(part) +
+                              " has no dispersion: write VALUE:D (c(lambda) = VALUE + D (1/L^2 - 1/Ld^2), L in um; "
+                              "D = 0 for none)");
+            const auto value = text::parseNumber(part.substr(0, colon));
+            const auto dispersion = text::parseNumber(part.substr(colon + 1));
+            if (!value) fail(col, "expected a number before ':' in " + text::quoted(part));
+            if (!dispersion)
+                fail(col + static_cast<int>(colon) + 1, "expected a number after ':' in " + text::quoted(part));
+            terms.push_back({*value, *dispersion});
+            col += static_cast<int>(part.size()) + 1;
+        }
+        if (terms.size() > 10) fail(valCol, "at most 10 gradient terms are supported");
     }
 
     [[noreturn]] void short_(const std::vector<Token>& t, std::size_t have) const {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <utility>
 
 namespace ff::optics {
 
@@ -75,6 +76,15 @@ std::string writeLensText(const Lens& lens) {
             row += " ";
         }
         if (s.coating) row += "coating=" + s.coating->token() + " ";
+        if (s.medium.gradient)
+            for (const auto& [key, terms] :
+                 {std::pair{"grin_r=", &s.medium.gradient->radial}, std::pair{"grin_z=", &s.medium.gradient->axial}}) {
+                if (terms->empty()) continue;
+                row += key;
+                for (std::size_t k = 0; k < terms->size(); ++k)
+                    row += (k ? "," : "") + num((*terms)[k].atD) + ":" + num((*terms)[k].dispersion);
+                row += " ";
+            }
         while (!row.empty() && row.back() == ' ') row.pop_back();
         o << row << "\n";
     }

@@ -50,6 +50,11 @@ Dispersion Dispersion::sellmeier(const std::array<double, 3>& b, const std::arra
     return d;
 }
 
+double GradientTerm::at(double lambdaNm) const {
+    const double l = nmToUm(lambdaNm), ld = nmToUm(lines::d);
+    return atD + dispersion * (1.0 / (l * l) - 1.0 / (ld * ld));
+}
+
 Medium Medium::air() {
     return Medium{};
 }

@@ -1,31 +1,16 @@
 #include "optics/real_ray.h"
 
 #include "core/error.h"
+#include "optics/gradient_index.h"
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 namespace ff::optics {
 
 namespace {
-
-// Unit normal of the surface at a point given in vertex-local coordinates (x, y, z - vertexZ),
-// oriented towards +z: from the implicit conic for spheres and conics, from the sag slope
-// n ∝ (-z'(r) x / r, -z'(r) y / r, 1) for aspheres.
-std::optional<glm::dvec3> surfaceNormal(const Surface& s, const glm::dvec3& local) {
-    if (!s.isAspheric()) {
-        // Sphere or conic: minus the gradient of c (x^2 + y^2 + (1 + k) z^2) - 2 z, which points to +z.
-        const double c = s.curvature();
-        return glm::normalize(glm::dvec3(-c * local.x, -c * local.y, 1.0 - c * (1.0 + s.conic) * local.z));
-    }
-    const double r = std::sqrt(local.x * local.x + local.y * local.y);
-    auto slope = s.sagSlope(r);
-    if (!slope || !std::isfinite(*slope)) return std::nullopt;
-    glm::dvec3 n(0.0, 0.0, 1.0);
-    if (r > 0.0) n = glm::dvec3(-*slope * local.x / r, -*slope * local.y / r, 1.0);
-    return glm::normalize(n);
-}
 
 // Root of a t^2 + 2 B t + C = 0 on the branch through the vertex: the one that tends to the
 // plane solution -C / (2B) as the curvature goes to zero (the larger-magnitude denominator).
@@ -39,14 +24,10 @@ std::optional<double> vertexBranchRoot(double a, double B, double C) {
 
 } // namespace
 
-std::optional<glm::dvec3> surfaceNormalAt(const Surface& s, double vertexZ, const glm::dvec3& point) {
-    return surfaceNormal(s, glm::dvec3(point.x, point.y, point.z - vertexZ));
-}
-
 std::optional<SurfaceHit> intersectSurface(const Surface& s, double vertexZ, const Ray& ray, double tMin) {
     auto hit = intersectSurfacePoint(s, vertexZ, ray, tMin);
     if (!hit) return std::nullopt;
-    auto n = surfaceNormal(s, glm::dvec3(hit->point.x, hit->point.y, hit->point.z - vertexZ));
+    auto n = s.normal(glm::dvec3(hit->point.x, hit->point.y, hit->point.z - vertexZ));
     if (!n) return std::nullopt;
     hit->normal = *n;
     return hit;
@@ -134,15 +115,34 @@ const char* toString(RayStatus s) {
 }
 
 RealTraceResult traceReal(const Lens& lens, double lambdaNm, Ray ray, bool clip) {
-    double z = 0.0;
+    double z = 0.0, zBefore = 0.0;
     for (std::size_t i = 0; i < lens.surfaces.size(); ++i) {
         const Surface& s = lens.surfaces[i];
-        auto hit = intersectSurface(s, z, ray);
+        // The medium before: straight, or the curved path through a graded element (optics/gradient_index.h).
+        std::optional<SurfaceHit> hit;
+        double n1 = lens.mediumBefore(i).index(lambdaNm);
+        const Medium* graded = i > 0 && lens.surfaces[i - 1].medium.gradient ? &lens.surfaces[i - 1].medium : nullptr;
+        if (graded) {
+            const GradientField field(n1, *graded->gradient, lambdaNm, zBefore);
+            const double barrel = clip ? std::max(lens.surfaces[i - 1].semiAperture, s.semiAperture) : 0.0;
+            if (const auto g = propagate(field, ray.origin, ray.dir, lens.surfaces[i - 1], zBefore, s, z, barrel)) {
+                hit = SurfaceHit{g->length, g->point, g->normal};
+                ray.dir = g->dir;
+                n1 = g->index;
+            }
+        } else {
+            hit = intersectSurface(s, z, ray);
+        }
         if (!hit) return {RayStatus::Missed, i, ray};
         if (clip && clipped(s, hit->point)) return {RayStatus::Clipped, i, ray};
-        auto dir = refract(ray.dir, hit->normal, lens.mediumBefore(i).index(lambdaNm), s.medium.index(lambdaNm));
+        const double n2 =
+            s.medium.gradient
+                ? GradientField(s.medium.index(lambdaNm), *s.medium.gradient, lambdaNm, z).index(hit->point)
+                : s.medium.index(lambdaNm);
+        auto dir = refract(ray.dir, hit->normal, n1, n2);
         if (!dir) return {RayStatus::TotalInternalReflection, i, ray};
         ray = {hit->point, *dir};
+        zBefore = z;
         z += s.thickness;
     }
     return {RayStatus::Ok, lens.surfaces.size(), ray};

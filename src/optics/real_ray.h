@@ -31,10 +31,6 @@ std::optional<SurfaceHit> intersectSurface(const Surface& s, double vertexZ, con
 /// visibility queries that test many candidate surfaces).
 std::optional<SurfaceHit> intersectSurfacePoint(const Surface& s, double vertexZ, const Ray& ray, double tMin = -1e-9);
 
-/// The surface's unit normal (+z oriented) at a point on it (lens frame); nullopt where the sag's
-/// slope is undefined.
-std::optional<glm::dvec3> surfaceNormalAt(const Surface& s, double vertexZ, const glm::dvec3& point);
-
 /// True when the hit lies outside the surface's clear semi-aperture (0 = unclipped).
 bool clipped(const Surface& s, const glm::dvec3& point);
 

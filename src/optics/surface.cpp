@@ -1,5 +1,7 @@
 #include "optics/surface.h"
 
+#include <glm/geometric.hpp>
+
 #include <cmath>
 
 namespace ff::optics {
@@ -46,6 +48,23 @@ std::optional<double> Surface::sagSlope(double r) const {
         power += 2;
     }
     return dz;
+}
+
+// From the implicit conic for spheres and conics, from the sag slope n ∝ (-z'(r) x / r, -z'(r) y / r,
+// 1) for aspheres.
+std::optional<glm::dvec3> Surface::normal(const glm::dvec3& local) const {
+    const Surface& s = *this;
+    if (!s.isAspheric()) {
+        // Sphere or conic: minus the gradient of c (x^2 + y^2 + (1 + k) z^2) - 2 z, which points to +z.
+        const double c = s.curvature();
+        return glm::normalize(glm::dvec3(-c * local.x, -c * local.y, 1.0 - c * (1.0 + s.conic) * local.z));
+    }
+    const double r = std::sqrt(local.x * local.x + local.y * local.y);
+    auto slope = s.sagSlope(r);
+    if (!slope || !std::isfinite(*slope)) return std::nullopt;
+    glm::dvec3 n(0.0, 0.0, 1.0);
+    if (r > 0.0) n = glm::dvec3(-*slope * local.x / r, -*slope * local.y / r, 1.0);
+    return glm::normalize(n);
 }
 
 } // namespace ff::optics

@@ -10,6 +10,8 @@
 #include "optics/coating_spec.h"
 #include "optics/medium.h"
 
+#include <glm/vec3.hpp>
+
 #include <optional>
 #include <vector>
 
@@ -44,6 +46,9 @@ struct Surface {
     std::optional<double> sag(double r) const;
     /// dz/dr at r (same domain as sag).
     std::optional<double> sagSlope(double r) const;
+    /// Unit normal, oriented towards +z, at a point on the surface given in its vertex frame
+    /// (x, y, z - vertexZ); nullopt where the sag's slope is undefined.
+    std::optional<glm::dvec3> normal(const glm::dvec3& local) const;
 };
 
 } // namespace ff::optics

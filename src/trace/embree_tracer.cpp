@@ -27,7 +27,8 @@ void loseRay(RayResult& r, RayStatus status, std::size_t step) {
 // expected surface is computed first (a miss, a hit outside its aperture or total internal reflection
 // loses the ray as in the analytic tracer); then one occlusion query asks Embree whether anything
 // else in the scene lies on the segment from the ray's origin to that hit. If so the ray is blocked:
-// the nearest hit in the scene was not the surface the path expects.
+// the nearest hit in the scene was not the surface the path expects. A curved path through a graded
+// element is followed by nextHit, which checks the element's barrel itself.
 void tracePacket(RTCScene scene, const LensAtWavelength& L, const std::vector<PathStep>& steps,
                  std::span<const optics::Ray> rays, std::span<RayResult> out, std::size_t first, int count) {
     optics::Ray cur[kPacket];
@@ -55,13 +56,20 @@ void tracePacket(RTCScene scene, const LensAtWavelength& L, const std::vector<Pa
         for (int i = 0; i < kPacket; ++i) {
             valid[i] = 0;
             if (i >= count || !alive[i]) continue;
-            hit[i] = optics::intersectSurface(L.lens->surfaces[s], L.vertexZ[s], cur[i], kMinStep);
+            bool graded = false;
+            RayStatus missed = RayStatus::Missed;
+            hit[i] = nextHit(L, k > 0 ? steps[k - 1].surface : kObjectSpace, s, cur[i], &graded, nullptr, &missed);
             RayResult& res = out[first + i];
             if (!hit[i])
-                loseRay(res, RayStatus::Missed, k);
+                loseRay(res, missed, k);
             else if (!L.insideAperture(s, hit[i]->point))
                 loseRay(res, RayStatus::Clipped, k);
-            else {
+            else if (graded) {
+                // Inside a graded element nothing but its barrel (checked on the way) can block.
+                const RayStatus st = applyStep(L, steps[k], *hit[i], cur[i], weight[i]);
+                if (st == RayStatus::Ok) continue;
+                loseRay(res, st, k);
+            } else {
                 valid[i] = -1;
                 any = true;
                 expected[i] = static_cast<unsigned>(s);
@@ -82,7 +90,7 @@ void tracePacket(RTCScene scene, const LensAtWavelength& L, const std::vector<Pa
             }
             alive[i] = false;
         }
-        if (!any) return;
+        if (!any) continue; // none to test against the scene at this step
         rtcOccluded8(valid, scene, &ctx.embree, &ray);
         for (int i = 0; i < count; ++i) {
             if (!valid[i]) continue;

@@ -5,6 +5,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -28,6 +29,49 @@ LensAtWavelength::LensAtWavelength(const optics::Lens& l, double lambda, double 
         z += l.surfaces[s].thickness;
     }
     sensorZ = std::isnan(sensor) ? z : sensor;
+    for (std::size_t s = 0; s < n; ++s) {
+        const optics::Medium& m = l.surfaces[s].medium;
+        gradient.push_back(m.gradient && s + 1 < n
+                               ? std::optional(optics::GradientField(m.index(lambda), *m.gradient, lambda, vertexZ[s]))
+                               : std::nullopt);
+        barrelRadius.push_back(s + 1 < n ? std::max(clipRadius[s], clipRadius[s + 1]) : 0.0);
+    }
+}
+
+double LensAtWavelength::indexBefore(std::size_t s, const glm::dvec3& p) const {
+    return s > 0 && gradient[s - 1] ? gradient[s - 1]->index(p) : nBefore[s];
+}
+
+double LensAtWavelength::indexAfter(std::size_t s, const glm::dvec3& p) const {
+    return gradient[s] ? gradient[s]->index(p) : nAfter[s];
+}
+
+std::optional<optics::SurfaceHit> nextHit(const LensAtWavelength& L, std::size_t left, std::size_t s, optics::Ray& ray,
+                                          bool* graded, double* opticalPath, RayStatus* status) {
+    if (status) *status = RayStatus::Missed;
+    // The space the ray is in: after `left` travelling forward, before it travelling back.
+    std::size_t space = kObjectSpace;
+    if (left != kObjectSpace) space = ray.dir.z > 0.0 ? left : (left > 0 ? left - 1 : kObjectSpace);
+    if (graded) *graded = false;
+    if (space == kObjectSpace || !L.gradient[space]) {
+        auto hit = optics::intersectSurface(L.lens->surfaces[s], L.vertexZ[s], ray, kMinStep);
+        if (hit && opticalPath) *opticalPath = hit->t * (space == kObjectSpace ? L.nBefore[0] : L.nAfter[space]);
+        return hit;
+    }
+    if (graded) *graded = true;
+    const std::size_t from = space == left ? space : space + 1, to = from == space ? space + 1 : space;
+    if (s != to) return std::nullopt; // a graded element is left only through its other surface
+    optics::GradientLoss loss = optics::GradientLoss::None;
+    const auto g =
+        optics::propagate(*L.gradient[space], ray.origin, ray.dir, L.lens->surfaces[from], L.vertexZ[from],
+                          L.lens->surfaces[to], L.vertexZ[to], L.barrelRadius[space], L.gradientSettings, &loss);
+    if (!g) {
+        if (status && loss == optics::GradientLoss::Barrel) *status = RayStatus::Clipped;
+        return std::nullopt;
+    }
+    ray.dir = g->dir;
+    if (opticalPath) *opticalPath = g->opticalPath;
+    return optics::SurfaceHit{g->length, g->point, g->normal};
 }
 
 bool LensAtWavelength::insideAperture(std::size_t s, const glm::dvec3& p) const {
@@ -47,8 +91,9 @@ RayStatus applyStep(const LensAtWavelength& L, const PathStep& step, const optic
     const std::size_t s = step.surface;
     // Media on the incident and far side depend on the travel direction.
     const bool forward = ray.dir.z > 0.0;
-    const double n1 = forward ? L.nBefore[s] : L.nAfter[s];
-    const double n2 = forward ? L.nAfter[s] : L.nBefore[s];
+    const double before = L.indexBefore(s, hit.point), after = L.indexAfter(s, hit.point);
+    const double n1 = forward ? before : after;
+    const double n2 = forward ? after : before;
     double R = 0.0;
     if (weighting == Weighting::Fresnel && n1 != n2) {
         const double cosI = std::min(1.0, std::abs(glm::dot(ray.dir, hit.normal)));
@@ -84,12 +129,16 @@ SequentialResult traceSequential(const LensAtWavelength& L, const std::vector<Pa
             openMargins[k] = std::numeric_limits<double>::quiet_NaN();
             if (openPoints) openPoints[k] = glm::dvec3(openMargins[k]);
         }
+    double opticalPath = 0.0;
     for (std::size_t k = 0; k < steps.size(); ++k) {
         const std::size_t s = steps[k].surface;
         RayStatus status = RayStatus::Ok;
-        auto hit = optics::intersectSurface(L.lens->surfaces[s], L.vertexZ[s], ray, kMinStep);
+        double segment = 0.0;
+        RayStatus missed = RayStatus::Missed;
+        auto hit = nextHit(L, k > 0 ? steps[k - 1].surface : kObjectSpace, s, ray, nullptr, &segment, &missed);
+        if (k > 0) opticalPath += segment;
         if (!hit)
-            status = RayStatus::Missed;
+            status = missed;
         else if (openMargins) {
             openMargins[k] = L.apertureMargin(s, hit->point);
             if (openPoints) openPoints[k] = hit->point;
@@ -111,6 +160,7 @@ SequentialResult traceSequential(const LensAtWavelength& L, const std::vector<Pa
     }
     out.ray = ray;
     out.weight = weight;
+    out.opticalPath = opticalPath;
     return out;
 }
 

@@ -9,9 +9,13 @@
 //   - a reflection mirrors the ray and multiplies the weight by R;
 //   - R is the exact unpolarised reflectance of the surface, bare or with its coating, at the ray's
 //     angle of incidence and wavelength (optics/thin_film.h);
+//   - through a graded-index element the ray follows its curved path (optics/gradient_index.h) to
+//     the next surface, lost if it leaves the element's barrel (the larger of its surfaces' clear
+//     semi-apertures), and the indices at its boundaries are the local ones;
 //   - after the last step the ray is carried to the sensor plane.
 // Units: mm, nm.
 
+#include "optics/gradient_index.h"
 #include "optics/lens.h"
 #include "optics/real_ray.h"
 #include "optics/thin_film.h"
@@ -19,6 +23,7 @@
 #include "trace/ghost_path.h"
 
 #include <limits>
+#include <optional>
 #include <vector>
 
 namespace ff::trace {
@@ -34,6 +39,12 @@ struct LensAtWavelength {
     std::size_t stop = 0;
     Iris iris;            ///< the stop's opening (its blades, at the working radius)
     double sensorZ = 0.0; ///< z of the sensor plane (the last thickness unless overridden)
+    /// Per surface: the graded index of the space after it, placed in the lens frame (none:
+    /// homogeneous), and that element's barrel radius (the larger clear semi-aperture of its two
+    /// surfaces; 0: unclipped).
+    std::vector<std::optional<optics::GradientField>> gradient;
+    std::vector<double> barrelRadius;
+    optics::GradientSettings gradientSettings;
 
     /// sensorZ: the sensor plane; NaN = the lens's own (the last thickness).
     LensAtWavelength(const optics::Lens& l, double lambda, double sensorZ = std::numeric_limits<double>::quiet_NaN());
@@ -43,7 +54,24 @@ struct LensAtWavelength {
     /// How far a hit point at surface s lies inside its clear aperture (the iris for the stop), mm,
     /// negative outside; +infinity for an unclipped surface.
     double apertureMargin(std::size_t s, const glm::dvec3& p) const;
+    /// The index just before and just after surface s at a point p on it (the local index where
+    /// that side is graded).
+    double indexBefore(std::size_t s, const glm::dvec3& p) const;
+    double indexAfter(std::size_t s, const glm::dvec3& p) const;
 };
+
+/// No surface: a ray that starts in object space.
+inline constexpr std::size_t kObjectSpace = std::numeric_limits<std::size_t>::max();
+
+/// Where a ray that left surface `left` (kObjectSpace: from object space) next meets surface s: the
+/// exact intersection of the straight ray (Embree may still find it blocked), or the end of its
+/// curved path through a graded element (then ray.dir becomes the arrival direction, *graded is
+/// set, and the barrel has been checked). *opticalPath, where given, receives the path's n ds
+/// integral from the ray's origin. nullopt: the surface is missed, or the ray is lost inside the
+/// graded element (*status, where given: Clipped where it left the barrel, else Missed).
+std::optional<optics::SurfaceHit> nextHit(const LensAtWavelength& L, std::size_t left, std::size_t s, optics::Ray& ray,
+                                          bool* graded = nullptr, double* opticalPath = nullptr,
+                                          optics::RayStatus* status = nullptr);
 
 /// What a trace computes: the ray's fate and path with its Fresnel / coating weight, or the fate and
 /// path alone (weights left at 1), for searches that only ask where light gets through.
@@ -66,6 +94,8 @@ struct SequentialResult {
     std::size_t lostAtStep = 0; ///< index into the path steps where the ray was lost
     optics::Ray ray;            ///< on the sensor plane (when Ok): origin = hit point, dir = final direction
     double weight = 0.0;        ///< product of the Fresnel/coating factors (0 when lost)
+    /// The optical path (integral of n ds, mm) from the first step's hit to the last's (when Ok).
+    double opticalPath = 0.0;
 };
 
 /// With openMargins (steps.size() of them), every aperture is left open: nothing clips the ray (a

@@ -62,7 +62,8 @@ TEST(GradientIndex, SechRodRaysAreTheClosedFormSinusoids) {
          {std::array<double, 2>{0.05, 0.08}, std::array<double, 2>{-0.1, 0.03}, std::array<double, 2>{0.0, -0.09}})
         for (int j = 1; j <= 12; ++j) {
             const double z = 3.0 * pitch * j / 12.0;
-            const auto hit = propagate(field, rodRay(r0, theta0), flat(), 0.0, flat(), z);
+            const auto hit =
+                propagate(field, rodRay(r0, theta0).origin, rodRay(r0, theta0).dir, flat(), 0.0, flat(), z);
             ASSERT_TRUE(hit);
             EXPECT_NEAR(hit->point.z, z, 1e-12);
             EXPECT_NEAR(hit->point.x, sechRodHeight(r0, theta0, z), 1e-6) << r0 << " " << theta0 << " " << z;
@@ -77,7 +78,8 @@ TEST(GradientIndex, SechRodOpticalPathIsTheClosedForm) {
     const GradientField field(kN0, sechRod(), 587.56, 0.0);
     const double pitch = 2.0 * std::numbers::pi / kAlpha;
     for (const auto& [r0, theta0] : {std::array<double, 2>{0.05, 0.08}, std::array<double, 2>{0.18, 0.0}}) {
-        const auto hit = propagate(field, rodRay(r0, theta0), flat(), 0.0, flat(), 2.0 * pitch);
+        const auto hit =
+            propagate(field, rodRay(r0, theta0).origin, rodRay(r0, theta0).dir, flat(), 0.0, flat(), 2.0 * pitch);
         ASSERT_TRUE(hit);
         EXPECT_NEAR(hit->opticalPath, 2.0 * 2.0 * std::numbers::pi * kN0 / kAlpha, 1e-8);
     }
@@ -91,7 +93,8 @@ TEST(GradientIndex, HalvingTheStepDividesTheErrorBySixteen) {
     const auto error = [&](double h) {
         GradientSettings s;
         s.step = h;
-        const auto hit = propagate(field, rodRay(0.05, 0.08), flat(), 0.0, flat(), z, 0.0, s);
+        const auto hit =
+            propagate(field, rodRay(0.05, 0.08).origin, rodRay(0.05, 0.08).dir, flat(), 0.0, flat(), z, 0.0, s);
         EXPECT_TRUE(hit);
         if (!hit) return 0.0;
         return std::hypot(hit->point.x - sechRodHeight(0.05, 0.08, z),
@@ -122,7 +125,7 @@ TEST(GradientIndex, ZeroGradientIsTheHomogeneousRay) {
         const double z = *front.sag(std::hypot(x, y));
         const Ray ray{{x, y, z}, glm::normalize(glm::dvec3(dx, dy, 1.0))};
         const auto straight = intersectSurface(back, backZ, ray, 1e-9);
-        const auto curved = propagate(field, ray, front, 0.0, back, backZ);
+        const auto curved = propagate(field, ray.origin, ray.dir, front, 0.0, back, backZ);
         ASSERT_TRUE(straight && curved);
         EXPECT_LT(glm::length(curved->point - straight->point), 1e-9);
         EXPECT_LT(glm::length(curved->dir - ray.dir), 1e-12);
@@ -144,7 +147,7 @@ TEST(GradientIndex, WoodLensFocalLengthIsTheParaxialFormula) {
         const double h = 1e-3;
         GradientSettings precise;
         precise.tolerance = 1e-13;
-        const auto hit = propagate(field, {{h, 0.0, 0.0}, {0.0, 0.0, 1.0}}, flat(), 0.0, flat(), d, 0.0, precise);
+        const auto hit = propagate(field, {h, 0.0, 0.0}, {0.0, 0.0, 1.0}, flat(), 0.0, flat(), d, 0.0, precise);
         ASSERT_TRUE(hit);
         const auto out = refract(hit->dir, hit->normal, hit->index, 1.0);
         ASSERT_TRUE(out);
@@ -171,10 +174,10 @@ TEST(GradientIndex, RaysThatCannotArriveAreLost) {
     g.axial = {{-0.5, 0.0}}; // n falls steeply along z: an oblique ray turns back
     const GradientField field(1.9, g, 587.56, 0.0);
     EXPECT_FALSE(
-        propagate(field, {{0.0, 0.0, 0.0}, glm::normalize(glm::dvec3(1.0, 0.0, 0.3))}, flat(), 0.0, flat(), 5.0));
+        propagate(field, {0.0, 0.0, 0.0}, glm::normalize(glm::dvec3(1.0, 0.0, 0.3)), flat(), 0.0, flat(), 5.0));
     const GradientField rod(kN0, sechRod(), 587.56, 0.0);
-    EXPECT_FALSE(propagate(rod, rodRay(0.05, 0.08), flat(), 0.0, flat(), 20.0, 0.1));
-    EXPECT_TRUE(propagate(rod, rodRay(0.05, 0.08), flat(), 0.0, flat(), 20.0, 0.3));
+    EXPECT_FALSE(propagate(rod, rodRay(0.05, 0.08).origin, rodRay(0.05, 0.08).dir, flat(), 0.0, flat(), 20.0, 0.1));
+    EXPECT_TRUE(propagate(rod, rodRay(0.05, 0.08).origin, rodRay(0.05, 0.08).dir, flat(), 0.0, flat(), 20.0, 0.3));
 }
 
 } // namespace

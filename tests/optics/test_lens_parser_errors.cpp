@@ -45,10 +45,25 @@ std::vector<BadCase> badCases() {
          "t.lens:3:17: expected a whole number of coating layers (0..20) for 'coating', got '1.5'"},
         {"unknown word after the columns", kHead + "  10 2 1.5 60 5 1 sto\n" + kTail,
          "t.lens:3:19: unexpected 'sto' after the surface columns; expected 'stop', a shape (sph, cyl_x, cyl_y, "
-         "toric), "
-         "conic=K, asph=A4,A6,... or coating=SPEC"},
+         "toric), conic=K, asph=A4,A6,..., coating=SPEC, grin_r=... or grin_z=..."},
         {"unknown surface option", kHead + "  10 2 1.5 60 5 1 conik=1\n" + kTail,
-         "t.lens:3:19: unknown surface option 'conik'; valid options: conic=K, asph=A4,A6,..., coating=SPEC"},
+         "t.lens:3:19: unknown surface option 'conik'; valid options: conic=K, asph=A4,A6,..., coating=SPEC, "
+         "grin_r=A1:D1,..., grin_z=B1:D1,..."},
+        {"gradient without dispersion", kHead + "  10 2 1.5 60 5 1 grin_r=-0.002\n" + kTail,
+         "t.lens:3:26: the gradient coefficient '-0.002' has no dispersion: write VALUE:D (c(lambda) = VALUE + D "
+         "(1/L^2 - 1/Ld^2), L in um; D = 0 for none)"},
+        {"gradient dispersion not a number", kHead + "  10 2 1.5 60 5 1 grin_r=-0.002:x\n" + kTail,
+         "t.lens:3:33: expected a number after ':' in '-0.002:x'"},
+        {"gradient twice", kHead + "  10 2 1.5 60 5 1 grin_z=0.01:0 grin_z=0.02:0\n" + kTail,
+         "t.lens:3:33: 'grin_z' given twice in one row"},
+        // n0(380 nm) = 1.517580 (Cauchy through nd 1.5, Vd 60) less 0.1 r^2: below 1 first at the
+        // grid's r = 5 x 15 / 32 mm: 1.517580 - 0.549316 = 0.968264.
+        {"gradient below 1", kHead + "  10 2 1.5 60 5 1 grin_r=-0.1:0\n" + kTail,
+         "t.lens:3:19: the graded index is 0.9682637443489721 at r = 2.344 mm, z = 0.000 mm, 380.0 nm, inside the "
+         "element after surface 1: it must stay above 1 and finite"},
+        {"gradient before the sensor",
+         kHead + "  10 2 1.5 60 5 1\n  stop 2 1 0 5\n  50 4 1.5 60 10\n  -50 40 1 0 10 grin_z=0.01:0\n",
+         "t.lens:6:17: a graded index after the last surface: the space before the sensor must be homogeneous"},
         {"bad conic", kHead + "  10 2 1.5 60 5 1 conic=x\n" + kTail,
          "t.lens:3:25: expected a number for 'conic', got 'x'"},
         {"bad asphere term", kHead + "  10 2 1.5 60 5 1 asph=1e-5,zz\n" + kTail,

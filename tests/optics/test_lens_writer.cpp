@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <utility>
+
 #include "test_support.h"
 
 using namespace ff;
@@ -35,6 +37,16 @@ void expectSamePrescription(const Lens& a, const Lens& b, const std::string& wha
         EXPECT_EQ(x.medium.index(450.0), y.medium.index(450.0)) << at;
         EXPECT_EQ(a.coatingOf(i), b.coatingOf(i)) << at;
         EXPECT_EQ(x.shape, y.shape) << at;
+        ASSERT_EQ(x.medium.gradient.has_value(), y.medium.gradient.has_value()) << at;
+        if (!x.medium.gradient) continue;
+        for (const auto& [p, q] : {std::pair{&x.medium.gradient->radial, &y.medium.gradient->radial},
+                                   std::pair{&x.medium.gradient->axial, &y.medium.gradient->axial}}) {
+            ASSERT_EQ(p->size(), q->size()) << at;
+            for (std::size_t k = 0; k < p->size(); ++k) {
+                EXPECT_EQ((*p)[k].atD, (*q)[k].atD) << at;
+                EXPECT_EQ((*p)[k].dispersion, (*q)[k].dispersion) << at;
+            }
+        }
     }
 }
 
@@ -58,4 +70,16 @@ TEST(LensWriter, ExtensionsRoundTrip) {
     const Lens b = parseLensText(writeLensText(a), "y.lens");
     expectSamePrescription(a, b, "extensions");
     EXPECT_EQ(b.surfaces[3].radiusY, 30.0);
+}
+
+// Graded media: every coefficient and its dispersion, to the last bit.
+TEST(LensWriter, GradientsRoundTrip) {
+    const char* text = "name: g\nsurfaces:\n"
+                       "  0 5 1.6 40 4 1 grin_r=-0.0021:1.5e-05,3.3e-07:0 grin_z=0.0013:-2e-06\n"
+                       "  0 2 air 4 1 stop\n  20 3 1.6 40 9 1 grin_z=0.001:0\n  -40 30 1 0 9\n";
+    const Lens a = parseLensText(text, "g.lens");
+    ASSERT_TRUE(a.surfaces[0].medium.gradient);
+    EXPECT_EQ(a.surfaces[0].medium.gradient->radial.size(), 2u);
+    const Lens b = parseLensText(writeLensText(a), "h.lens");
+    expectSamePrescription(a, b, "gradients");
 }
