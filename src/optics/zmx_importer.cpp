@@ -64,8 +64,19 @@ double unitScale(std::string_view unit) {
     return 0.0;
 }
 
+// Gradient 1 (n = n0 + nr2 r^2) and Gradient 3 (n = n0 + nr2 r^2 + nr4 r^4 + nr6 r^6 + nz1 z + nz2 z^2
+// + nz3 z^3), OpticStudio's two polynomial graded media in r^2 and z without dispersion data files.
+bool isGradient(std::string_view type) {
+    return type == "GRADIENT1" || type == "GRADIENT3";
+}
+
+constexpr const char* kOtherGradients =
+    "; Gradient 5, 6, 9, 12 and GRADIUM take their index from dispersion files (SGRIN.DAT, GLC.DAT, "
+    "GRADIENT_9.DAT, PROFILE.GRD) that a .zmx does not carry, and Gradient 2, 4, 7 and 10 are not "
+    "polynomials in r^2 and z: convert them to grin_r=/grin_z= in a .lens file";
+
 struct ZmxSurface {
-    SourceLocation where;
+    SourceLocation where, typeWhere;
     std::string type = "STANDARD";
     double curv = 0.0, disz = 0.0, diam = 0.0, clap = 0.0, conic = 0.0;
     bool diszInfinite = false, stop = false;
@@ -151,10 +162,16 @@ ZmxFile readZmx(const std::string& textUtf8, const std::string& fileName) {
             ZmxSurface& s = needSurface();
             if (t.size() < 2) throwInputError(at, "expected a surface type after TYPE");
             s.type = text::toUpper(t[1].text);
-            if (s.type != "STANDARD" && s.type != "EVENASPH")
-                throwInputError({fileName, lineNo, t[1].column},
+            s.typeWhere = {fileName, lineNo, t[1].column};
+            if (s.type == "GRADIEN1") s.type = "GRADIENT1";
+            if (s.type == "GRADIEN3") s.type = "GRADIENT3";
+            if (s.type != "STANDARD" && s.type != "EVENASPH" && !isGradient(s.type))
+                throwInputError(s.typeWhere,
                                 "unsupported surface type " + text::quoted(t[1].text) +
-                                    "; supported: STANDARD, EVENASPH (rotationally symmetric sequential lenses)");
+                                    "; supported: STANDARD, EVENASPH, GRADIENT1, GRADIENT3 "
+                                    "(rotationally symmetric sequential lenses" +
+                                    (text::startsWith(s.type, "GRAD") ? std::string(kOtherGradients) : std::string()) +
+                                    ")");
         } else if (key == "CURV") {
             needSurface().curv = arg(1, "a curvature");
         } else if (key == "DISZ") {
@@ -184,7 +201,9 @@ ZmxFile readZmx(const std::string& textUtf8, const std::string& fileName) {
             s.glass = std::string(t[1].text);
             s.glassWhere = {fileName, lineNo, t[1].column};
             if (text::iequals(s.glass, "MIRROR"))
-                throwInputError(s.glassWhere, "MIRROR surfaces (catadioptric systems) are not supported");
+                throwInputError(s.glassWhere, isGradient(s.type)
+                                                  ? "a gradient-index surface cannot be a MIRROR"
+                                                  : "MIRROR surfaces (catadioptric systems) are not supported");
             if (t.size() >= 6) {
                 s.inlineNd = text::parseNumber(t[4].text);
                 s.inlineVd = text::parseNumber(t[5].text);
@@ -197,6 +216,33 @@ ZmxFile readZmx(const std::string& textUtf8, const std::string& fileName) {
     }
 
     return f;
+}
+
+// The medium of a GRADIENT1 or GRADIENT3 surface in mm: PARM 2 = n0, 3 = nr2, and for GRADIENT3 also
+// 4, 5 = nr4, nr6 and 6, 7, 8 = nz1, nz2, nz3 (PARM 1, the maximum step, is not used: the integrator
+// keeps its own error target). OpticStudio gives these media no dispersion, so neither do we. A
+// coefficient of r^(2k) scales as length^(-2k), one of z^k as length^(-k).
+Medium gradientMedium(const ZmxSurface& z, double scale, Reporter& reporter) {
+    auto parm = [&](int i) {
+        const auto it = z.parm.find(i);
+        return it == z.parm.end() ? 0.0 : it->second;
+    };
+    if (!z.parm.count(2) || !(parm(2) > 1.0) || !std::isfinite(parm(2)))
+        throwInputError(z.typeWhere, z.type + " needs its base index n0 > 1 as PARM 2");
+    Medium m = Medium::fromNdVd(parm(2), 0.0);
+    GradientIndex g;
+    g.origin = z.typeWhere;
+    const int radialTerms = z.type == "GRADIENT3" ? 3 : 1;
+    for (int k = 1; k <= radialTerms; ++k) g.radial.push_back({parm(2 + k) * std::pow(scale, -2 * k), 0.0});
+    if (z.type == "GRADIENT3")
+        for (int k = 1; k <= 3; ++k) g.axial.push_back({parm(5 + k) * std::pow(scale, -k), 0.0});
+    while (!g.radial.empty() && g.radial.back().atD == 0.0) g.radial.pop_back();
+    while (!g.axial.empty() && g.axial.back().atD == 0.0) g.axial.pop_back();
+    if (!g.radial.empty() || !g.axial.empty()) m.gradient = std::move(g);
+    std::string note = z.type + ": n0 " + text::roundTrip(parm(2)) + " and its coefficients at every wavelength";
+    if (!z.glass.empty()) note += "; the glass " + text::quoted(z.glass) + " is not used";
+    reporter.note(z.typeWhere, note);
+    return m;
 }
 
 // One lens surface of the file in mm, its glass and coating resolved (notes for the inline glass and
@@ -222,7 +268,9 @@ Surface toSurface(const ZmxSurface& z, double scale, Reporter& reporter) {
         }
         while (!s.asphere.empty() && s.asphere.back() == 0.0) s.asphere.pop_back();
     }
-    if (z.glass.empty() || text::iequals(z.glass, "AIR")) {
+    if (isGradient(z.type)) {
+        s.medium = gradientMedium(z, scale, reporter);
+    } else if (z.glass.empty() || text::iequals(z.glass, "AIR")) {
         s.medium = Medium::air();
     } else if (GlassCatalog::builtin().find(z.glass)) {
         s.medium = GlassCatalog::builtin().medium(z.glass, z.glassWhere);

@@ -184,8 +184,8 @@ TEST(ZmxImporter, EvenAsphereTermsAreScaledWithTheUnit) {
 TEST(ZmxImporter, RefusesWhatItCannotRepresent) {
     const std::pair<std::string, const char*> cases[] = {
         {"SURF 0\n DISZ INFINITY\nSURF 1\n  TYPE COORDBRK\nSURF 2\nSURF 3\n",
-         "c.zmx:4:8: unsupported surface type 'COORDBRK'; supported: STANDARD, EVENASPH (rotationally symmetric "
-         "sequential lenses)"},
+         "c.zmx:4:8: unsupported surface type 'COORDBRK'; supported: STANDARD, EVENASPH, GRADIENT1, GRADIENT3 "
+         "(rotationally symmetric sequential lenses)"},
         {"SURF 0\nSURF 1\n  GLAS MIRROR\nSURF 2\n",
          "c.zmx:3:8: MIRROR surfaces (catadioptric systems) are not supported"},
         {"SURF 0\nSURF 1\n", "c.zmx:3: expected at least an object surface (SURF 0), one lens surface and an image "
@@ -228,6 +228,89 @@ TEST(ZmxImporter, GlasAirIsAir) {
     const Lens lens = importZmx(text, "air.zmx");
     EXPECT_TRUE(lens.surfaces[1].medium.isAir());
     EXPECT_NEAR(efl(lens), 100.004, 1e-2);
+}
+
+// A Wood lens as an OpticStudio GRADIENT1 surface in centimetres: a flat slab with n = n0 + nr2 r^2.
+// Paraxially r'' = -A r inside (A = -2 nr2 / n0), so f = 1 / (n0 sqrt(A) sin(sqrt(A) d)).
+TEST(ZmxImporter, Gradient1IsAWoodLensInMillimetres) {
+    const double n0 = 1.55, nr2cm = -0.25, dcm = 0.6; // nr2 in cm^-2: -0.0025 mm^-2
+    const std::string text = "UNIT CM\nSURF 0\n DISZ INFINITY\nSURF 1\n TYPE GRADIENT1\n CURV 0\n DISZ 0.6\n"
+                             " PARM 1 0.05\n PARM 2 1.55\n PARM 3 -0.25\n DIAM 0.5\n"
+                             "SURF 2\n STOP\n CURV 0\n DISZ 10\n DIAM 0.5\nSURF 3\n";
+    CollectingReporter rep;
+    const Lens lens = importZmx(text, "wood.zmx", &rep);
+    const Medium& m = lens.surfaces[0].medium;
+    ASSERT_TRUE(m.gradient);
+    EXPECT_EQ(m.index(400.0), n0);
+    EXPECT_EQ(m.index(700.0), n0);
+    ASSERT_EQ(m.gradient->radial.size(), 1u);
+    EXPECT_NEAR(m.gradient->radial[0].atD, nr2cm / 100.0, 1e-18);
+    EXPECT_TRUE(m.gradient->axial.empty());
+    EXPECT_EQ(m.gradient->origin.str(), "wood.zmx:5:7");
+    const double A = -2.0 * (nr2cm / 100.0) / n0, d = dcm * 10.0;
+    EXPECT_NEAR(efl(lens) / (1.0 / (n0 * std::sqrt(A) * std::sin(std::sqrt(A) * d))), 1.0, 1e-9);
+    ASSERT_FALSE(rep.diagnostics.empty());
+    EXPECT_EQ(rep.diagnostics[0].str(), "wood.zmx:5:7: GRADIENT1: n0 1.55 and its coefficients at every wavelength");
+}
+
+// GRADIENT3's parameters map to n0, r^2, r^4, r^6 and z, z^2, z^3 (inches: r^(2k) terms divided by
+// 25.4^(2k), z^k terms by 25.4^k); the glass column is not used.
+TEST(ZmxImporter, Gradient3MapsEveryCoefficientWithTheUnit) {
+    const std::string text = "UNIT IN\nSURF 0\n DISZ INFINITY\nSURF 1\n TYPE GRADIENT3\n STOP\n CURV 0.05\n"
+                             " DISZ 0.25\n GLAS N-BK7 0 0 1.5168 64.17\n PARM 1 0.01\n PARM 2 1.6\n"
+                             " PARM 3 -0.01\n PARM 4 2e-4\n PARM 5 -3e-6\n PARM 6 0.02\n PARM 7 -1e-3\n"
+                             " PARM 8 5e-5\n DIAM 0.3\nSURF 2\n CURV -0.02\n DISZ 2\n DIAM 0.3\nSURF 3\n";
+    CollectingReporter rep;
+    const Lens lens = importZmx(text, "g3.zmx", &rep);
+    const Medium& m = lens.surfaces[0].medium;
+    ASSERT_TRUE(m.gradient);
+    EXPECT_EQ(m.index(486.0), 1.6);
+    const double in = 25.4;
+    const double radial[] = {-0.01 / (in * in), 2e-4 / std::pow(in, 4), -3e-6 / std::pow(in, 6)};
+    const double axial[] = {0.02 / in, -1e-3 / (in * in), 5e-5 / (in * in * in)};
+    ASSERT_EQ(m.gradient->radial.size(), 3u);
+    ASSERT_EQ(m.gradient->axial.size(), 3u);
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(m.gradient->radial[k].atD / radial[k], 1.0, 1e-14) << k;
+        EXPECT_NEAR(m.gradient->axial[k].atD / axial[k], 1.0, 1e-14) << k;
+        EXPECT_EQ(m.gradient->radial[k].dispersion, 0.0);
+    }
+    EXPECT_EQ(rep.diagnostics[0].str(),
+              "g3.zmx:5:7: GRADIENT3: n0 1.6 and its coefficients at every wavelength; the glass 'N-BK7' is not used");
+}
+
+TEST(ZmxImporter, RefusesGradientsItCannotRepresent) {
+    const std::string head = "SURF 0\n DISZ INFINITY\nSURF 1\n";
+    const std::string tail = " CURV 0\n DISZ 5\n DIAM 4\nSURF 2\n STOP\n DISZ 20\n DIAM 4\nSURF 3\n";
+    const std::pair<std::string, const char*> cases[] = {
+        {head + " TYPE GRADIENT3\n PARM 2 1.6\n GLAS MIRROR\n" + tail,
+         "g.zmx:6:7: a gradient-index surface cannot be a MIRROR"},
+        {head + " TYPE GRADIENT1\n PARM 3 -0.001\n" + tail,
+         "g.zmx:4:7: GRADIENT1 needs its base index n0 > 1 as PARM 2"},
+        {head + " TYPE GRADIENT5\n" + tail,
+         "g.zmx:4:7: unsupported surface type 'GRADIENT5'; supported: STANDARD, EVENASPH, GRADIENT1, GRADIENT3 "
+         "(rotationally symmetric sequential lenses; Gradient 5, 6, 9, 12 and GRADIUM take their index from "
+         "dispersion files (SGRIN.DAT, GLC.DAT, GRADIENT_9.DAT, PROFILE.GRD) that a .zmx does not carry, and "
+         "Gradient 2, 4, 7 and 10 are not polynomials in r^2 and z: convert them to grin_r=/grin_z= in a .lens "
+         "file)"},
+        // n = 1.2 - 0.1 r^2 falls to 1 at r = sqrt(2) mm; the first of the checked radii (4 mm k / 32)
+        // beyond it is 1.5 mm.
+        {head + " TYPE GRADIENT1\n PARM 2 1.2\n PARM 3 -0.1\n" + tail, nullptr},
+    };
+    for (const auto& [text, expected] : cases) {
+        try {
+            importZmx(text, "g.zmx");
+            ADD_FAILURE() << "accepted:\n" << text;
+        } catch (const Error& e) {
+            const std::string what = e.what();
+            if (expected) {
+                EXPECT_EQ(what, expected) << text;
+            } else {
+                EXPECT_EQ(what.rfind("g.zmx:4:7: the graded index is 0.97", 0), 0u) << what;
+                EXPECT_NE(what.find("at r = 1.500 mm, z = 0.000 mm"), std::string::npos) << what;
+            }
+        }
+    }
 }
 
 TEST(LensLoader, DispatchesByExtensionAndRefusesOthers) {

@@ -3,6 +3,7 @@
 #include "optics/lens_parser.h"
 #include "optics/lens_writer.h"
 #include "optics/paraxial.h"
+#include "optics/zmx_importer.h"
 
 #include <gtest/gtest.h>
 
@@ -82,4 +83,17 @@ TEST(LensWriter, GradientsRoundTrip) {
     EXPECT_EQ(a.surfaces[0].medium.gradient->radial.size(), 2u);
     const Lens b = parseLensText(writeLensText(a), "h.lens");
     expectSamePrescription(a, b, "gradients");
+}
+
+// `lens convert` of a .zmx GRADIENT3 surface (inches) writes the coefficients, in mm, that read back.
+TEST(LensWriter, ZmxGradientsConvertToTheLensFormat) {
+    const std::string zmx = "UNIT IN\nSURF 0\n DISZ INFINITY\nSURF 1\n TYPE GRADIENT3\n STOP\n CURV 0.05\n DISZ 0.25\n"
+                            " PARM 2 1.6\n PARM 3 -0.01\n PARM 5 -3e-6\n PARM 6 0.02\n DIAM 0.3\n"
+                            "SURF 2\n CURV -0.02\n DISZ 2\n DIAM 0.3\nSURF 3\n";
+    const Lens a = importZmx(zmx, "g3.zmx");
+    ASSERT_TRUE(a.surfaces[0].medium.gradient);
+    const Lens b = parseLensText(writeLensText(a), "g3.lens");
+    expectSamePrescription(a, b, "zmx gradient");
+    EXPECT_EQ(b.surfaces[0].medium.index(400.0), 1.6);
+    EXPECT_EQ(paraxialEfl(a, lines::d), paraxialEfl(b, lines::d));
 }
