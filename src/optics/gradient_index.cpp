@@ -113,7 +113,8 @@ std::optional<GradientHit> propagate(const GradientField& field, const glm::dvec
     if (!(n0 > 0.0) || !std::isfinite(n0)) return lost(GradientLoss::Index);
     y.v = glm::normalize(dir) * n0;
     double h = fixed ? settings.step : settings.initialStep, length = 0.0;
-    std::size_t steps = 0; // accepted
+    std::size_t steps = 0;                           // accepted
+    double reached = std::hypot(origin.x, origin.y); // the largest radius at an accepted node
     for (std::size_t tries = 0; tries < settings.maxSteps; ++tries) {
         std::optional<State> next;
         double hNext = h;
@@ -164,11 +165,13 @@ std::optional<GradientHit> propagate(const GradientField& field, const glm::dvec
             hit.opticalPath = at.L;
             hit.length = length + b;
             hit.steps = steps + 1;
+            hit.maxRadius = std::max(reached, std::hypot(at.p.x, at.p.y));
             return hit;
         }
         if (side(from, fromZ, next->p) * sign < -1e-9) return lost(GradientLoss::TurnedBack);
         if (maxRadius > 0.0 && std::hypot(next->p.x, next->p.y) > maxRadius) return lost(GradientLoss::Barrel);
         y = *next;
+        reached = std::max(reached, std::hypot(y.p.x, y.p.y));
         length += h;
         h = hNext;
         ++steps;

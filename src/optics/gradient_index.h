@@ -60,6 +60,7 @@ struct GradientHit {
     double opticalPath = 0.0; ///< integral of n ds from the start, mm
     double length = 0.0;      ///< arc length, mm
     std::size_t steps = 0;    ///< RK4 steps taken (accepted ones)
+    double maxRadius = 0.0;   ///< the largest distance from the axis at the path's nodes, mm
 };
 
 /// Why a ray through a gradient did not arrive.

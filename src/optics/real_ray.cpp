@@ -114,7 +114,7 @@ const char* toString(RayStatus s) {
     return "?";
 }
 
-RealTraceResult traceReal(const Lens& lens, double lambdaNm, Ray ray, bool clip) {
+RealTraceResult traceReal(const Lens& lens, double lambdaNm, Ray ray, bool clip, const GradientSettings& gradient) {
     double z = 0.0, zBefore = 0.0;
     for (std::size_t i = 0; i < lens.surfaces.size(); ++i) {
         const Surface& s = lens.surfaces[i];
@@ -125,7 +125,8 @@ RealTraceResult traceReal(const Lens& lens, double lambdaNm, Ray ray, bool clip)
         if (graded) {
             const GradientField field(n1, *graded->gradient, lambdaNm, zBefore);
             const double barrel = clip ? std::max(lens.surfaces[i - 1].semiAperture, s.semiAperture) : 0.0;
-            if (const auto g = propagate(field, ray.origin, ray.dir, lens.surfaces[i - 1], zBefore, s, z, barrel)) {
+            if (const auto g =
+                    propagate(field, ray.origin, ray.dir, lens.surfaces[i - 1], zBefore, s, z, barrel, gradient)) {
                 hit = SurfaceHit{g->length, g->point, g->normal};
                 ray.dir = g->dir;
                 n1 = g->index;
@@ -150,7 +151,9 @@ RealTraceResult traceReal(const Lens& lens, double lambdaNm, Ray ray, bool clip)
 
 double realRayEfl(const Lens& lens, double lambdaNm, double height) {
     const Ray in{{0.0, height, -1.0}, {0.0, 0.0, 1.0}};
-    const RealTraceResult r = traceReal(lens, lambdaNm, in, false);
+    GradientSettings gradient;
+    gradient.tolerance = 1e-8 * std::abs(height);
+    const RealTraceResult r = traceReal(lens, lambdaNm, in, false, gradient);
     if (r.status != RayStatus::Ok || r.ray.dir.y == 0.0)
         throwRuntimeError("a real ray at height " + std::to_string(height) + " mm did not reach image space (" +
                           toString(r.status) + " at surface " + std::to_string(r.surface + 1) + ")");

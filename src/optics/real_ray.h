@@ -3,6 +3,7 @@
 // geometry that every tracer shares, and the plain sequential tracer used as a test reference.
 // Frame: +z along the axis, z = 0 at the first vertex, lengths in mm; directions are unit vectors.
 
+#include "optics/gradient_index.h"
 #include "optics/lens.h"
 
 #include <glm/vec3.hpp>
@@ -53,11 +54,15 @@ struct RealTraceResult {
 };
 
 /// Traces a ray from object space forward through every surface (refracting at each), checking
-/// semi-apertures when clip is true. The returned ray starts at the last surface's hit point.
-RealTraceResult traceReal(const Lens& lens, double lambdaNm, Ray ray, bool clip = true);
+/// semi-apertures when clip is true. The returned ray starts at the last surface's hit point. Rays
+/// through graded elements are integrated with `gradient` (optics/gradient_index.h).
+RealTraceResult traceReal(const Lens& lens, double lambdaNm, Ray ray, bool clip = true,
+                          const GradientSettings& gradient = {});
 
 /// Focal length from a real ray parallel to the axis at `height` mm: -height / sin(U'), with U' the
-/// final ray angle in image space. Throws ff::Error (Runtime) if the ray does not get through.
+/// final ray angle in image space. Through graded elements the integrator's tolerance is 1e-8 of the
+/// height per mm of path, so its error stays far below the ray's own aberrations however small the
+/// height. Throws ff::Error (Runtime) if the ray does not get through.
 double realRayEfl(const Lens& lens, double lambdaNm, double height);
 
 } // namespace ff::optics

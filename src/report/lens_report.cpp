@@ -26,6 +26,25 @@ std::string mediumText(const optics::Medium& m) {
     return "nd " + fixed(m.nd, 5) + (m.vd > 0.0 ? " Vd " + fixed(m.vd, 2) : std::string(" Vd 0"));
 }
 
+// A graded medium's index at lambdaNm as a formula: "n = n0 - 0.0923965 r^2 + 0.004 z" (mm).
+std::string gradientText(const optics::Medium& m, double lambdaNm) {
+    std::string out = "n = " + fixed(m.index(lambdaNm), 5);
+    auto terms = [&](const std::vector<optics::GradientTerm>& ts, const char* var, int step) {
+        for (std::size_t k = 0; k < ts.size(); ++k) {
+            const double c = ts[k].at(lambdaNm);
+            if (c == 0.0) continue;
+            const int power = static_cast<int>(k + 1) * step;
+            char coefficient[32];
+            std::snprintf(coefficient, sizeof coefficient, "%.6g", std::abs(c));
+            out += (c < 0.0 ? " - " : " + ") + std::string(coefficient) + " " + var +
+                   (power > 1 ? "^" + std::to_string(power) : std::string());
+        }
+    };
+    terms(m.gradient->radial, "r", 2);
+    terms(m.gradient->axial, "z", 1);
+    return out;
+}
+
 std::string thicknessText(const Lens& lens, std::size_t i) {
     if (i + 1 == lens.surfaces.size() && lens.imageDistanceAuto) return "auto";
     if (i < lens.zoomGaps.size() && !lens.zoomGaps[i].empty()) {
@@ -88,11 +107,18 @@ std::string lensInfoText(const Lens& lens, double lambdaNm, const std::vector<Po
         if (s.conic != 0.0) extra += " k=" + text::roundTrip(s.conic);
         if (s.isAspheric()) extra += " asphere(" + std::to_string(s.asphere.size()) + " terms)";
         if (!s.rotationallySymmetric()) extra += std::string(" ") + optics::toString(s.shape);
+        if (s.medium.gradient) extra += " graded index (below)";
         std::snprintf(buf, sizeof buf, "  %3zu %12s %21s  %-22s %9.5f %9.4f  %-12s%s\n", i + 1, radius.c_str(),
                       thicknessText(lens, i).c_str(), mediumText(s.medium).c_str(), s.medium.index(lambdaNm),
                       s.semiAperture, lens.coatingOf(i).str().c_str(), extra.c_str());
         o << buf;
     }
+
+    for (std::size_t i = 0; i < lens.surfaces.size(); ++i)
+        if (lens.surfaces[i].medium.gradient)
+            o << "  graded index after surface " << i + 1 << " at " << fixed(lambdaNm, 1)
+              << " nm (r from the axis, z from the vertex, mm): " << gradientText(lens.surfaces[i].medium, lambdaNm)
+              << "\n";
 
     for (const PositionReport& p : positions) {
         const optics::FirstOrder& f = p.firstOrder;
@@ -210,6 +236,16 @@ nlohmann::json surfacesJson(const Lens& lens, double lambdaNm) {
                         {"nd", s.medium.nd},
                         {"vd", s.medium.vd},
                         {"n", s.medium.index(lambdaNm)}};
+        if (s.medium.gradient) {
+            // Each coefficient at lambdaNm, of r^2, r^4, ... and of z, z^2, ... (mm^-k).
+            auto at = [&](const std::vector<optics::GradientTerm>& ts) {
+                json a = json::array();
+                for (const auto& t : ts) a.push_back(t.at(lambdaNm));
+                return a;
+            };
+            js["medium"]["gradient"] = {{"radial", at(s.medium.gradient->radial)},
+                                        {"axial", at(s.medium.gradient->axial)}};
+        }
         js["semi_aperture_mm"] = s.semiAperture;
         js["coating"] = lens.coatingOf(i).str();
         js["stop"] = s.stop;

@@ -47,8 +47,9 @@ double LensAtWavelength::indexAfter(std::size_t s, const glm::dvec3& p) const {
 }
 
 std::optional<optics::SurfaceHit> nextHit(const LensAtWavelength& L, std::size_t left, std::size_t s, optics::Ray& ray,
-                                          bool* graded, double* opticalPath, RayStatus* status) {
+                                          bool* graded, double* opticalPath, RayStatus* status, double* barrelMargin) {
     if (status) *status = RayStatus::Missed;
+    if (barrelMargin) *barrelMargin = std::numeric_limits<double>::infinity();
     // The space the ray is in: after `left` travelling forward, before it travelling back.
     std::size_t space = kObjectSpace;
     if (left != kObjectSpace) space = ray.dir.z > 0.0 ? left : (left > 0 ? left - 1 : kObjectSpace);
@@ -62,15 +63,16 @@ std::optional<optics::SurfaceHit> nextHit(const LensAtWavelength& L, std::size_t
     const std::size_t from = space == left ? space : space + 1, to = from == space ? space + 1 : space;
     if (s != to) return std::nullopt; // a graded element is left only through its other surface
     optics::GradientLoss loss = optics::GradientLoss::None;
-    const auto g =
-        optics::propagate(*L.gradient[space], ray.origin, ray.dir, L.lens->surfaces[from], L.vertexZ[from],
-                          L.lens->surfaces[to], L.vertexZ[to], L.barrelRadius[space], L.gradientSettings, &loss);
+    const auto g = optics::propagate(*L.gradient[space], ray.origin, ray.dir, L.lens->surfaces[from], L.vertexZ[from],
+                                     L.lens->surfaces[to], L.vertexZ[to], barrelMargin ? 0.0 : L.barrelRadius[space],
+                                     L.gradientSettings, &loss);
     if (!g) {
         if (status && loss == optics::GradientLoss::Barrel) *status = RayStatus::Clipped;
         return std::nullopt;
     }
     ray.dir = g->dir;
     if (opticalPath) *opticalPath = g->opticalPath;
+    if (barrelMargin && L.barrelRadius[space] > 0.0) *barrelMargin = L.barrelRadius[space] - g->maxRadius;
     return optics::SurfaceHit{g->length, g->point, g->normal};
 }
 
@@ -135,12 +137,16 @@ SequentialResult traceSequential(const LensAtWavelength& L, const std::vector<Pa
         RayStatus status = RayStatus::Ok;
         double segment = 0.0;
         RayStatus missed = RayStatus::Missed;
-        auto hit = nextHit(L, k > 0 ? steps[k - 1].surface : kObjectSpace, s, ray, nullptr, &segment, &missed);
+        double barrel = std::numeric_limits<double>::infinity();
+        auto hit = nextHit(L, k > 0 ? steps[k - 1].surface : kObjectSpace, s, ray, nullptr, &segment, &missed,
+                           openMargins ? &barrel : nullptr);
         if (k > 0) opticalPath += segment;
         if (!hit)
             status = missed;
         else if (openMargins) {
             openMargins[k] = L.apertureMargin(s, hit->point);
+            double& into = s == L.stop && k > 0 ? openMargins[k - 1] : openMargins[k];
+            into = std::min(into, barrel);
             if (openPoints) openPoints[k] = hit->point;
         } else if (!L.insideAperture(s, hit->point))
             status = RayStatus::Clipped;

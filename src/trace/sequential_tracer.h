@@ -68,10 +68,12 @@ inline constexpr std::size_t kObjectSpace = std::numeric_limits<std::size_t>::ma
 /// curved path through a graded element (then ray.dir becomes the arrival direction, *graded is
 /// set, and the barrel has been checked). *opticalPath, where given, receives the path's n ds
 /// integral from the ray's origin. nullopt: the surface is missed, or the ray is lost inside the
-/// graded element (*status, where given: Clipped where it left the barrel, else Missed).
+/// graded element (*status, where given: Clipped where it left the barrel, else Missed). With
+/// barrelMargin, the barrel does not stop the ray: *barrelMargin receives the barrel's radius less the
+/// largest radius the curved path reached (mm, negative: it left the barrel; +inf on straight paths).
 std::optional<optics::SurfaceHit> nextHit(const LensAtWavelength& L, std::size_t left, std::size_t s, optics::Ray& ray,
                                           bool* graded = nullptr, double* opticalPath = nullptr,
-                                          optics::RayStatus* status = nullptr);
+                                          optics::RayStatus* status = nullptr, double* barrelMargin = nullptr);
 
 /// What a trace computes: the ray's fate and path with its Fresnel / coating weight, or the fate and
 /// path alone (weights left at 1), for searches that only ask where light gets through.
@@ -102,7 +104,9 @@ struct SequentialResult {
 /// miss or total internal reflection still ends it), and openMargins[k] receives how far step k's hit
 /// lies inside its surface's aperture (LensAtWavelength::apertureMargin), NaN past the step that
 /// ended the ray (the shaped ghosts clip their meshes by them); openPoints, where also given, receives step k's hit
-/// point (NaN past the step that ended the ray).
+/// point (NaN past the step that ended the ray). The barrel of a graded element is a margin too (nextHit's
+/// barrelMargin), folded into the least of the margins of the step that ends the curved path, or of the
+/// step that starts it where that one ends on the stop (whose margin the iris's own clipping replaces).
 SequentialResult traceSequential(const LensAtWavelength& lens, const std::vector<PathStep>& steps, optics::Ray ray,
                                  Weighting weighting = Weighting::Fresnel, double* openMargins = nullptr,
                                  glm::dvec3* openPoints = nullptr);

@@ -165,6 +165,32 @@ TEST(ShapedGhosts, MatchesTheTracedFlareBetweenTableAngles) {
     }
 }
 
+// The bundled GRIN rod's one ghost is cut inside the rod by its barrel, where no surface's aperture
+// is: the barrel's margin (the largest radius the curved path reaches) cuts the mesh as a surface's
+// does, so at a table angle the shaped ghost is the traced one.
+TEST(ShapedGhosts, TheBarrelOfAGradedElementCutsTheGhostAsTheTracedFlareDoes) {
+    const optics::Lens lens = optics::loadLens(test::lensPath("grin-rod-1.8mm-0.23-pitch.lens"));
+    TableSettings s;
+    s.grid = 32;
+    s.angles = 9;
+    const ShapedTable table = buildShapedTable(lens, s);
+    ASSERT_EQ(table.ghosts.size(), 1u);
+    const trace::ImageFrame frame{240, 180, 1.0 / 240};
+    ShapedLight light;
+    light.field = {0.5 * table.maxAngleDeg * std::numbers::pi / 180, 0.3};
+    const ShapedRender shaped = renderShaped(table, {light}, frame);
+    trace::TracedFlareOptions o;
+    o.frame = frame;
+    o.field = light.field;
+    const trace::TracedFlare traced = trace::renderTracedFlare(lens, o);
+    for (int c = 0; c < 3; ++c) {
+        std::vector<double> ref(shaped.channel[c].size());
+        for (std::size_t p = 0; p < ref.size(); ++p) ref[p] = traced.rgb[p * 3 + c];
+        EXPECT_LT(relativeL2(shaped.channel[c], ref), 0.05) << "channel " << c;
+        EXPECT_NEAR(sum(shaped.channel[c]) / sum(ref), 1.0, 0.01) << "channel " << c;
+    }
+}
+
 // Culling drops the faintest ghosts of a light while they hold at most the given share of its ghost
 // flux: the flux drawn (in and out of the frame) loses no more than that share.
 TEST(ShapedGhosts, CullingDropsAtMostTheGivenShareOfTheGhostFlux) {
