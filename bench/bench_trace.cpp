@@ -4,6 +4,7 @@
 
 #include "core/units.h"
 #include "optics/lens_loader.h"
+#include "optics/lens_parser.h"
 #include "trace/embree_tracer.h"
 #include "trace/ghost_analysis.h"
 #include "trace/pupil_sampling.h"
@@ -27,12 +28,14 @@ struct Workload {
     std::vector<std::vector<PathStep>> direct, ghosts;
 };
 
-Workload& workload(const std::string& file, int grid) {
+// A bundled lens file's workload, or (text given) that of a lens written out here.
+Workload& workload(const std::string& file, int grid, const char* text = nullptr) {
     static std::map<std::string, std::unique_ptr<Workload>> cache;
     auto& w = cache[file + std::to_string(grid)];
     if (!w) {
         w = std::make_unique<Workload>();
-        w->lens = optics::loadLens(std::string(FF_SOURCE_DIR) + "/lenses/" + file);
+        w->lens =
+            text ? optics::parseLensText(text, file) : optics::loadLens(std::string(FF_SOURCE_DIR) + "/lenses/" + file);
         w->L = std::make_unique<LensAtWavelength>(w->lens, 550.0);
         w->tracer = std::make_unique<EmbreeTracer>(*w->L);
         const PupilFrame f = pupilFrame(w->lens);
@@ -44,8 +47,8 @@ Workload& workload(const std::string& file, int grid) {
 }
 
 template <bool UseEmbree, bool Ghosts>
-void traceRays(benchmark::State& state, const char* file, int grid) {
-    Workload& w = workload(file, grid);
+void traceRays(benchmark::State& state, const char* file, int grid, const char* text = nullptr) {
+    Workload& w = workload(file, grid, text);
     const auto& paths = Ghosts ? w.ghosts : w.direct;
     std::vector<RayResult> out(w.bundle.rays.size());
     tbb::task_arena arena(static_cast<int>(state.range(0)));
@@ -95,6 +98,33 @@ BENCHMARK(BM_Zoom_Direct_Analytic)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond
 BENCHMARK(BM_Zoom_Direct_Embree)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Zoom_Ghosts_Analytic)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Zoom_Ghosts_Embree)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// A ray through a graded element (RK4 at the default tolerance, 1e-9 mm per mm of path) against the
+// same element as homogeneous glass: a singlet (40 / -60 mm, 6 mm thick, n0 = 1.6) behind a stop, with
+// the radial and axial gradient of docs/grin.md's end-to-end example or without it; its direct path
+// (through the element once) and its 3 ghosts (through it once or three times), one thread, 64 x 64
+// rays at 10 degrees. The lens is the element: the ratio of the times is the cost per element.
+constexpr const char* kGradedSinglet =
+    "f_number: 4\nsurfaces:\n  stop 3 1 0 6\n  40 6 1.6 40 8 1 grin_r=-0.002:1e-05 grin_z=0.004:0\n"
+    "  -60 auto air 8 1\n";
+constexpr const char* kHomogeneousSinglet = "f_number: 4\nsurfaces:\n  stop 3 1 0 6\n  40 6 1.6 40 8 1\n"
+                                            "  -60 auto air 8 1\n";
+void BM_Singlet_Direct_Homogeneous_Baseline(benchmark::State& s) {
+    traceRays<false, false>(s, "homogeneous.lens", 64, kHomogeneousSinglet);
+}
+void BM_Singlet_Direct_Graded(benchmark::State& s) {
+    traceRays<false, false>(s, "graded.lens", 64, kGradedSinglet);
+}
+void BM_Singlet_Ghosts_Homogeneous(benchmark::State& s) {
+    traceRays<false, true>(s, "homogeneous.lens", 64, kHomogeneousSinglet);
+}
+void BM_Singlet_Ghosts_Graded(benchmark::State& s) {
+    traceRays<false, true>(s, "graded.lens", 64, kGradedSinglet);
+}
+BENCHMARK(BM_Singlet_Direct_Homogeneous_Baseline)->Arg(1)->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_Singlet_Direct_Graded)->Arg(1)->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_Singlet_Ghosts_Homogeneous)->Arg(1)->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_Singlet_Ghosts_Graded)->Arg(1)->Unit(benchmark::kMicrosecond)->UseRealTime();
 
 // The target: every ghost of the double Gauss at one angle, 3 wavelengths, 64 x 64 grid
 // (re-aimed pupils, statistics included), i.e. what 'fourierflare ghosts' does.

@@ -209,7 +209,7 @@ std::size_t ShapedTable::bytes() const {
 
 std::string shapedCacheKey(const optics::Lens& lens, const TableSettings& s) {
     // Changes whenever the table built for the same settings changes.
-    constexpr int kBuildVersion = 7;
+    constexpr int kBuildVersion = 8;
     const auto sensor = s.sensorSizeMm.value_or(lens.sensorMm.value_or(std::make_pair(36.0, 24.0)));
     std::string k = "shaped " + std::to_string(kBuildVersion) + "|lens " + lens.contentHash + "|zoom " +
                     std::to_string(lens.activeZoom) + "|wavelengths";

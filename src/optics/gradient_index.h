@@ -45,9 +45,9 @@ class GradientField {
 };
 
 struct GradientSettings {
-    double step = 0.0;         ///< fixed step (mm) when > 0; otherwise chosen by `tolerance`
-    double tolerance = 1e-9;   ///< position error per mm of path (mm), with step = 0
-    double initialStep = 0.25; ///< first trial step (mm), with step = 0
+    double step = 0.0;        ///< fixed step (mm) when > 0; otherwise chosen by `tolerance`
+    double tolerance = 1e-8;  ///< error per mm of path, with step = 0: position (mm) + direction (rad) x 1 mm
+    double initialStep = 0.0; ///< first trial step (mm) with step = 0; 0: the straight distance to the far vertex
     std::size_t maxSteps = 1000000;
 };
 
@@ -60,7 +60,7 @@ struct GradientHit {
     double opticalPath = 0.0; ///< integral of n ds from the start, mm
     double length = 0.0;      ///< arc length, mm
     std::size_t steps = 0;    ///< RK4 steps taken (accepted ones)
-    double maxRadius = 0.0;   ///< the largest distance from the axis at the path's nodes, mm
+    double maxRadius = 0.0;   ///< the largest distance from the axis along the path, mm
 };
 
 /// Why a ray through a gradient did not arrive.

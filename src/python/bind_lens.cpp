@@ -72,7 +72,9 @@ go to the "fourierflare" logger.)")
             "surfaces", [](const optics::Lens& l) { return fromJson(report::surfacesJson(l, lines::d)); },
             R"(The surfaces as a list of dicts, front to back: index (1-based), radius_mm (None: flat),
 conic, asphere, thickness_mm (per zoom position for a zoom gap), medium {glass, nd, vd, n (at the
-d line)}, semi_aperture_mm, coating, stop, shape. The same fields as `fourierflare lens info --json`.)")
+d line), and for a graded medium gradient {radial: coefficients of r^2, r^4, ...; axial: of z, z^2,
+... (mm^-k, at the d line)}}, semi_aperture_mm, coating, stop, shape. The same fields as
+`fourierflare lens info --json`.)")
         .def("first_order", &firstOrder, "wavelength_nm"_a = lines::d,
              R"(First-order optics at wavelength_nm (default the d line, 587.56 nm) as a dict: efl_mm,
 bfd_mm, ffd_mm, entrance/exit pupil position (z, mm from the first / last vertex) and diameter,

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
+
 #include "cli_runner.h"
 #include "test_support.h"
 
@@ -85,6 +87,44 @@ TEST(Cli, ConvertWritesNativeLensAndNeverOverwritesItsInput) {
     const RunResult info = run("lens info '" + out + "'");
     EXPECT_EQ(info.code, 0) << info.err;
     EXPECT_TRUE(contains(info.out, "effective focal length    50.358 mm")) << info.out;
+}
+
+// The bundled GRIN rod: its gradient in the surface table and its focal length, 1 / (n0 sqrt(A)
+// sin(sqrt(A) L)) = 1.849 mm for n0 = 1.608, sqrt(A) = 0.339 / mm, L = 4.26 mm.
+TEST(Cli, LensInfoShowsAGradedMedium) {
+    const RunResult r = run("lens info lenses/grin-rod-1.8mm-0.23-pitch.lens");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(contains(r.out, "STOP graded index (below)")) << r.out;
+    EXPECT_TRUE(contains(r.out, "graded index after surface 1 at 587.6 nm (r from the axis, z from the vertex, mm): "
+                                "n = 1.60800 - 0.0923965 r^2"))
+        << r.out;
+    EXPECT_TRUE(contains(r.out, "effective focal length    1.849 mm")) << r.out;
+    EXPECT_TRUE(contains(r.out, "real-ray focal length     1.849 mm")) << r.out;
+}
+
+// A Wood lens as a .zmx GRADIENT1 surface converts to a .lens file with the same first-order data;
+// a gradient on a MIRROR is refused at its place and nothing is written.
+TEST(Cli, ZmxGradientsConvertAndAMirrorGradientIsRefused) {
+    ff::test::TempDir dir;
+    const std::string zmx = (dir / "wood.zmx").string(), out = (dir / "wood.lens").string();
+    const std::string surface1 = "SURF 1\n TYPE GRADIENT1\n CURV 0\n DISZ 6\n PARM 2 1.5\n PARM 3 -0.002\n DIAM 5\n";
+    const std::string rest = "SURF 2\n STOP\n CURV 0\n DISZ 30\n DIAM 5\nSURF 3\n";
+    ff::test::writeFile(zmx, "UNIT MM\nSURF 0\n DISZ INFINITY\n" + surface1 + rest);
+    ASSERT_EQ(run("lens convert '" + zmx + "' -o '" + out + "'").code, 0);
+    const RunResult a = run("lens info '" + zmx + "'"), b = run("lens info '" + out + "'");
+    ASSERT_EQ(a.code, 0) << a.err;
+    ASSERT_EQ(b.code, 0) << b.err;
+    // f = 1 / (n0 sqrt(A) sin(sqrt(A) d)), A = -2 a1 / n0 = 0.002667 / mm^2, d = 6 mm: 42.341 mm.
+    EXPECT_TRUE(contains(a.out, "effective focal length    42.341 mm")) << a.out;
+    EXPECT_TRUE(contains(b.out, "effective focal length    42.341 mm")) << b.out;
+    EXPECT_TRUE(contains(b.out, "n = 1.50000 - 0.002 r^2")) << b.out;
+
+    const std::string mirror = (dir / "mirror.zmx").string(), none = (dir / "mirror.lens").string();
+    ff::test::writeFile(mirror, "SURF 0\n DISZ INFINITY\nSURF 1\n TYPE GRADIENT3\n PARM 2 1.6\n GLAS MIRROR\n" + rest);
+    const RunResult m = run("lens convert '" + mirror + "' -o '" + none + "'");
+    EXPECT_EQ(m.code, 2);
+    EXPECT_TRUE(contains(m.err, mirror + ":6:7: a gradient-index surface cannot be a MIRROR")) << m.err;
+    EXPECT_FALSE(std::filesystem::exists(none));
 }
 
 TEST(Cli, LensInfoReportsWhenTheRealRayCheckCannotBeMade) {

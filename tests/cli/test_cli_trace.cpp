@@ -33,6 +33,22 @@ TEST(CliGhosts, ReportsAll45GhostsOfTheDoubleGauss) {
     }
 }
 
+// The GRIN rod on the axis, uncoated: its one ghost reflects off the back face, then the front face,
+// at normal incidence where the local index is between n(0.9 mm) = 1.608 - 0.0923965 x 0.81 and
+// n0 = 1.608, so it carries between R(1.5332)^2 = 1.96e-3 and R(1.608)^2 = 2.95e-3 of the direct
+// image (R = ((n - 1) / (n + 1))^2; on the axis no ray leaves the rod: a parabolic medium keeps a
+// parallel ray's height within its entry height).
+TEST(CliGhosts, TheGrinRodsGhostCarriesItsFacesReflectances) {
+    const auto r = run("ghosts lenses/grin-rod-1.8mm-0.23-pitch.lens --angle 0 --wavelength 550 --coating none --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["ghost_count"], 1);
+    const auto R = [](double n) { return (n - 1) * (n - 1) / ((n + 1) * (n + 1)); };
+    const double e = j["wavelengths"][0]["ghosts"][0]["relative_energy"].get<double>();
+    EXPECT_GT(e, R(1.608 - 0.0923965 * 0.81) * R(1.608 - 0.0923965 * 0.81));
+    EXPECT_LT(e, R(1.608) * R(1.608));
+}
+
 TEST(CliGhosts, TextReportAndTopK) {
     const auto r = run("ghosts lenses/cooke-triplet-50mm-f5.lens --angle 5 --top 3");
     ASSERT_EQ(r.code, 0) << r.err;

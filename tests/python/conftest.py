@@ -15,6 +15,7 @@ CLI = os.environ.get("FF_CLI", str(SOURCE / "build/release/src/cli/fourierflare"
 COOKE = str(SOURCE / "lenses/cooke-triplet-50mm-f5.lens")
 DOUBLE_GAUSS = str(SOURCE / "lenses/double-gauss-50mm-f2.lens")
 ZOOM = str(SOURCE / "lenses/zoom-70-200mm-f2.8.lens")
+GRIN_ROD = str(SOURCE / "lenses/grin-rod-1.8mm-0.23-pitch.lens")
 
 
 def run_cli(*args, check=True):

@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from conftest import COOKE, DOUBLE_GAUSS, ZOOM, cli_json, run_cli
+from conftest import COOKE, DOUBLE_GAUSS, GRIN_ROD, ZOOM, cli_json, run_cli
 
 
 def same(a, b):
@@ -18,7 +18,7 @@ def same(a, b):
     return a == b
 
 
-@pytest.mark.parametrize("path", [DOUBLE_GAUSS, COOKE])
+@pytest.mark.parametrize("path", [DOUBLE_GAUSS, COOKE, GRIN_ROD])
 def test_first_order_and_surfaces_match_the_cli(ff, path):
     lens = ff.Lens.load(path)
     cli = cli_json("lens", "info", path, "--json")
@@ -28,6 +28,18 @@ def test_first_order_and_surfaces_match_the_cli(ff, path):
     assert same(lens.surfaces, cli["surfaces"])
     assert same(lens.info(), cli)
     assert lens.name == cli["name"] and lens.content_hash == cli["content_hash"]
+
+
+def test_a_graded_medium_and_its_focal_length(ff):
+    # The rod's n = n0 (1 - A r^2 / 2), n0 = 1.608, sqrt(A) = 0.339 / mm, 4.26 mm long:
+    # f = 1 / (n0 sqrt(A) sin(sqrt(A) L)).
+    lens = ff.Lens.load(GRIN_ROD)
+    medium = lens.surfaces[0]["medium"]
+    assert medium["gradient"]["radial"] == [pytest.approx(-1.608 * 0.339**2 / 2, rel=1e-9)]
+    assert medium["gradient"]["axial"] == []
+    assert "gradient" not in lens.surfaces[1]["medium"]
+    f = 1 / (1.608 * 0.339 * math.sin(0.339 * 4.26))
+    assert lens.first_order()["efl_mm"] == pytest.approx(f, rel=1e-9)
 
 
 def test_first_order_at_another_wavelength_matches_the_cli(ff):

@@ -9,15 +9,15 @@ import time
 import numpy as np
 import pytest
 
-from conftest import COOKE, read_exr, run_cli
+from conftest import COOKE, GRIN_ROD, read_exr, run_cli
 
 LIGHTS = [(100.0, 40.0), (30.5, 60.25, 2.0, 1.0, 0.5)]
 SIZE = (160, 90)
 
 
-def cli_render(tmp_path, mode, *extra):
+def cli_render(tmp_path, mode, *extra, lens=COOKE):
     out = tmp_path / f"{mode}.exr"
-    args = ["render", COOKE, "--size", "160x90", "--mode", mode, "-o", out]
+    args = ["render", lens, "--size", "160x90", "--mode", mode, "-o", out]
     for light in LIGHTS:
         args += ["--light", ",".join(str(v) for v in light)]
     run_cli(*args, *extra)
@@ -42,6 +42,13 @@ def test_each_mode_gives_the_cli_pixels(ff, tmp_path, mode, kwargs, extra):
     cli = cli_render(tmp_path, mode, *extra)
     assert image.sum() > 0
     np.testing.assert_array_equal(image, cli)
+
+
+@pytest.mark.parametrize("mode, kwargs, extra", [("traced", dict(grid=8), ["--grid", "8"]), ("shaped", dict(), [])])
+def test_a_graded_lens_gives_the_cli_pixels(ff, tmp_path, mode, kwargs, extra):
+    image = ff.render(ff.Lens.load(GRIN_ROD), LIGHTS, SIZE, mode, **kwargs)
+    assert image.sum() > 0
+    np.testing.assert_array_equal(image, cli_render(tmp_path, mode, *extra, lens=GRIN_ROD))
 
 
 def test_a_table_renders_as_the_lens_does(ff):
