@@ -35,6 +35,14 @@ LensAtWavelength::LensAtWavelength(const optics::Lens& l, double lambda, double 
                                ? std::optional(optics::GradientField(m.index(lambda), *m.gradient, lambda, vertexZ[s]))
                                : std::nullopt);
         barrelRadius.push_back(s + 1 < n ? std::max(clipRadius[s], clipRadius[s + 1]) : 0.0);
+        gradientStep.push_back(0.0);
+        if (!gradient[s]) continue;
+        const double r = 0.5 * barrelRadius[s];
+        const auto sag = l.surfaces[s].sag(r);
+        if (!sag) continue;
+        const auto probe = optics::propagate(*gradient[s], {r, 0.0, vertexZ[s] + *sag}, {0.0, 0.0, 1.0}, l.surfaces[s],
+                                             vertexZ[s], l.surfaces[s + 1], vertexZ[s + 1]);
+        if (probe && probe->steps > 0) gradientStep.back() = probe->length / static_cast<double>(probe->steps);
     }
 }
 
@@ -63,9 +71,11 @@ std::optional<optics::SurfaceHit> nextHit(const LensAtWavelength& L, std::size_t
     const std::size_t from = space == left ? space : space + 1, to = from == space ? space + 1 : space;
     if (s != to) return std::nullopt; // a graded element is left only through its other surface
     optics::GradientLoss loss = optics::GradientLoss::None;
+    optics::GradientSettings settings = L.gradientSettings;
+    if (settings.initialStep <= 0.0) settings.initialStep = L.gradientStep[space];
     const auto g = optics::propagate(*L.gradient[space], ray.origin, ray.dir, L.lens->surfaces[from], L.vertexZ[from],
                                      L.lens->surfaces[to], L.vertexZ[to], barrelMargin ? 0.0 : L.barrelRadius[space],
-                                     L.gradientSettings, &loss);
+                                     settings, &loss);
     if (!g) {
         if (status && loss == optics::GradientLoss::Barrel) *status = RayStatus::Clipped;
         return std::nullopt;

@@ -44,6 +44,10 @@ struct LensAtWavelength {
     /// surfaces; 0: unclipped).
     std::vector<std::optional<optics::GradientField>> gradient;
     std::vector<double> barrelRadius;
+    /// Per surface, for a graded space after it: the first trial step of its rays (mm), the mean step
+    /// a ray parallel to the axis at half the barrel's radius takes there at the default settings (0:
+    /// the integrator's own first step).
+    std::vector<double> gradientStep;
     optics::GradientSettings gradientSettings;
 
     /// sensorZ: the sensor plane; NaN = the lens's own (the last thickness).
