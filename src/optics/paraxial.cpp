@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/text.h"
 #include "core/units.h"
+#include "optics/gradient_index.h"
 
 #include <algorithm>
 #include <array>
@@ -17,12 +18,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // The index on the axis at z (mm) from the vertex of the surface the medium follows: n0, plus a
 // gradient's axial part.
 double axialIndex(const Medium& m, double lambdaNm, double z) {
-    double n = m.index(lambdaNm);
-    if (m.gradient) {
-        double power = 1.0;
-        for (const GradientTerm& b : m.gradient->axial) n += b.at(lambdaNm) * (power *= z);
-    }
-    return n;
+    return m.gradient ? GradientField(m.index(lambdaNm), *m.gradient, lambdaNm, 0.0).index({0.0, 0.0, z})
+                      : m.index(lambdaNm);
 }
 
 // Refracts at surface i: w' = w - y c (n' - n), the indices on the axis at the vertex.
@@ -44,11 +41,12 @@ ParaxialRay transfer(const Lens& lens, double lambdaNm, std::size_t i, ParaxialR
         r.y += distance * r.w / m.index(lambdaNm);
         return r;
     }
+    const GradientField field(m.index(lambdaNm), *m.gradient, lambdaNm, 0.0);
     const double twoA1 = m.gradient->radial.empty() ? 0.0 : 2.0 * m.gradient->radial[0].at(lambdaNm);
     const int steps = std::max(64, static_cast<int>(std::ceil(std::abs(distance) / 0.02)));
     const double h = distance / steps;
     const auto slope = [&](double z, double y, double w) {
-        return std::array<double, 2>{w / axialIndex(m, lambdaNm, z), twoA1 * y};
+        return std::array<double, 2>{w / field.index({0.0, 0.0, z}), twoA1 * y};
     };
     for (int k = 0; k < steps; ++k) {
         const double z = k * h;
