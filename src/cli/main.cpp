@@ -5,6 +5,7 @@
 #include "cli/console.h"
 #include "core/error.h"
 #include "ff/version.h"
+#include "image/header_time.h"
 #include "image/image_output.h"
 
 #include <CLI/CLI.hpp>
@@ -25,7 +26,17 @@ int main(int argc, char** argv) {
                "Example: fourierflare simulate --lens lenses/double-gauss-50mm-f2.lens --plate data/night-street.exr "
                "-o out/night-street.exr --preview out/night-street.png");
     GlobalOptions global;
-    for (int i = 0; i < argc; ++i) global.commandLine += (i ? " " : "") + std::string(argv[i]);
+    // The command line as written into output headers, without --threads: the outputs do not depend
+    // on it, and the same command on 1 or 2 threads writes the same bytes.
+    for (int i = 0; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--threads" && i + 1 < argc) {
+            ++i;
+            continue;
+        }
+        if (a.rfind("--threads=", 0) == 0) continue;
+        global.commandLine += (global.commandLine.empty() ? "" : " ") + a;
+    }
     app.add_flag("-q,--quiet", global.quiet, "Do not print notes (warnings and errors are always printed)");
     int threads = 0;
     app.add_option("--threads", threads, "Worker threads (default: all cores); results do not depend on it")
@@ -43,6 +54,7 @@ int main(int argc, char** argv) {
 
     std::unique_ptr<tbb::global_control> threadLimit;
     app.parse_complete_callback([&] {
+        ff::image::headerDateTime(); // a malformed SOURCE_DATE_EPOCH is refused before any work
         // EXR (de)compression on as many threads as the rest of the work.
         ff::image::setExrThreads(threads > 0 ? threads
                                              : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));

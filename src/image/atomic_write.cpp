@@ -1,6 +1,7 @@
 #include "image/atomic_write.h"
 
 #include "core/error.h"
+#include "image/header_time.h"
 
 #include <filesystem>
 #include <random>
@@ -21,7 +22,11 @@ fs::path temporaryFor(const fs::path& target) {
 
 } // namespace
 
-void writeAtomic(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc type, const void* data) {
+void writeAtomic(const std::string& path, const OIIO::ImageSpec& given, OIIO::TypeDesc type, const void* data) {
+    // The header's time stamp: the given one (a plate's), else SOURCE_DATE_EPOCH's, else none (an
+    // empty DateTime is left out; without one, OpenImageIO's EXR writer stamps the time of writing).
+    OIIO::ImageSpec spec = given;
+    if (spec.get_string_attribute("DateTime").empty()) spec.attribute("DateTime", headerDateTime());
     const fs::path target(path);
     const fs::path tmp = temporaryFor(target);
     auto out = OIIO::ImageOutput::create(tmp.string());
