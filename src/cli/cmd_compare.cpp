@@ -8,6 +8,7 @@
 #include "cli/option_parsing.h"
 #include "core/error.h"
 #include "core/text.h"
+#include "gpu/backend_choice.h"
 #include "image/light_detection.h"
 #include "image/metrics.h"
 #include "image/plate.h"
@@ -124,9 +125,9 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     };
     // The backend (EGL) last, after every option has been checked.
     cs.fourier = o.fourier.settings(g);
-    cs.raster = polygonRaster(cs.fourier);
+    cs.raster = gpu::polygonRaster(cs.fourier);
     if (o.fourier.errorOption && o.fourier.errorOption->count() > 0) cs.shapedError = o.fourier.error;
-    cs.convolver = diffractionDevice(cs.fourier);
+    cs.convolver = gpu::diffractionDevice(cs.fourier);
     scene::compareFlares(lens, cs, dir);
 }
 

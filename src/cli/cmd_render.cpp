@@ -14,6 +14,7 @@
 #include "diffraction/convolution.h"
 #include "ff/version.h"
 #include "fourier/render.h"
+#include "gpu/backend_choice.h"
 #include "image/image_output.h"
 #include "scene/flare_render.h"
 #include "scene/scene.h"
@@ -189,9 +190,9 @@ fourier::FlareImage renderLensFlare(const RenderOptions& o, const GlobalOptions&
     std::vector<ghosts::Light> lights =
         o.lightsFile.empty() ? std::vector<ghosts::Light>{} : scene::readLightsJson(o.lightsFile);
     for (const std::string& l : o.lights) lights.push_back(scene::parseLight(l));
-    if (o.mode == "shaped") s.raster = polygonRaster(s.fourier);
+    if (o.mode == "shaped") s.raster = gpu::polygonRaster(s.fourier);
     if (o.mode == "diffraction") {
-        s.convolver = diffractionDevice(s.fourier);
+        s.convolver = gpu::diffractionDevice(s.fourier);
         s.dirt = o.dirt.mask(std::filesystem::read_symlink("/proc/self/exe").string());
     }
     s.loadTable = [&](const optics::Lens& l, const ghosts::TableSettings&) {

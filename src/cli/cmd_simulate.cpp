@@ -13,7 +13,7 @@
 #include "core/stopwatch.h"
 #include "core/text.h"
 #include "ff/version.h"
-#include "gpu/gl_backend.h"
+#include "gpu/backend_choice.h"
 #include "image/light_detection.h"
 #include "image/plate.h"
 #include "scene/scene.h"
@@ -256,17 +256,15 @@ class Simulation {
         // Options checked first: the backend (EGL) is touched last. The GL backend draws the shaped
         // model's polygons, or aggregates the fitted models with the Fourier options.
         s.fourier = o.fourier.settings(g);
-        s.convolver = diffractionDevice(s.fourier);
+        s.convolver = gpu::diffractionDevice(s.fourier);
         if (o.ghostModel == "shaped") {
-            s.raster = polygonRaster(s.fourier);
+            s.raster = gpu::polygonRaster(s.fourier);
             if (o.fourier.errorOption && o.fourier.errorOption->count() > 0) s.shapedError = o.fourier.error;
         } else if (s.fourier.basis == fourier::Basis::Separable) {
             // The Fourier-Bessel basis has no GL path (renderBessel runs on the CPU).
-            if (auto* gl = dynamic_cast<gpu::GlBackend*>(s.fourier.backend.get()))
+            if (gpu::GlBackend* gl = gpu::glBackendOf(s.fourier))
                 s.deviceComposite = [gl](const image::Plate& plate) {
-                    return plate.width <= gl->maxCompositeSide() && plate.height <= gl->maxCompositeSide()
-                               ? gl->composite(plate.rgb())
-                               : std::vector<float>{};
+                    return gpu::compositeOnDevice(*gl, plate.width, plate.height, plate.rgb());
                 };
         }
         s.loadTable = [this, table](const optics::Lens& l, const ghosts::TableSettings&) {

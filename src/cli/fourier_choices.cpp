@@ -3,7 +3,7 @@
 #include "cli/option_parsing.h"
 #include "core/error.h"
 #include "core/text.h"
-#include "gpu/gl_backend.h"
+#include "gpu/backend_choice.h"
 
 #include <CLI/CLI.hpp>
 
@@ -79,29 +79,13 @@ fourier::FourierSettings FourierOptions::settings(const GlobalOptions& g) const 
     s.basis = basis == "bessel" ? fourier::Basis::Bessel : fourier::Basis::Separable;
     // The GL backend: required with gl; with auto, taken only where the renderer is not a software
     // rasteriser.
-    if (backend != "cpu") {
-        std::string why;
-        auto context = gpu::GlContext::create(why, backend == "auto");
-        if (!context && backend == "gl") throw Error(ErrorKind::Runtime, "--backend gl: no OpenGL 4.5 context: " + why);
-        if (!context) note(g, "--backend auto: no GPU (" + why + "), using the CPU");
-        if (context) {
-            s.backend = std::make_shared<gpu::GlBackend>(std::move(context));
-            if (g.verbose) note(g, "backend " + s.backend->describe());
-            if (s.basis == fourier::Basis::Bessel)
-                note(g, "the Fourier-Bessel basis has no GL path: it runs on the CPU");
-        }
-    }
+    std::string why;
+    s.backend = gpu::openBackend(backend, why);
+    if (!s.backend && backend == "auto") note(g, "--backend auto: no GPU (" + why + "), using the CPU");
+    if (s.backend && g.verbose) note(g, "backend " + s.backend->describe());
+    if (s.backend && s.basis == fourier::Basis::Bessel)
+        note(g, "the Fourier-Bessel basis has no GL path: it runs on the CPU");
     return s;
-}
-
-diffraction::Convolver* diffractionDevice(const fourier::FourierSettings& settings) {
-    auto* gl = dynamic_cast<gpu::GlBackend*>(settings.backend.get());
-    return gl ? &gl->fft() : nullptr;
-}
-
-ghosts::PolygonRaster* polygonRaster(const fourier::FourierSettings& settings) {
-    auto* gl = dynamic_cast<gpu::GlBackend*>(settings.backend.get());
-    return gl ? &gl->polygonRaster() : nullptr;
 }
 
 } // namespace ff::cli

@@ -37,9 +37,4 @@ struct FourierOptions {
     fourier::FourierSettings settings(const GlobalOptions& g) const;
 };
 
-/// The shaped ghosts' polygon raster of the settings' GL backend, or null (the CPU draws them).
-ghosts::PolygonRaster* polygonRaster(const fourier::FourierSettings& settings);
-/// The diffraction's convolution on the settings' GL backend, or null (FFTW on the CPU).
-diffraction::Convolver* diffractionDevice(const fourier::FourierSettings& settings);
-
 } // namespace ff::cli

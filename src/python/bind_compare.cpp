@@ -47,7 +47,8 @@ struct ReportFolder {
 py::object compare(const optics::Lens& lens, const py::object& lights, const py::object& size, const py::object& output,
                    int grid, std::vector<int> ns, const std::string& diffraction, const py::object& sensorSize,
                    int tableGrid, const std::string& sampling, const std::string& sensor, const std::string& coating,
-                   double maxAngle, int tableAngles, double fourierError, const py::object& progress) {
+                   double maxAngle, int tableAngles, double fourierError, const std::string& backend,
+                   const py::object& progress) {
     scene::ComparisonSettings s;
     s.lights = lightsFrom(lights);
     std::tie(s.width, s.height) = sizeFrom(size, "size");
@@ -69,11 +70,12 @@ py::object compare(const optics::Lens& lens, const py::object& lights, const py:
     Interruptible watch(progress);
     DeferredReporter reporter;
     loadTablesThrough(s, watch, reporter);
+    optics::requireTraceable(lens);
+    drawOn(backend, s, reporter, true, s.diffraction != "off"); // last, after every argument was checked
     const ReportFolder folder(output);
     nlohmann::json report;
     try {
         py::gil_scoped_release nogil;
-        optics::requireTraceable(lens);
         report = scene::compareFlares(lens, s, folder.path);
     } catch (const Interrupted&) {
         reporter.flush();
@@ -90,7 +92,7 @@ void bindCompare(py::module_& m) {
           py::kw_only(), "grid"_a = 32, "fourier_n_sweep"_a = std::vector<int>{16, 32, 64, 128, 256},
           "diffraction"_a = "off", "sensor_size"_a = py::none(), "table_grid"_a = 64, "sampling"_a = "reaim",
           "sensor"_a = "file", "coating"_a = "file", "max_angle"_a = 0.0, "table_angles"_a = 25,
-          "fourier_error"_a = 1e-3, "progress"_a = py::none(),
+          "fourier_error"_a = 1e-3, "backend"_a = "auto", "progress"_a = py::none(),
           R"(The flare models of one scene against the traced reference, as `fourierflare compare` does
 (docs/compare.md), returning its report.json as a dict: the reference's own error, shaped vs
 traced, per profile (gaussian, cos2) fitted vs traced, fourier vs fitted and vs traced (relative L2,
@@ -99,7 +101,8 @@ PSNR, max error, flux ratio), the error against N (fourier_n_sweep), the Fourier
 lights: (x, y), (x, y, r, g, b) or dicts, in pixels; size: (width, height), 8..8192 each.
 output: the report folder (images, difference pictures, report.md, error-vs-n.svg); None keeps the
 numbers only (a temporary folder, removed). diffraction: off, physical or traced. The table's
-options are GhostTable.build's. Runs on the CPU, without the GIL.)");
+options are GhostTable.build's. backend: 'cpu', 'gl' or 'auto', as the CLI's --backend (render's
+docstring). Runs without the GIL.)");
 }
 
 } // namespace ff::python

@@ -32,6 +32,7 @@ struct RenderArgs {
     double fourierError = 1e-3;
     int fourierN = 0;
     bool hybrid = true;
+    std::string backend = "auto";
 };
 
 std::optional<std::pair<double, double>> angleFrom(const py::object& angle) {
@@ -72,7 +73,8 @@ py::array_t<float> render(const py::object& source, const py::object& lightsIn, 
                           const std::string& diffraction, const py::object& sensorSize, int grid, double refine,
                           int spectral, int tableGrid, const std::string& sampling, const std::string& sensor,
                           const std::string& coating, double maxAngle, int tableAngles, bool useCache,
-                          double fourierError, int fourierN, bool hybrid, const py::object& progress) {
+                          double fourierError, int fourierN, bool hybrid, const std::string& backend,
+                          const py::object& progress) {
     RenderArgs a;
     a.mode = mode;
     a.ghostModel = ghostModel;
@@ -88,6 +90,7 @@ py::array_t<float> render(const py::object& source, const py::object& lightsIn, 
     a.fourierError = fourierError;
     a.fourierN = fourierN;
     a.hybrid = hybrid;
+    a.backend = backend;
     const auto [W, H] = sizeFrom(size, "size");
     const std::vector<ghosts::Light> lights = lightsFrom(lightsIn);
     const auto* table =
@@ -123,10 +126,14 @@ py::array_t<float> render(const py::object& source, const py::object& lightsIn, 
     s.loadShaped = [&](const optics::Lens& l, const ghosts::TableSettings& ss) {
         return ghosts::shapedTableFor(l, ss, a.useCache, orNull(nullptr));
     };
+    DeferredReporter reporter;
+    if (!table) optics::requireTraceable(*lens);
+    drawOn(a.backend, s, reporter, a.mode == "shaped",
+           a.mode == "diffraction"); // last, after every argument has been checked
+    reporter.flush();
     fourier::FlareImage image;
     {
         py::gil_scoped_release nogil;
-        if (!table) optics::requireTraceable(*lens);
         image =
             std::move((table ? scene::renderFromTable(*table, lights, s) : scene::renderFlare(*lens, lights, s)).image);
     }
@@ -141,7 +148,7 @@ void bindRender(py::module_& m) {
           "diffraction"_a = "physical", "sensor_size"_a = py::none(), "grid"_a = 32, "refine"_a = 1.0, "spectral"_a = 0,
           "table_grid"_a = 64, "sampling"_a = "reaim", "sensor"_a = "file", "coating"_a = "file", "max_angle"_a = 0.0,
           "table_angles"_a = 25, "use_cache"_a = true, "fourier_error"_a = 1e-3, "fourier_n"_a = 0, "hybrid"_a = true,
-          "progress"_a = py::none(),
+          "backend"_a = "auto", "progress"_a = py::none(),
           R"(The flare of lights through a lens as a float32 array of shape (height, width, 3), linear RGB,
 flux per pixel relative to the direct image of a unit light: what `fourierflare render` writes.
 
@@ -157,8 +164,10 @@ send every ghost through the series, as the CLI's --no-hybrid) or 'diffraction' 
 diffraction='physical' or 'traced').
 The table's options (table_grid, sensor, coating, max_angle, table_angles, use_cache, progress) are
 GhostTable.build's and serve 'shaped', 'fitted' and 'fourier'; sampling is the traced paths' pupil
-sampling; sensor and coating serve every mode. Runs
-on the CPU, without the GIL.)");
+sampling; sensor and coating serve every mode.
+backend: where the flare is drawn (the Fourier series, the shaped polygons, the diffraction's
+convolution), as the CLI's --backend: 'cpu', 'gl' (OpenGL 4.5 through EGL; llvmpipe without a GPU)
+or 'auto' (gl on a GPU, else cpu). Runs without the GIL.)");
 }
 
 } // namespace ff::python

@@ -59,7 +59,7 @@ py::dict simulate(const FloatArray& plateArray, const optics::Lens& lens, const 
                   double flareGain, double diffractionGain, const py::object& sensorSize, double fov,
                   const std::string& threshold, int block, int tableGrid, const std::string& sensor,
                   const std::string& coating, double maxAngle, int tableAngles, double fourierError, int fourierN,
-                  const py::object& progress) {
+                  const std::string& backend, const py::object& progress) {
     const image::Plate plate = plateFrom(plateArray, channels);
     scene::SimulationSettings s;
     s.ghostModel = ghostModel;
@@ -86,11 +86,18 @@ py::dict simulate(const FloatArray& plateArray, const optics::Lens& lens, const 
     Interruptible watch(progress);
     DeferredReporter reporter;
     loadTablesThrough(s, watch, reporter);
+    optics::requireTraceable(lens);
+    // The backend last, after every argument has been checked. As the CLI: the GL backend draws the
+    // shaped polygons, or aggregates the fitted models and composites on the device.
+    drawOn(backend, s, reporter, ghostModel == "shaped", diffraction != "off");
+    if (gpu::GlBackend* gl = gpu::glBackendOf(s.fourier); gl && ghostModel != "shaped")
+        s.deviceComposite = [gl](const image::Plate& p) {
+            return gpu::compositeOnDevice(*gl, p.width, p.height, p.rgb());
+        };
     const bool given = !s.lights.empty();
     scene::SimulatedPlate r;
     try {
         py::gil_scoped_release nogil;
-        optics::requireTraceable(lens);
         scene::Simulation sim(lens, std::move(s), reporter);
         r = sim.run(plate);
     } catch (const Interrupted&) {
@@ -118,7 +125,7 @@ void bindSimulate(py::module_& m) {
           "ghost_model"_a = "shaped", "diffraction"_a = "physical", "flare_gain"_a = 1.0, "diffraction_gain"_a = 1.0,
           "sensor_size"_a = py::none(), "fov"_a = 0.0, "threshold"_a = "2", "block"_a = 32, "table_grid"_a = 64,
           "sensor"_a = "file", "coating"_a = "file", "max_angle"_a = 0.0, "table_angles"_a = 25,
-          "fourier_error"_a = 1e-3, "fourier_n"_a = 0, "progress"_a = py::none(),
+          "fourier_error"_a = 1e-3, "fourier_n"_a = 0, "backend"_a = "auto", "progress"_a = py::none(),
           R"(The lens's flare on an HDR plate, as `fourierflare simulate` makes it (docs/simulate.md).
 
 plate: a float array of shape (height, width[, channels]), linear; channels named by `channels`
@@ -131,7 +138,8 @@ diffraction_gain scale the layers (1 = physical). The plate spans the sensor's w
 Returns a dict: ghosts, diffraction, flare (= ghosts + diffraction) and composite (= plate + flare)
 as float32 arrays (height, width, 3); lights (x, y, flux, and pixels and peak when found); threshold
 (the absolute luminance used, None when lights were given); flare_summary, diffraction_summary.
-Runs on the CPU without the GIL; progress(done, total) follows a ghost table's build.)");
+backend: 'cpu', 'gl' or 'auto', as the CLI's --backend (render's docstring). Runs without the GIL;
+progress(done, total) follows a ghost table's build.)");
 }
 
 } // namespace ff::python

@@ -6,6 +6,7 @@
 #include "core/reporter.h"
 #include "ghosts/instancing.h"
 #include "ghosts/shaped_cache.h"
+#include "gpu/backend_choice.h"
 
 #include <nlohmann/json_fwd.hpp>
 
@@ -72,6 +73,21 @@ void loadTablesThrough(Settings& s, Interruptible& watch, DeferredReporter& repo
     s.loadShaped = [&reporter](const optics::Lens& l, const ghosts::TableSettings& t) {
         return ghosts::shapedTableFor(l, t, true, reporter);
     };
+}
+
+/// Scene settings (FlareSettings, SimulationSettings, ComparisonSettings) drawn on the backend named
+/// as the CLI's --backend: "cpu", "gl" (OpenGL 4.5 through EGL, llvmpipe without a GPU; ff::Error
+/// when there is none) or "auto" (gl on a GPU, else the CPU, with a note to `reporter`). Sets the
+/// Fourier backend, and where asked the shaped polygons' raster and the diffraction's convolution
+/// (each made on the device when set). Call on the thread that then runs the work: a GL context is
+/// current on its own thread only.
+template <class Settings>
+void drawOn(const std::string& backend, Settings& s, Reporter& reporter, bool shaped, bool diffraction) {
+    std::string why;
+    s.fourier.backend = gpu::openBackend(backend, why);
+    if (!s.fourier.backend && backend == "auto") reporter.note({}, "backend auto: no GPU (" + why + "), using the CPU");
+    if (shaped) s.raster = gpu::polygonRaster(s.fourier);
+    if (diffraction) s.convolver = gpu::diffractionDevice(s.fourier);
 }
 
 /// A float32 array of the given shape that owns `data` (moved, not copied).
