@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/file_io.h"
+#include "core/install_paths.h"
 #include "core/text.h"
 #include "optics/dat_importer.h"
 #include "optics/lens_parser.h"
@@ -42,6 +43,26 @@ Lens loadLens(const std::filesystem::path& path, Reporter* reporter) {
                                              "; expected .lens (native/FlareSim), .zmx (Zemax) or .dat (pbrt)");
     const std::string bytes = readFileBytes(path, kMaxLensFileBytes);
     return parseLensBytes(bytes, format, path.string(), reporter);
+}
+
+std::filesystem::path findLensFile(const std::string& nameOrPath) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (fs::is_regular_file(nameOrPath, ec)) return nameOrPath;
+    if (nameOrPath.empty()) throw Error(ErrorKind::Input, "no lens file named ''");
+    if (fs::exists(nameOrPath, ec)) throwInputError({nameOrPath}, "not a lens file (a folder or a device)");
+    const bool bareName = nameOrPath.find('/') == std::string::npos && nameOrPath != "." && nameOrPath != "..";
+    const std::vector<fs::path> folders = bareName ? lensSearchPath() : std::vector<fs::path>{};
+    for (const fs::path& folder : folders)
+        for (const fs::path& candidate : {folder / nameOrPath, folder / (nameOrPath + ".lens")})
+            if (fs::is_regular_file(candidate, ec)) return candidate;
+    std::string where;
+    for (const fs::path& folder : folders) where += (where.empty() ? "" : ", ") + folder.string();
+    if (!bareName) throwInputError({nameOrPath}, "no such lens file");
+    throwInputError({nameOrPath}, "no such lens file, and no lens of that name in " +
+                                      (where.empty() ? std::string("the lens search path (none: not installed, "
+                                                                   "FOURIERFLARE_LENS_PATH unset)")
+                                                     : where));
 }
 
 Lens loadLensAt(const std::filesystem::path& path, const std::string& zoom, Reporter* reporter) {

@@ -14,6 +14,11 @@ inline constexpr std::uintmax_t kMaxLensFileBytes = 4u << 20;
 
 Lens loadLens(const std::filesystem::path& path, Reporter* reporter = nullptr);
 
+/// The lens file `nameOrPath` names: the path itself when it is a file; else, for a bare name
+/// (no '/'), <folder>/<name> or <folder>/<name>.lens in each folder of ff::lensSearchPath() (the
+/// installed bundled lenses last; docs/install.md). Throws ff::Error (Input) saying where it looked.
+std::filesystem::path findLensFile(const std::string& nameOrPath);
+
 /// Parses lens bytes of the given format ("lens", "zmx", "dat"); fileName for messages.
 Lens parseLensBytes(std::string_view bytes, const std::string& format, const std::string& fileName,
                     Reporter* reporter = nullptr);

@@ -25,7 +25,7 @@ std::string zoomText(const py::object& zoom) {
 
 optics::Lens load(const std::string& path, const py::object& zoom) {
     DeferredReporter reporter;
-    optics::Lens lens = optics::loadLensAt(path, zoomText(zoom), &reporter);
+    optics::Lens lens = optics::loadLensAt(optics::findLensFile(path), zoomText(zoom), &reporter);
     reporter.flush();
     return lens;
 }
@@ -54,7 +54,8 @@ void bindLens(py::module_& m) {
 
 Lengths are in millimetres, wavelengths in nanometres, angles in degrees.)")
         .def_static("load", &load, "path"_a, "zoom"_a = py::none(),
-                    R"(Reads a lens file; the format follows the extension (.lens, .zmx, .dat).
+                    R"(Reads a lens file; the format follows the extension (.lens, .zmx, .dat). path: a
+file, or the name of an installed lens ("double-gauss-50mm-f2"; docs/install.md).
 
 zoom: a zoom position's label (str) or 1-based index (int); None keeps the file's first position.
 Raises InputError with file:line:column for a malformed file. Notes and warnings about the file

@@ -212,3 +212,43 @@ TEST(CliConvention, OldSpellingsStillWorkWithAWarning) {
     EXPECT_FALSE(contains(t1.err, "deprecated")) << t1.err;
     EXPECT_EQ(ff::test::readFile(dir / "a.json"), ff::test::readFile(dir / "b.json"));
 }
+
+// A lens by name: the folders of FOURIERFLARE_LENS_PATH in order, then the installed lenses (none
+// in a build tree; tests/install/ checks those). A file of that name wins; a path is never searched.
+TEST(CliConvention, ALensByNameIsFoundOnTheLensPath) {
+    ff::test::TempDir dir;
+    std::filesystem::create_directories(dir / "first");
+    std::filesystem::copy_file(std::string(FF_SOURCE_DIR) + "/lenses/tessar-100mm-f3.5.lens",
+                               dir / "first" / "cooke-triplet-50mm-f5.lens");
+    const std::string lenses = std::string(FF_SOURCE_DIR) + "/lenses";
+    const std::string path = "FOURIERFLARE_LENS_PATH='" + (dir / "empty").string() + ":" + lenses + "'";
+    RunResult r = run("lens info cooke-triplet-50mm-f5", path);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(contains(r.out, "file: " + lenses + "/cooke-triplet-50mm-f5.lens")) << r.out;
+    EXPECT_TRUE(contains(r.out, "effective focal length    50.021 mm")) << r.out;
+    // The earlier folder wins, with or without the extension.
+    const std::string both = "FOURIERFLARE_LENS_PATH='" + (dir / "first").string() + ":" + lenses + "'";
+    for (const std::string name : {"cooke-triplet-50mm-f5", "cooke-triplet-50mm-f5.lens"}) {
+        r = run("render --lens " + name + " --light 10,10 --size 32x24 --mode fitted -o '" + (dir / "x.exr").string() +
+                    "' --table-grid 8 --table-angles 5",
+                both + " FF_CACHE_DIR='" + (dir / "cache").string() + "'");
+        EXPECT_EQ(r.code, 0) << r.err;
+        r = run("lens info " + name, both);
+        EXPECT_TRUE(contains(r.out, "file: " + (dir / "first").string() + "/cooke-triplet-50mm-f5.lens")) << r.out;
+    }
+    // A file in the working folder (the repository root) is taken as given.
+    r = run("lens info lenses/cooke-triplet-50mm-f5.lens", both);
+    EXPECT_TRUE(contains(r.out, "file: lenses/cooke-triplet-50mm-f5.lens")) << r.out;
+    // Not found: exit 2, naming the folders searched; a path with a folder is not searched.
+    r = run("lens info no-such-lens", path);
+    EXPECT_EQ(r.code, 2);
+    EXPECT_TRUE(
+        contains(r.err, "no such lens file, and no lens of that name in " + (dir / "empty").string() + ", " + lenses))
+        << r.err;
+    r = run("lens info sub/cooke-triplet-50mm-f5", path);
+    EXPECT_EQ(r.code, 2);
+    EXPECT_TRUE(contains(r.err, "sub/cooke-triplet-50mm-f5: no such lens file")) << r.err;
+    r = run("lens info cooke-triplet-50mm-f5", "FOURIERFLARE_LENS_PATH= FOURIERFLARE_DATA_DIR=");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_TRUE(contains(r.err, "FOURIERFLARE_LENS_PATH unset")) << r.err;
+}
