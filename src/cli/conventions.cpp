@@ -22,7 +22,7 @@ const CLI::Validator kLensFile(
 } // namespace
 
 void addLensArgument(CLI::App& cmd, std::string& lens, const std::string& help) {
-    const std::string what = help + " (or the name of an installed lens, e.g. double-gauss-50mm-f2)";
+    const std::string what = help + ", or an installed lens's name (double-gauss-50mm-f2)";
     CLI::Option* positional = cmd.add_option("lens", lens, what + "; or --lens")->transform(kLensFile);
     cmd.add_option("--lens", lens, what + "; or as the first argument")->transform(kLensFile)->excludes(positional);
 }
