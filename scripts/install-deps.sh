@@ -12,7 +12,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev libyaml-cpp-dev
   pybind11-dev python3-dev python3-numpy python3-pytest python3-openimageio
-  dpkg-dev
+  dpkg-dev slurmctld slurmd slurm-client munge
 )
 # Extra packages for the fuzzer (scripts/fuzz-lens-parser.sh): pass --fuzz.
 if [ "${1:-}" = "--fuzz" ]; then packages+=(clang libclang-rt-14-dev); fi

@@ -54,6 +54,7 @@ struct SimulateOptions {
     std::string layers = "ghosts,diffraction";
     DirtOptions dirt;
     bool half = false;
+    bool skipExisting = false;
     FourierOptions fourier;
 };
 
@@ -108,7 +109,35 @@ std::string frameName(const std::string& pattern, int frame, const char* what) {
 struct FrameJob {
     std::string plate, output, preview, previewFlare, lightsOut;
     int frame = 0;
+    std::string commandLine; ///< the command that makes this frame's files, recorded in them
+
+    /// Every file the job writes.
+    std::vector<std::string> outputs() const {
+        std::vector<std::string> out;
+        for (const std::string* f : {&output, &preview, &previewFlare, &lightsOut})
+            if (!f->empty()) out.push_back(*f);
+        return out;
+    }
 };
+
+// The command line that makes a job's files, recorded in them: without --skip-existing, and for
+// frame `frame` of a sequence (frame >= 0) with --frames FIRST-LAST as --frames N-N. Neither changes
+// the files' bytes, so a frame's files are the same whichever range or farm task rendered them.
+std::string jobCommandLine(const std::vector<std::string>& arguments, int frame) {
+    const std::string only = std::to_string(frame) + "-" + std::to_string(frame);
+    std::string line;
+    for (std::size_t i = 0; i < arguments.size(); ++i) {
+        std::string a = arguments[i];
+        if (a == "--skip-existing") continue;
+        if (frame >= 0 && a.rfind("--frames=", 0) == 0) a = "--frames=" + only;
+        line += (line.empty() ? "" : " ") + a;
+        if (frame >= 0 && a == "--frames" && i + 1 < arguments.size()) {
+            line += " " + only;
+            ++i;
+        }
+    }
+    return line;
+}
 
 class Simulation {
   public:
@@ -139,7 +168,7 @@ class Simulation {
 
         image::Metadata meta = {
             {"Software", std::string("fourierflare ") + kVersion},
-            {"fourierflare:commandLine", g_.commandLine},
+            {"fourierflare:commandLine", job.commandLine},
             {"fourierflare:lens", sim_->lens().file},
             {"fourierflare:lensHash", sim_->lens().contentHash},
             {"fourierflare:plate", job.plate},
@@ -293,7 +322,7 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& g) {
                         text::quoted(o.output));
     std::vector<FrameJob> jobs;
     if (o.frames.empty()) {
-        jobs.push_back({o.plate, o.output, o.preview, o.previewFlare, o.lightsOut, 0});
+        jobs.push_back({o.plate, o.output, o.preview, o.previewFlare, o.lightsOut, 0, jobCommandLine(g.arguments, -1)});
     } else {
         const auto parts = text::split(o.frames, '-');
         const auto a = parts.size() == 2 ? text::parseNumber(parts[0]) : std::nullopt,
@@ -305,9 +334,26 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& g) {
             jobs.push_back({frameName(o.plate, f, "--plate"), frameName(o.output, f, "-o"),
                             o.preview.empty() ? "" : frameName(o.preview, f, "--preview"),
                             o.previewFlare.empty() ? "" : frameName(o.previewFlare, f, "--preview-flare"),
-                            o.lightsOut.empty() ? "" : frameName(o.lightsOut, f, "--lights-out"), f});
+                            o.lightsOut.empty() ? "" : frameName(o.lightsOut, f, "--lights-out"), f,
+                            jobCommandLine(g.arguments, f)});
     }
-    Simulation sim(o, g);
+    Simulation sim(o, g); // every option checked, even when no frame is left to render
+    if (o.skipExisting) {
+        // A job is done when all its files exist: each is written whole under its final name (a
+        // temporary and a rename), so one that exists is complete.
+        const std::size_t before = jobs.size();
+        std::erase_if(jobs, [](const FrameJob& job) {
+            const auto files = job.outputs();
+            return std::all_of(files.begin(), files.end(), [](const std::string& f) {
+                std::error_code ec;
+                return std::filesystem::is_regular_file(f, ec);
+            });
+        });
+        if (!g.quiet && jobs.size() < before)
+            std::fprintf(stderr, "fourierflare: note: --skip-existing: %zu of %zu frames already written, skipped\n",
+                         before - jobs.size(), before);
+        if (jobs.empty()) return;
+    }
     const bool bar = jobs.size() > 1 && !g.quiet && isatty(STDERR_FILENO);
     for (std::size_t i = 0; i < jobs.size(); ++i) {
         const FrameJob& job = jobs[i];
@@ -400,6 +446,9 @@ void addSimulateCommand(CLI::App& app, GlobalOptions& global) {
         ->check(CLI::Range(1.0, 1e10));
     cmd->add_option("--frames", o->frames,
                     "Render frames FIRST-LAST of a sequence: --plate, -o and the previews hold a %04d pattern");
+    cmd->add_flag("--skip-existing", o->skipExisting,
+                  "Skip the frames whose files (the EXR and each preview or lights file asked for) all exist: "
+                  "rerun only the missing frames of a shot (docs/farm.md)");
     o->fourier.addTo(*cmd);
     cmd->footer("Examples:\n"
                 "  fourierflare simulate --lens lenses/double-gauss-50mm-f2.lens --plate data/night-street.exr -o "

@@ -5,14 +5,16 @@
 #include "core/reporter.h"
 
 #include <string>
+#include <vector>
 
 namespace ff::cli {
 
 /// Options shared by every command.
 struct GlobalOptions {
     bool quiet = false;
-    bool verbose = false;    ///< print every choice (Fourier plan, stage times)
-    std::string commandLine; ///< as typed, recorded in outputs
+    bool verbose = false;               ///< print every choice (Fourier plan, stage times)
+    std::string commandLine;            ///< as typed, less --threads N: recorded in outputs
+    std::vector<std::string> arguments; ///< the words of commandLine
 };
 
 class ConsoleReporter final : public Reporter {

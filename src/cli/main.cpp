@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
 
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <memory>
@@ -18,6 +19,9 @@
 
 int main(int argc, char** argv) {
     using namespace ff::cli;
+    // Under a file-size limit (ulimit -f) a write that passes it fails with EFBIG, reported as an
+    // error, instead of the signal killing the process with its temporary files left behind.
+    std::signal(SIGXFSZ, SIG_IGN);
     CLI::App app{"FourierFlare: physically based lens flares from real lens prescriptions.", "fourierflare"};
     app.set_version_flag("--version", std::string("fourierflare ") + ff::kVersion);
     app.require_subcommand(1);
@@ -26,16 +30,19 @@ int main(int argc, char** argv) {
                "Example: fourierflare simulate --lens lenses/double-gauss-50mm-f2.lens --plate data/night-street.exr "
                "-o out/night-street.exr --preview out/night-street.png");
     GlobalOptions global;
-    // The command line as written into output headers, without --threads: the outputs do not depend
-    // on it, and the same command on 1 or 2 threads writes the same bytes.
+    // The command line as written into output headers, without the options that change no output
+    // (--threads, -q, -v): the same command on 1 or 2 threads, quiet or not, writes the same bytes.
     for (int i = 0; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--threads" && i + 1 < argc) {
             ++i;
             continue;
         }
-        if (a.rfind("--threads=", 0) == 0) continue;
+        if (a.rfind("--threads=", 0) == 0 || a == "-q" || a == "--quiet" || a == "-v" || a == "--verbose" ||
+            a == "-qv" || a == "-vq")
+            continue;
         global.commandLine += (global.commandLine.empty() ? "" : " ") + a;
+        global.arguments.push_back(a);
     }
     app.add_flag("-q,--quiet", global.quiet, "Do not print notes (warnings and errors are always printed)");
     int threads = 0;

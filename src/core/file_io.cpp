@@ -2,10 +2,14 @@
 
 #include "core/error.h"
 
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <fcntl.h>
 #include <fstream>
 #include <random>
+#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -34,25 +38,46 @@ std::string readFileBytes(const fs::path& path, std::uintmax_t maxBytes) {
 void writeFileAtomic(const fs::path& path, std::string_view content) {
     const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
     std::random_device rd;
-    const fs::path tmp = dir / ("." + path.filename().string() + ".tmp" + std::to_string(rd() % 1000000));
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out)
-            throwRuntimeError("cannot write '" + path.string() + "': cannot create a file in '" + dir.string() + "'");
-        out.write(content.data(), static_cast<std::streamsize>(content.size()));
-        out.close();
-        if (!out) {
-            std::error_code ec;
-            fs::remove(tmp, ec);
-            throwRuntimeError("cannot write '" + path.string() + "': write failed (disk full?)");
+    const fs::path tmp = dir / ("." + path.filename().string() + ".tmp" + std::to_string(getpid()) + "-" +
+                                std::to_string(rd() % 1000000));
+    auto fail = [&](const std::string& why) {
+        ::unlink(tmp.c_str());
+        throwRuntimeError("cannot write '" + path.string() + "': " + why);
+    };
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd < 0)
+        throwRuntimeError("cannot write '" + path.string() + "': cannot create a file in '" + dir.string() +
+                          "': " + std::strerror(errno));
+    for (std::size_t done = 0; done < content.size();) {
+        const ssize_t n = ::write(fd, content.data() + done, content.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            const int e = n < 0 ? errno : EIO;
+            ::close(fd);
+            fail(std::strerror(e));
         }
+        done += static_cast<std::size_t>(n);
     }
+    if (::close(fd) != 0) fail(std::strerror(errno));
     std::error_code ec;
     fs::rename(tmp, path, ec);
-    if (ec) {
-        std::error_code ignored;
-        fs::remove(tmp, ignored);
-        throwRuntimeError("cannot write '" + path.string() + "': " + ec.message());
+    if (ec) fail(ec.message());
+}
+
+void storeCacheEntry(const fs::path& file, std::string_view bytes, const std::string& what, Reporter& reporter) {
+    const fs::path dir = file.parent_path();
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec || ::faccessat(AT_FDCWD, dir.c_str(), W_OK | X_OK, AT_EACCESS) != 0) {
+        const std::string why = ec ? ec.message() : std::strerror(errno);
+        reporter.note({}, "the cache folder " + dir.string() + " is not writable (" + why + "): the " + what +
+                              " was built in memory and not stored");
+        return;
+    }
+    try {
+        writeFileAtomic(file, bytes);
+    } catch (const Error& e) {
+        reporter.warning({file.string()}, "could not store the " + what + " in the cache: " + e.message());
     }
 }
 

@@ -1,6 +1,8 @@
 #pragma once
 // Reading inputs defensively and writing outputs atomically.
 
+#include "core/reporter.h"
+
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -12,9 +14,18 @@ namespace ff {
 /// file, cannot be read, or is larger than maxBytes (checked before reading).
 std::string readFileBytes(const std::filesystem::path& path, std::uintmax_t maxBytes);
 
-/// Writes content to path through a temporary file in the same folder and a rename, so readers
-/// never see a partial file. Throws ff::Error (Runtime) on failure; the temporary is removed.
+/// Writes content to path through a temporary file in the same folder (.NAME.tmpPID-N) and a
+/// rename, so readers never see a partial file. Throws ff::Error (Runtime) with the system's reason
+/// on failure; the temporary is removed (a process killed meanwhile leaves it, hidden).
 void writeFileAtomic(const std::filesystem::path& path, std::string_view content);
+
+/// Stores a cache entry with writeFileAtomic, creating its folder: readers never see a partial
+/// entry, and processes storing the same entry at once leave one whole entry (the last rename).
+/// Never throws: a folder that cannot be created or written (read-only, another user's) gets a note,
+/// a failed write (a full disk) a warning; the caller keeps what it built in memory. `what` names
+/// the entry in messages ("shaped table").
+void storeCacheEntry(const std::filesystem::path& file, std::string_view bytes, const std::string& what,
+                     Reporter& reporter);
 
 /// True when both paths name the same existing file (or the same normalised path).
 bool samePath(const std::filesystem::path& a, const std::filesystem::path& b);

@@ -136,12 +136,7 @@ Psf cachedPixelPsf(const Aperture& aperture, const PsfSettings& settings, bool u
         }
     }
     Psf p = pixelPsf(aperture, settings);
-    fs::create_directories(file.parent_path(), ec);
-    try {
-        writeFileAtomic(file, psfToBytes(p, key));
-    } catch (const Error& e) {
-        reporter.warning({file.string()}, "could not store the PSF in the cache: " + e.message());
-    }
+    storeCacheEntry(file, psfToBytes(p, key), "PSF", reporter);
     return p;
 }
 

@@ -387,19 +387,16 @@ ShapedTable buildAndStore(const optics::Lens& lens, const TableSettings& s, bool
     const std::string key = shapedCacheKey(lens, s);
     const fs::path file = cacheFile(lens, s);
     ShapedTable t = buildShapedTable(lens, s, progress);
+    // The entry's bytes are a function of its key alone, not of the build's wall time: processes that
+    // build the same entry at once store the same bytes (a table read back reports 0 s).
+    const double seconds = t.buildSeconds, fittedSeconds = t.fitted.buildSeconds;
+    t.buildSeconds = t.fitted.buildSeconds = 0.0;
     const std::string bytes = shapedTableToBytes(t, key);
+    t.buildSeconds = seconds;
+    t.fitted.buildSeconds = fittedSeconds;
     tbb::parallel_for(std::size_t(0), t.ghosts.size(), [&](std::size_t g) { quantiseGhost(t.ghosts[g]); });
     t.fitted.lensFile = lens.file;
-    if (useCache) {
-        std::error_code ec;
-        fs::create_directories(file.parent_path(), ec);
-        try {
-            writeFileAtomic(file, bytes);
-        } catch (const Error& e) {
-            reporter.warning({file.string()},
-                             std::string("could not store the shaped table in the cache: ") + e.message());
-        }
-    }
+    if (useCache) storeCacheEntry(file, bytes, "shaped table", reporter);
     return t;
 }
 
