@@ -49,11 +49,12 @@ bool inMainProgram(const void* address) {
 }
 
 // The file this code was loaded from: the executable (its name from /proc/self/exe: dladdr gives
-// argv[0] for it), or the Python module (a shared object, named as it was loaded).
-fs::path thisBinary() {
+// argv[0] for it; `executable` set), or the Python module (a shared object, named as it was loaded).
+fs::path thisBinary(bool& executable) {
     std::error_code ec;
     const void* self = reinterpret_cast<const void*>(&thisBinary);
-    if (inMainProgram(self)) return fs::canonical("/proc/self/exe", ec);
+    executable = inMainProgram(self);
+    if (executable) return fs::canonical("/proc/self/exe", ec);
     Dl_info info{};
     if (dladdr(self, &info) == 0 || !info.dli_fname) return {};
     const fs::path path = fs::canonical(info.dli_fname, ec);
@@ -65,10 +66,10 @@ fs::path thisBinary() {
 fs::path dataDirectory() {
     if (const char* dir = std::getenv("FOURIERFLARE_DATA_DIR"); dir && *dir)
         return isDirectory(dir) ? fs::path(dir) : fs::path();
-    const void* self = reinterpret_cast<const void*>(&thisBinary);
-    const fs::path binary = thisBinary();
+    bool executable = false;
+    const fs::path binary = thisBinary(executable);
     if (binary.empty()) return {};
-    const fs::path data = binary.parent_path() / (inMainProgram(self) ? FF_DATA_FROM_BIN : FF_DATA_FROM_PYTHON);
+    const fs::path data = binary.parent_path() / (executable ? FF_DATA_FROM_BIN : FF_DATA_FROM_PYTHON);
     return isDirectory(data) ? data.lexically_normal() : fs::path();
 }
 

@@ -207,7 +207,6 @@ std::string shapedTableToBytes(const ShapedTable& t, const std::string& key) {
     h["fitted"] = tableToJson(t.fitted, true);
     h["ghost_count"] = t.ghostCount;
     h["rays"] = t.rays;
-    h["build_seconds"] = t.buildSeconds;
     h["angles"] = t.angles();
     h["ghosts"] = nlohmann::json::array();
     for (std::size_t g = 0; g < t.ghosts.size(); ++g) {
@@ -296,7 +295,7 @@ ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file
         t.fitted = fittedFrom(h, file);
         t.ghostCount = h.at("ghost_count").get<std::size_t>();
         t.rays = h.at("rays").get<std::size_t>();
-        t.buildSeconds = h.at("build_seconds").get<double>();
+        t.buildSeconds = h.value("build_seconds", 0.0);
         const int A = h.at("angles").get<int>();
         const std::size_t W = t.wavelengthsNm.size();
         if (A < 1 || A > 10000 || W < 1 || W > 64 || t.directY.size() != W || t.fitted.wavelengthsNm.size() != W ||
@@ -387,13 +386,9 @@ ShapedTable buildAndStore(const optics::Lens& lens, const TableSettings& s, bool
     const std::string key = shapedCacheKey(lens, s);
     const fs::path file = cacheFile(lens, s);
     ShapedTable t = buildShapedTable(lens, s, progress);
-    // The entry's bytes are a function of its key alone, not of the build's wall time: processes that
-    // build the same entry at once store the same bytes (a table read back reports 0 s).
-    const double seconds = t.buildSeconds, fittedSeconds = t.fitted.buildSeconds;
-    t.buildSeconds = t.fitted.buildSeconds = 0.0;
+    // The entry's bytes are a function of its key alone (the build's wall time is not stored):
+    // processes that build the same entry at once store the same bytes.
     const std::string bytes = shapedTableToBytes(t, key);
-    t.buildSeconds = seconds;
-    t.fitted.buildSeconds = fittedSeconds;
     tbb::parallel_for(std::size_t(0), t.ghosts.size(), [&](std::size_t g) { quantiseGhost(t.ghosts[g]); });
     t.fitted.lensFile = lens.file;
     if (useCache) storeCacheEntry(file, bytes, "shaped table", reporter);

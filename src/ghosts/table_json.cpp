@@ -61,7 +61,6 @@ std::string tableToJson(const GhostTable& t, bool compact) {
     j["wavelengths_nm"] = t.wavelengthsNm;
     j["field_angles_deg"] = t.anglesDeg;
     j["direct_image_height_mm"] = t.directY;
-    j["build_seconds"] = t.buildSeconds;
     json ghosts = json::array();
     for (std::size_t g = 0; g < t.ghosts.size(); ++g) {
         const TableGhost& tg = t.ghosts[g];
@@ -126,7 +125,7 @@ GhostTable tableFromJson(const std::string& text, const std::string& source) {
         t.sensorSizeMm = {j.at("sensor").at("width_mm").get<double>(), j.at("sensor").at("height_mm").get<double>()};
         t.wavelengthsNm = j.at("wavelengths_nm").get<std::vector<double>>();
         t.anglesDeg = angles(j, source);
-        t.buildSeconds = j.at("build_seconds").get<double>();
+        t.buildSeconds = j.value("build_seconds", 0.0); // written up to 0.1.0's tables; timing, not data
         const std::size_t nW = t.wavelengthsNm.size();
         if (nW == 0) throw Error(ErrorKind::Input, where, "ghost table without wavelengths");
         t.directY = j.at("direct_image_height_mm").get<std::vector<std::vector<double>>>();

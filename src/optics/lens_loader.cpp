@@ -58,8 +58,8 @@ std::filesystem::path findLensFile(const std::string& nameOrPath) {
             if (fs::is_regular_file(candidate, ec)) return candidate;
     std::string where;
     for (const fs::path& folder : folders) where += (where.empty() ? "" : ", ") + folder.string();
-    if (!bareName) throwInputError({nameOrPath}, "no such lens file");
-    throwInputError({nameOrPath}, "no such lens file, and no lens of that name in " +
+    if (!bareName) throwInputError({nameOrPath}, "no such file");
+    throwInputError({nameOrPath}, "no such file, and no lens of that name in " +
                                       (where.empty() ? std::string("the lens search path (none: not installed, "
                                                                    "FOURIERFLARE_LENS_PATH unset)")
                                                      : where));

@@ -243,11 +243,11 @@ TEST(CliConvention, ALensByNameIsFoundOnTheLensPath) {
     r = run("lens info no-such-lens", path);
     EXPECT_EQ(r.code, 2);
     EXPECT_TRUE(
-        contains(r.err, "no such lens file, and no lens of that name in " + (dir / "empty").string() + ", " + lenses))
+        contains(r.err, "no such file, and no lens of that name in " + (dir / "empty").string() + ", " + lenses))
         << r.err;
     r = run("lens info sub/cooke-triplet-50mm-f5", path);
     EXPECT_EQ(r.code, 2);
-    EXPECT_TRUE(contains(r.err, "sub/cooke-triplet-50mm-f5: no such lens file")) << r.err;
+    EXPECT_TRUE(contains(r.err, "sub/cooke-triplet-50mm-f5: no such file")) << r.err;
     r = run("lens info cooke-triplet-50mm-f5", "FOURIERFLARE_LENS_PATH= FOURIERFLARE_DATA_DIR=");
     EXPECT_EQ(r.code, 2);
     EXPECT_TRUE(contains(r.err, "FOURIERFLARE_LENS_PATH unset")) << r.err;
