@@ -13,7 +13,7 @@ namespace ff::cli {
 struct GlobalOptions {
     bool quiet = false;
     bool verbose = false;               ///< print every choice (Fourier plan, stage times)
-    std::string commandLine;            ///< as typed, less --threads N: recorded in outputs
+    std::string commandLine;            ///< as typed, less --threads N, -q, -v: recorded in outputs
     std::vector<std::string> arguments; ///< the words of commandLine
 };
 
