@@ -14,7 +14,7 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest python3-openimageio
   dpkg-dev slurmctld slurmd slurm-client munge
 )
-# Extra packages for the fuzzer (scripts/fuzz-lens-parser.sh): pass --fuzz.
+# Extra packages for the fuzzers (scripts/fuzz.sh): pass --fuzz.
 if [ "${1:-}" = "--fuzz" ]; then packages+=(clang libclang-rt-14-dev); fi
 
 missing=()

@@ -98,7 +98,10 @@ std::string encodeGhost(const ShapedGhost& g) {
         for (const ShapedMesh& m : perAngle)
             for (std::size_t v = 0; v < V && !m.data.empty(); ++v) out.push_back(lostAt(m, S, v) ? 1 : 0);
         for (std::size_t z = 0; z < S; ++z) {
-            const auto [lo, hi] = range(perAngle, V, S, z);
+            // Named values, not a structured binding: the lambda below uses lo (clang 14 cannot
+            // capture a binding).
+            const std::pair<float, float> bounds = range(perAngle, V, S, z);
+            const float lo = bounds.first, hi = bounds.second;
             putBytes(out, lo);
             putBytes(out, hi);
             const double scale = hi > lo ? kLevels / (double(hi) - double(lo)) : 0.0;

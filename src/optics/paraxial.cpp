@@ -34,7 +34,7 @@ ParaxialRay refract(const Lens& lens, double lambdaNm, std::size_t i, ParaxialRa
 // Carries the ray `distance` mm through the medium after surface i: y += t w / n in a homogeneous
 // one; through a gradient the paraxial ray equation d/dz (n(z) y') = 2 a_1 y (n(z) on the axis,
 // a_1 the r^2 coefficient), i.e. dy/dz = w / n(z), dw/dz = 2 a_1 y, by RK4 in steps of at most
-// 0.02 mm (at least 64).
+// 0.02 mm (at least 64, at most 2^20).
 ParaxialRay transfer(const Lens& lens, double lambdaNm, std::size_t i, ParaxialRay r, double distance) {
     const Medium& m = lens.surfaces[i].medium;
     if (!m.gradient) {
@@ -43,7 +43,9 @@ ParaxialRay transfer(const Lens& lens, double lambdaNm, std::size_t i, ParaxialR
     }
     const GradientField field(m.index(lambdaNm), *m.gradient, lambdaNm, 0.0);
     const double twoA1 = m.gradient->radial.empty() ? 0.0 : 2.0 * m.gradient->radial[0].at(lambdaNm);
-    const int steps = std::max(64, static_cast<int>(std::ceil(std::abs(distance) / 0.02)));
+    // Counted in double, then bounded: a graded element kilometres long takes 2^20 steps, not an
+    // integer overflow or billions of them.
+    const int steps = static_cast<int>(std::clamp(std::ceil(std::abs(distance) / 0.02), 64.0, 1048576.0));
     const double h = distance / steps;
     const auto slope = [&](double z, double y, double w) {
         return std::array<double, 2>{w / field.index({0.0, 0.0, z}), twoA1 * y};

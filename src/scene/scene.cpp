@@ -41,8 +41,10 @@ namespace {
 
 using nlohmann::json;
 
-json parseJsonFile(const std::string& file) {
-    const std::string bytes = readFileBytes(file, 256u << 20); // 256 MiB: room for millions of ghosts
+// The largest lights or ghosts file read: room for millions of ghosts.
+constexpr std::uintmax_t kMaxJsonBytes = 256u << 20;
+
+json parseJsonText(std::string_view bytes, const std::string& file) {
     try {
         return json::parse(bytes);
     } catch (const json::parse_error& e) {
@@ -58,6 +60,20 @@ json parseJsonFile(const std::string& file) {
         if (const auto p = what.find("syntax error"); p != std::string::npos) what = what.substr(p);
         throw Error(ErrorKind::Input, SourceLocation{file, static_cast<int>(line), static_cast<int>(col)},
                     "not valid JSON: " + what);
+    } catch (const json::exception& e) {
+        // A number beyond double's range (out_of_range 406), ...: no position given.
+        throw Error(ErrorKind::Input, SourceLocation{file}, std::string("not valid JSON: ") + e.what());
+    }
+}
+
+// Runs `read` over a parsed document, turning what the JSON library throws on a value of the wrong
+// type (type_error) into ff::Error naming the file.
+template <class Read>
+auto withJsonErrors(const std::string& file, Read read) {
+    try {
+        return read();
+    } catch (const json::exception& e) {
+        throw Error(ErrorKind::Input, SourceLocation{file}, std::string("unexpected JSON: ") + e.what());
     }
 }
 
@@ -94,10 +110,7 @@ const json& list(const std::string& file, const json& doc, const char* key) {
     return doc[key];
 }
 
-} // namespace
-
-std::vector<ghosts::Light> readLightsJson(const std::string& file) {
-    const json doc = parseJsonFile(file);
+std::vector<ghosts::Light> lightsFrom(const json& doc, const std::string& file) {
     std::vector<ghosts::Light> out;
     const json& lights = list(file, doc, "lights");
     for (std::size_t i = 0; i < lights.size(); ++i) {
@@ -112,8 +125,7 @@ std::vector<ghosts::Light> readLightsJson(const std::string& file) {
     return out;
 }
 
-std::vector<fourier::Ghost> readGhostsJson(const std::string& file) {
-    const json doc = parseJsonFile(file);
+std::vector<fourier::Ghost> ghostsFrom(const json& doc, const std::string& file) {
     std::vector<fourier::Ghost> out;
     const json& ghosts = list(file, doc, "ghosts");
     for (std::size_t i = 0; i < ghosts.size(); ++i) {
@@ -143,6 +155,26 @@ std::vector<fourier::Ghost> readGhostsJson(const std::string& file) {
         out.push_back(k);
     }
     return out;
+}
+
+} // namespace
+
+std::vector<ghosts::Light> readLightsJson(const std::string& file) {
+    return parseLightsJson(readFileBytes(file, kMaxJsonBytes), file);
+}
+
+std::vector<ghosts::Light> parseLightsJson(std::string_view text, const std::string& file) {
+    const json doc = parseJsonText(text, file);
+    return withJsonErrors(file, [&] { return lightsFrom(doc, file); });
+}
+
+std::vector<fourier::Ghost> readGhostsJson(const std::string& file) {
+    return parseGhostsJson(readFileBytes(file, kMaxJsonBytes), file);
+}
+
+std::vector<fourier::Ghost> parseGhostsJson(std::string_view text, const std::string& file) {
+    const json doc = parseJsonText(text, file);
+    return withJsonErrors(file, [&] { return ghostsFrom(doc, file); });
 }
 
 std::vector<fourier::Ghost> fourierGhosts(const std::vector<ghosts::GhostInstance>& instances) {

@@ -13,6 +13,7 @@
 #include "trace/traced_flare.h"
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace ff::scene {
@@ -22,11 +23,15 @@ ghosts::Light parseLight(const std::string& spec);
 
 /// A lights file: {"lights": [{"x": X, "y": Y, "flux": [R, G, B]}, ...]} ("flux" optional).
 std::vector<ghosts::Light> readLightsJson(const std::string& file);
+/// The same from the file's bytes; `file` names it in errors (ff::Error, Input, with line:column).
+std::vector<ghosts::Light> parseLightsJson(std::string_view text, const std::string& file);
 
 /// An explicit ghost list (docs/fourier.md, "Ghost lists"):
 /// {"ghosts": [{"x", "y", "profile": "gaussian"|"cos2", "widthX", "widthY", "flux" | "peak"}, ...]},
 /// widths and flux/peak either one number or [R, G, B].
 std::vector<fourier::Ghost> readGhostsJson(const std::string& file);
+/// The same from the file's bytes; `file` names it in errors.
+std::vector<fourier::Ghost> parseGhostsJson(std::string_view text, const std::string& file);
 
 /// The aggregator's ghosts from table instances. The separable representation has axis-aligned
 /// widths: an instance's radial and tangential widths are replaced by the ones with the same
