@@ -3,6 +3,7 @@
 #include "core/byte_io.h"
 #include "core/error.h"
 #include "core/file_io.h"
+#include "core/json_integer.h"
 #include "core/text.h"
 #include "ghosts/table_json.h"
 
@@ -282,13 +283,12 @@ ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file
         t.maxAngleDeg = h.at("max_angle_deg").get<double>();
         t.wavelengthsNm = h.at("wavelengths_nm").get<std::vector<double>>();
         const auto& iris = h.at("iris");
-        const int blades = iris.at("blades").get<int>();
+        const int blades = jsonInteger<int>(iris.at("blades"));
         const double radius = iris.at("radius").get<double>();
         if ((blades != 0 && (blades < 3 || blades > 64)) || !(radius > 0.0 && radius < 1e6) ||
             !(t.maxAngleDeg >= 0.0 && t.maxAngleDeg < 90.0))
             throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table iris or field");
-        t.iris = trace::Iris(iris.at("blades").get<int>(), iris.at("rotation_rad").get<double>(),
-                             iris.at("radius").get<double>());
+        t.iris = trace::Iris(blades, iris.at("rotation_rad").get<double>(), iris.at("radius").get<double>());
         t.sensorZ = h.at("sensor_z_mm").get<double>();
         const auto size = h.at("sensor_size_mm").get<std::vector<double>>();
         if (size.size() != 2) throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table sensor");
@@ -296,10 +296,10 @@ ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file
         t.pupilRadiusMm = h.at("pupil_radius_mm").get<double>();
         t.directY = h.at("direct_y_mm").get<std::vector<std::vector<double>>>();
         t.fitted = fittedFrom(h, file);
-        t.ghostCount = h.at("ghost_count").get<std::size_t>();
-        t.rays = h.at("rays").get<std::size_t>();
+        t.ghostCount = jsonInteger<std::size_t>(h.at("ghost_count"));
+        t.rays = jsonInteger<std::size_t>(h.at("rays"));
         t.buildSeconds = h.value("build_seconds", 0.0);
-        const int A = h.at("angles").get<int>();
+        const int A = jsonInteger<int>(h.at("angles"));
         const std::size_t W = t.wavelengthsNm.size();
         if (A < 1 || A > 10000 || W < 1 || W > 64 || t.directY.size() != W || t.fitted.wavelengthsNm.size() != W ||
             t.fitted.anglesDeg.size() != static_cast<std::size_t>(A))
@@ -309,10 +309,10 @@ ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file
                 throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table dimensions");
         for (const auto& j : h.at("ghosts")) {
             ShapedGhost g;
-            g.pair = {j.at("first").get<std::size_t>(), j.at("second").get<std::size_t>()};
-            g.grid = j.at("grid").get<int>();
-            g.apertureSteps = j.at("aperture_steps").get<std::vector<std::size_t>>();
-            g.stopCrossings = j.at("stop_crossings").get<std::size_t>();
+            g.pair = {jsonInteger<std::size_t>(j.at("first")), jsonInteger<std::size_t>(j.at("second"))};
+            g.grid = jsonInteger<int>(j.at("grid"));
+            g.apertureSteps = jsonIntegers<std::size_t>(j.at("aperture_steps"));
+            g.stopCrossings = jsonInteger<std::size_t>(j.at("stop_crossings"));
             const auto rect = j.at("pupil_rect_mm").get<std::vector<double>>();
             if (rect.size() != 4) throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-ghost layout");
             g.pupilX0 = rect[0], g.pupilY0 = rect[1], g.pupilX1 = rect[2], g.pupilY1 = rect[3];
@@ -335,9 +335,9 @@ ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file
                 // The lost-vertex bytes, then per attribute its range and two bytes per value.
                 expected += meshes * vertices(g) + g.stride() * (8 + 2 * meshes * vertices(g));
             }
-            rawSize.push_back(j.at("raw_bytes").get<std::uint64_t>());
-            chunks.push_back(r.take(j.at("bytes").get<std::uint64_t>()));
-            crcs.push_back(j.at("crc32").get<std::uint32_t>());
+            rawSize.push_back(jsonInteger<std::uint64_t>(j.at("raw_bytes")));
+            chunks.push_back(r.take(jsonInteger<std::uint64_t>(j.at("bytes"))));
+            crcs.push_back(jsonInteger<std::uint32_t>(j.at("crc32")));
             // Deflate expands at most about 1032-fold: a layout beyond that is not this data's.
             if (rawSize.back() != expected || expected > 1100 * chunks.back().size() + 1024)
                 throw Error(ErrorKind::Input, SourceLocation{file}, "shaped-ghost size does not match its layout");

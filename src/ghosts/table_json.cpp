@@ -1,6 +1,7 @@
 #include "ghosts/table_json.h"
 
 #include "core/error.h"
+#include "core/json_integer.h"
 
 #include <nlohmann/json.hpp>
 
@@ -109,7 +110,7 @@ GhostTable tableFromJson(const std::string& text, const std::string& source) {
         if (j.value("schema", "") != kSchema)
             throw Error(ErrorKind::Input, where, "not a FourierFlare ghost table (schema)");
         GhostTable t;
-        t.schemaVersion = j.at("schema_version").get<int>();
+        t.schemaVersion = jsonInteger<int>(j.at("schema_version"));
         if (t.schemaVersion != GhostTable{}.schemaVersion)
             throw Error(ErrorKind::Input, where,
                         "ghost table schema version " + std::to_string(t.schemaVersion) + " is not supported");
@@ -118,7 +119,7 @@ GhostTable tableFromJson(const std::string& text, const std::string& source) {
         t.lensFile = lens.at("file").get<std::string>();
         t.lensHash = lens.at("hash").get<std::string>();
         t.efl = lens.at("efl_mm").get<double>();
-        t.apertureBlades = lens.at("aperture_blades").get<int>();
+        t.apertureBlades = jsonInteger<int>(lens.at("aperture_blades"));
         t.bladeRotationDeg = lens.at("blade_rotation_deg").get<double>();
         t.settingsKey = j.at("settings_key").get<std::string>();
         t.sensorZ = j.at("sensor").at("z_mm").get<double>();
@@ -136,7 +137,7 @@ GhostTable tableFromJson(const std::string& text, const std::string& source) {
                 throw Error(ErrorKind::Input, where, "ghost table direct image heights do not match its angles");
         for (const json& g : j.at("ghosts")) {
             TableGhost tg;
-            const auto s = g.at("surfaces").get<std::vector<std::size_t>>();
+            const auto s = jsonIntegers<std::size_t>(g.at("surfaces"));
             if (s.size() != 2 || s[0] < 1 || s[1] < 1)
                 throw Error(ErrorKind::Input, where, "ghost table entry with bad surfaces");
             tg.pair = {s[0] - 1, s[1] - 1};

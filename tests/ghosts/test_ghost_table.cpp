@@ -20,6 +20,7 @@
 
 using namespace ff;
 using namespace ff::ghosts;
+using nlohmann::json;
 
 namespace {
 
@@ -191,6 +192,25 @@ TEST(GhostTable, JsonRoundTripKeepsEverything) {
     EXPECT_THROW(tableFromJson(j.dump(), "x.json"), Error);
     EXPECT_THROW(tableFromJson("{\"schema\": \"other\"}", "x.json"), Error);
     EXPECT_THROW(tableFromJson("not json", "x.json"), Error);
+    // Integers out of range or not integral are input errors naming the file (1e308 as an int was
+    // undefined behaviour in the JSON library's conversion).
+    const auto refused = [&](const char* pointer, const json& value) {
+        json k = json::parse(tableToJson(t));
+        k[json::json_pointer(pointer)] = value;
+        try {
+            tableFromJson(k.dump(), "bad.json");
+            ADD_FAILURE() << pointer << " = " << value.dump() << " was accepted";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), ErrorKind::Input);
+            EXPECT_NE(std::string(e.what()).find("bad.json"), std::string::npos) << e.what();
+        }
+    };
+    for (const json& v : {json(1e308), json(2.5), json(-1e19)}) {
+        refused("/schema_version", v);
+        refused("/lens/aperture_blades", v);
+        refused("/ghosts/0/surfaces/1", v);
+    }
+    refused("/ghosts/0/surfaces/0", json(-1));
 }
 
 // The table is the shaped table's entry in the cache: a miss builds and stores it, a hit reads only
