@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # Builds a libFuzzer target with clang (libFuzzer + ASan + UBSan) and runs it (docs/reliability.md).
 #   scripts/fuzz.sh TARGET [SECONDS]     (default 600; TARGET: lens_parser zmx dat lights_json
-#                                          ghosts_json table_json cache_entry; "list" lists them)
+#                                          ghosts_json table_json cache_entry plate
+#                                          aperture_mask; "list" lists them)
 # Seeds: fuzz/seeds/<target>/ (lens_parser: also the bundled lenses and ../shared/data/lenses-p2p
 # when present); dictionary fuzz/dict/<target>.dict. New corpus entries go to build-fuzz/corpus/<target>
 # (not committed); crashes, hangs (> 10 s) and memory blow-ups (> 2 GB) to build-fuzz/<target>-*.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-targets=(lens_parser zmx dat lights_json ghosts_json table_json cache_entry)
+targets=(lens_parser zmx dat lights_json ghosts_json table_json cache_entry plate aperture_mask)
 target="${1:-}"
 seconds="${2:-600}"
 if [ "$target" = list ]; then printf '%s\n' "${targets[@]}"; exit 0; fi
@@ -27,6 +28,7 @@ case "$target" in
   lights_json|ghosts_json|table_json) seeds=("fuzz/seeds/${target%_json}"); dict=json ;;
   cache_entry) seeds=(fuzz/seeds/cache); dict="" ;;
   dat) seeds=(fuzz/seeds/dat); dict="" ;;
+  plate|aperture_mask) seeds=(fuzz/seeds/plate); dict=exr ;;
   *) seeds=("fuzz/seeds/$target"); dict="$target" ;;
 esac
 corpus="build-fuzz/corpus/$target"

@@ -8,6 +8,7 @@
 
 #include <Imath/half.h>
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -66,6 +67,7 @@ void checkSpec(const std::string& path, const OIIO::ImageSpec& s, const PlateLim
     if (s.nchannels < 1 || s.nchannels > limits.maxChannels)
         bad(path, "the image has " + std::to_string(s.nchannels) + " channels (1 to " +
                       std::to_string(limits.maxChannels) + " are supported)");
+    if (limits.onHeader) limits.onHeader(pixels * static_cast<std::uint64_t>(s.nchannels) * sizeof(float));
 }
 
 // Finds R, G, B (or a luminance Y) and A among the channel names.
@@ -227,15 +229,20 @@ Plate readDirect(const std::string& path, const PlateLimits& limits, bool keepNa
     return p;
 }
 
-// Runs the checker on the file with a time limit; throws what went wrong there.
+// Runs the checker on the file under the wall-clock bounds of PlateLimits; throws what went wrong
+// there. Its stderr (the reason it gives) and its stdout (the `header BYTES` line) come through pipes.
 void guardedRead(const std::string& path, const PlateLimits& limits) {
-    int fds[2];
-    if (pipe(fds) != 0) throwRuntimeError("cannot create a pipe to check '" + path + "'");
+    int err[2], out[2];
+    if (pipe(err) != 0) throwRuntimeError("cannot create a pipe to check '" + path + "'");
+    if (pipe(out) != 0) {
+        close(err[0]), close(err[1]);
+        throwRuntimeError("cannot create a pipe to check '" + path + "'");
+    }
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_adddup2(&actions, fds[1], STDERR_FILENO);
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addclose(&actions, fds[0]);
+    posix_spawn_file_actions_adddup2(&actions, err[1], STDERR_FILENO);
+    posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
+    for (int fd : {err[0], out[0], err[1], out[1]}) posix_spawn_file_actions_addclose(&actions, fd);
     const std::string pixels = std::to_string(limits.maxPixels), channels = std::to_string(limits.maxChannels);
     std::vector<std::string> args = {limits.checker,   "plate-check", "--max-pixels", pixels,
                                      "--max-channels", channels,      "--",           path};
@@ -245,37 +252,49 @@ void guardedRead(const std::string& path, const PlateLimits& limits) {
     pid_t pid = 0;
     const int spawned = posix_spawn(&pid, limits.checker.c_str(), &actions, nullptr, argv.data(), environ);
     posix_spawn_file_actions_destroy(&actions);
-    close(fds[1]);
+    close(err[1]), close(out[1]);
     if (spawned != 0) {
-        close(fds[0]);
+        close(err[0]), close(out[0]);
         throwRuntimeError("cannot run the plate checker '" + limits.checker + "': " + std::strerror(spawned));
     }
-    std::string message;
     const auto start = std::chrono::steady_clock::now();
     auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-    bool timedOut = false;
-    for (;;) {
-        const double left = limits.timeoutSeconds - elapsed();
+    double deadline = limits.headerSeconds;
+    bool headerPassed = false, timedOut = false;
+    std::string message, report;
+    pollfd fds[2] = {{err[0], POLLIN, 0}, {out[0], POLLIN, 0}};
+    while (fds[0].fd >= 0 || fds[1].fd >= 0) { // until both pipes are closed: the checker has finished (or died)
+        const double left = deadline - elapsed();
         if (left <= 0.0) {
             timedOut = true;
             break;
         }
-        pollfd pfd{fds[0], POLLIN, 0};
-        const int ready = poll(&pfd, 1, static_cast<int>(std::ceil(left * 1000.0)));
-        if (ready == 0) continue;
-        if (ready < 0) {
-            if (errno == EINTR) continue;
-            break;
+        const int ready = poll(fds, 2, static_cast<int>(std::ceil(left * 1000.0)));
+        if (ready < 0 && errno != EINTR) break;
+        for (int i = 0; ready > 0 && i < 2; ++i) {
+            if (fds[i].fd < 0 || fds[i].revents == 0) continue;
+            char buf[512];
+            const ssize_t got = read(fds[i].fd, buf, sizeof buf);
+            if (got <= 0) {
+                close(fds[i].fd);
+                fds[i].fd = -1; // poll ignores negative descriptors
+                continue;
+            }
+            std::string& text = i == 0 ? message : report;
+            if (text.size() < 4096) text.append(buf, static_cast<std::size_t>(got));
         }
-        char buf[512];
-        const ssize_t got = read(fds[0], buf, sizeof buf);
-        if (got <= 0) break; // EOF: the checker has finished (or died)
-        if (message.size() < 4096) message.append(buf, static_cast<std::size_t>(got));
+        unsigned long long bytes = 0;
+        if (!headerPassed && report.find('\n') != std::string::npos &&
+            std::sscanf(report.c_str(), "header %llu", &bytes) == 1) {
+            headerPassed = true;
+            deadline = elapsed() + limits.headerSeconds + static_cast<double>(bytes) / limits.floatBytesPerSecond;
+        }
     }
-    close(fds[0]);
+    for (const pollfd& p : fds)
+        if (p.fd >= 0) close(p.fd);
     int status = 0;
     while (!timedOut && waitpid(pid, &status, WNOHANG) == 0) {
-        if (elapsed() > limits.timeoutSeconds)
+        if (elapsed() > deadline)
             timedOut = true;
         else
             usleep(1000);
@@ -283,8 +302,10 @@ void guardedRead(const std::string& path, const PlateLimits& limits) {
     if (timedOut) {
         kill(pid, SIGKILL);
         waitpid(pid, &status, 0);
-        bad(path, "reading the image did not finish within " + std::to_string(static_cast<int>(limits.timeoutSeconds)) +
-                      " s (a corrupt file?)");
+        char seconds[32];
+        std::snprintf(seconds, sizeof seconds, "%.1f", deadline);
+        bad(path, std::string(headerPassed ? "reading the image's pixels" : "reading the image's header") +
+                      " did not finish within " + seconds + " s (a corrupt file?)");
     }
     if (WIFSIGNALED(status))
         bad(path, "the image library crashed reading this file (signal " + std::to_string(WTERMSIG(status)) +
@@ -306,9 +327,14 @@ int checkPlate(const std::string& path, const PlateLimits& limits) {
     const rlimit rl{budget, budget};
     setrlimit(RLIMIT_AS, &rl);
 #endif
+    PlateLimits reporting = limits;
+    reporting.onHeader = [](std::uint64_t floatBytes) {
+        std::printf("header %llu\n", static_cast<unsigned long long>(floatBytes));
+        std::fflush(stdout);
+    };
     std::string message;
     try {
-        readDirect(path, limits, false);
+        readDirect(path, reporting, false);
         return 0;
     } catch (const Error& e) {
         message = e.message();

@@ -22,9 +22,18 @@ namespace ff::image {
 struct PlateLimits {
     std::uint64_t maxPixels = 8192ull * 8192ull; ///< data-window pixels
     int maxChannels = 64;
-    double timeoutSeconds = 8.0; ///< for the guarded read
+    /// The guarded read's wall-clock bounds (not CPU time: a loaded machine gives a hung checker
+    /// little CPU): `headerSeconds` for the checker to start, open the file and pass the header
+    /// checks; then `headerSeconds` again plus one second per `floatBytesPerSecond` of the pixels as
+    /// float, the size the header declares (within the limits above), for reading them. A file that
+    /// hangs the image library before its header is checked fails after `headerSeconds`.
+    double headerSeconds = 3.0;
+    double floatBytesPerSecond = 25e6;
     /// The checker: run as `checker plate-check --max-pixels N --max-channels C FILE`; empty = no guard.
     std::string checker;
+    /// Called once the header has passed the checks, with the pixels' size as float in bytes (the
+    /// checker process reports it to the guard on its standard output, see checkPlate()).
+    void (*onHeader)(std::uint64_t floatBytes) = nullptr;
 };
 
 struct PlateFile; // the header and native channel data, for rewriting channels bit for bit
@@ -62,6 +71,8 @@ Plate plateFromPixels(const std::string& name, int width, int height, std::vecto
 
 /// What the checker process runs: reads the file in full under a memory limit; exit status 0 when it
 /// is a usable plate, else 3 with the reason on stderr (a crash or a hang is the caller's to see).
+/// Once the header has passed the checks it writes `header BYTES` (the pixels as float) and a newline
+/// to stdout, from which the guard sets its deadline for the pixels.
 int checkPlate(const std::string& path, const PlateLimits& limits);
 
 /// A layer simulate adds to the plate: channels name.R, name.G, name.B (float, or half) from `rgb`,
