@@ -4,13 +4,14 @@
 
 #include "core/error.h"
 #include "diffraction/pupil_mask.h"
-#include "fuzz_image.h"
 #include "image/plate.h"
 
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <string>
+
+#include "fuzz_image.h"
 
 using namespace ff;
 

@@ -5,13 +5,12 @@
 
 #include "image/plate.h"
 
-#include <unistd.h>
-
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <unistd.h>
 
 namespace ff::fuzz {
 

@@ -9,7 +9,6 @@
 // fixed here: run with -fork=1 -ignore_crashes=1 -ignore_timeouts=1 to go on past them.
 
 #include "core/error.h"
-#include "fuzz_image.h"
 #include "image/plate.h"
 
 #include <cmath>
@@ -18,6 +17,8 @@
 #include <cstdlib>
 #include <string>
 #include <vector>
+
+#include "fuzz_image.h"
 
 using namespace ff;
 

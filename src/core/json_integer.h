@@ -31,10 +31,11 @@ T jsonInteger(const nlohmann::json& v) {
         const double lo = std::is_signed_v<T> ? -hi : 0.0;
         if (std::isfinite(d) && d == std::trunc(d) && d >= lo && d < hi) return static_cast<T>(d);
     }
-    throw nlohmann::json::type_error::create(
-        302, "expected an integer from " + std::to_string(std::numeric_limits<T>::min()) + " to " +
-                 std::to_string(std::numeric_limits<T>::max()) + ", got " + v.dump(),
-        &v);
+    throw nlohmann::json::type_error::create(302,
+                                             "expected an integer from " +
+                                                 std::to_string(std::numeric_limits<T>::min()) + " to " +
+                                                 std::to_string(std::numeric_limits<T>::max()) + ", got " + v.dump(),
+                                             &v);
 }
 
 // An array of integers, each as jsonInteger<T>.

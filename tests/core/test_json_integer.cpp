@@ -21,8 +21,8 @@ TEST(JsonInteger, AcceptsIntegersWithinTheTypesRange) {
 }
 
 TEST(JsonInteger, RefusesWhatGetWouldConvertWithUndefinedBehaviourOrWrapping) {
-    for (const char* text : {"1e308", "-1e308", "2147483648", "-2147483649", "2147483648.0", "2.5", "\"6\"",
-                             "true", "null", "[1]"})
+    for (const char* text :
+         {"1e308", "-1e308", "2147483648", "-2147483649", "2147483648.0", "2.5", "\"6\"", "true", "null", "[1]"})
         EXPECT_THROW(jsonInteger<int>(json::parse(text)), json::type_error) << text;
     for (const char* text : {"-1", "-0.5", "4294967296", "1e10"})
         EXPECT_THROW(jsonInteger<std::uint32_t>(json::parse(text)), json::type_error) << text;
