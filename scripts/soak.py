@@ -1,0 +1,179 @@
+#!/usr/bin/env python3
+"""Soak: a long `simulate --frames` sequence of a moving light and many Python `render` calls in one
+process, watching peak memory, open file descriptors and files left behind (docs/reliability.md).
+
+    scripts/soak.py [--frames 1000] [--calls 1000] [--build build/release] [--max-growth 0.01]
+
+Peak RSS (VmHWM) is taken once the first tenth of the work is done (caches built, pools started)
+and at the end; the growth between them must stay under --max-growth, the descriptors open at the
+end no more than after the first tenth, and no temporary file may be left in the output folder, the
+cache or $TMPDIR. Prints the figures as JSON; exits 1 when a bound is broken.
+"""
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+LENS = os.path.join(ROOT, "lenses", "double-gauss-50mm-f2.lens")
+WIDTH, HEIGHT = 320, 180
+
+
+def status(pid):
+    """VmRSS and VmHWM in kB and the number of open descriptors of a live process (None once gone)."""
+    try:
+        with open(f"/proc/{pid}/status") as f:
+            fields = dict(line.split(":", 1) for line in f if ":" in line)
+        fds = len(os.listdir(f"/proc/{pid}/fd"))
+        return int(fields["VmRSS"].split()[0]), int(fields["VmHWM"].split()[0]), fds
+    except (FileNotFoundError, ProcessLookupError, KeyError):
+        return None
+
+
+def light_at(i, n):
+    """The moving light's pixel position at step i of n: across the frame and down it (the field angle
+    and the azimuth both change)."""
+    return 20 + (WIDTH - 40) * i // n, 30 + (HEIGHT - 60) * i // n
+
+
+def leftovers(folder, expected=lambda name: False):
+    """Files under folder that are not expected: hidden temporaries above all."""
+    left = []
+    for base, _, files in os.walk(folder):
+        left += [os.path.join(base, f) for f in files if not expected(f)]
+    return left
+
+
+def soak_simulate(cli, frames, work):
+    plates, out, cache, tmp = (os.path.join(work, d) for d in ("plates", "out", "cache", "tmp"))
+    for d in (plates, out, cache, tmp):
+        os.makedirs(d)
+    for f in range(1, frames + 1):
+        x, y = light_at(f, frames)
+        subprocess.run(["oiiotool", "--pattern", "constant:color=0.02,0.02,0.03", f"{WIDTH}x{HEIGHT}", "3",
+                        "--box:color=800,600,400:fill=1", f"{x},{y},{x + 2},{y + 2}", "-d", "half",
+                        "-o", os.path.join(plates, f"plate.{f:04d}.exr")], check=True)
+    env = dict(os.environ, FF_CACHE_DIR=cache, TMPDIR=tmp)
+    command = [cli, "-q", "simulate", "--lens", LENS, "--plate", os.path.join(plates, "plate.%04d.exr"),
+               "--frames", f"1-{frames}", "-o", os.path.join(out, "out.%04d.exr"),
+               "--preview", os.path.join(out, "out.%04d.png")]
+    start = time.monotonic()
+    proc = subprocess.Popen(command, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    warm = last = None
+    while proc.poll() is None:
+        s = status(proc.pid)
+        if s:
+            done = len([n for n in os.listdir(out) if n.endswith(".exr") and not n.startswith(".")])
+            if warm is None and done >= frames // 10:
+                warm = (done,) + s
+            last = (done,) + s
+        time.sleep(0.1)
+    err = proc.stderr.read().decode()
+    seconds = time.monotonic() - start
+    written = len([n for n in os.listdir(out) if n.endswith(".exr") and not n.startswith(".")])
+    left = (leftovers(out, lambda n: not n.startswith(".") and n.startswith("out.")) +
+            leftovers(cache, lambda n: not n.startswith(".")) + leftovers(tmp))
+    return {
+        "frames": frames, "exit": proc.returncode, "stderr": err[-2000:], "written": written, "seconds": round(seconds, 1),
+        "warm": {"frames_done": warm[0], "rss_kb": warm[1], "hwm_kb": warm[2], "fds": warm[3]} if warm else None,
+        "end": {"frames_done": last[0], "rss_kb": last[1], "hwm_kb": last[2], "fds": last[3]} if last else None,
+        "left_behind": left,
+    }
+
+
+PY_CHILD = r"""
+import json, os, resource, sys
+import fourierflare as ff
+calls, lens_path = int(sys.argv[1]), sys.argv[2]
+width, height = %d, %d
+lens = ff.Lens.load(lens_path)
+table = ff.GhostTable.build(lens)
+modes = ["fourier", "shaped", "fitted", "diffraction"]
+def sample(done):
+    fields = dict(l.split(":", 1) for l in open("/proc/self/status") if ":" in l)
+    return {"calls_done": done, "rss_kb": int(fields["VmRSS"].split()[0]), "hwm_kb": int(fields["VmHWM"].split()[0]),
+            "fds": len(os.listdir("/proc/self/fd"))}
+samples = {}
+for i in range(1, calls + 1):
+    x, y = 20 + (width - 40) * i // calls, 30 + (height - 60) * i // calls
+    mode = modes[i %% len(modes)]
+    image = ff.render(lens if mode in ("shaped", "diffraction") else table, [(float(x), float(y))], (width, height), mode)
+    assert image.shape == (height, width, 3) and image.sum() > 0, (mode, image.shape)
+    if i == calls // 10: samples["warm"] = sample(i)
+samples["end"] = sample(calls)
+print(json.dumps(samples))
+""" % (WIDTH, HEIGHT)
+
+
+def module_python(build):
+    """The interpreter the module was built for (CMake's Python3_EXECUTABLE), else this one."""
+    try:
+        with open(os.path.join(build, "CMakeCache.txt")) as f:
+            for line in f:
+                if line.startswith(("Python3_EXECUTABLE:", "_Python3_EXECUTABLE:")):
+                    return line.split("=", 1)[1].strip()
+    except FileNotFoundError:
+        pass
+    return sys.executable
+
+
+def soak_python(build, calls, work):
+    cache, tmp = os.path.join(work, "pycache"), os.path.join(work, "pytmp")
+    os.makedirs(cache)
+    os.makedirs(tmp)
+    env = dict(os.environ, FF_CACHE_DIR=cache, TMPDIR=tmp, PYTHONPATH=os.path.join(build, "python"))
+    start = time.monotonic()
+    r = subprocess.run([module_python(build), "-c", PY_CHILD, str(calls), LENS], env=env, capture_output=True, text=True)
+    seconds = time.monotonic() - start
+    result = {"calls": calls, "exit": r.returncode, "seconds": round(seconds, 1), "stderr": r.stderr[-2000:]}
+    if r.returncode == 0:
+        result.update(json.loads(r.stdout.strip().splitlines()[-1]))
+    result["left_behind"] = leftovers(cache, lambda n: not n.startswith(".")) + leftovers(tmp)
+    return result
+
+
+def growth(part):
+    return (part["end"]["hwm_kb"] - part["warm"]["hwm_kb"]) / part["warm"]["hwm_kb"]
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--frames", type=int, default=1000)
+    p.add_argument("--calls", type=int, default=1000)
+    p.add_argument("--build", default=os.path.join(ROOT, "build", "release"))
+    p.add_argument("--max-growth", type=float, default=0.01)
+    a = p.parse_args()
+    if a.frames < 10 or a.calls < 10:
+        p.error("--frames and --calls must be at least 10")
+    cli = os.path.join(a.build, "src", "cli", "fourierflare")
+    report, problems = {}, []
+    with tempfile.TemporaryDirectory(prefix="ff-soak-") as work:
+        report["simulate"] = sim = soak_simulate(cli, a.frames, work)
+        report["python"] = py = soak_python(a.build, a.calls, work)
+    for name, part, count in (("simulate", sim, "written"), ("python", py, None)):
+        if part["exit"] != 0:
+            problems.append(f"{name} exited {part['exit']}")
+            continue
+        if count and part[count] != a.frames:
+            problems.append(f"{name} wrote {part[count]} of {a.frames} frames")
+        if not part.get("warm") or not part.get("end"):
+            problems.append(f"{name}: no samples")
+            continue
+        part["peak_rss_growth"] = round(growth(part), 5)
+        if part["peak_rss_growth"] >= a.max_growth:
+            problems.append(f"{name}: peak RSS grew by {100 * part['peak_rss_growth']:.2f} % after the first tenth")
+        if part["end"]["fds"] > part["warm"]["fds"]:
+            problems.append(f"{name}: {part['end']['fds'] - part['warm']['fds']} more descriptors open at the end")
+        if part["left_behind"]:
+            problems.append(f"{name} left {len(part['left_behind'])} files behind: {part['left_behind'][:3]}")
+    report["problems"] = problems
+    print(json.dumps(report, indent=1))
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
