@@ -28,6 +28,11 @@ void checkMask(const diffraction::PupilMask& m) {
 
 } // namespace
 
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+    fuzz::oneThread();
+    return 0;
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string& path = fuzz::asFile(data, size, "ff-fuzz-mask");
     try {

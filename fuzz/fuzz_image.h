@@ -3,6 +3,7 @@
 // picks the reader by the name's extension first, then by the bytes), one per process, removed at
 // exit; and the limits the targets read with, small enough for libFuzzer's 2 GB memory bound.
 
+#include "image/image_output.h"
 #include "image/plate.h"
 
 #include <cstddef>
@@ -31,6 +32,11 @@ inline const std::string& asFile(const std::uint8_t* data, std::size_t size, con
     std::FILE* f = std::fopen(path.c_str(), "wb");
     if (!f || std::fwrite(data, 1, size, f) != size || std::fclose(f) != 0) std::abort();
     return path;
+}
+
+/// One thread for the EXR codec: the library's pool costs more than a fuzzed file's decoding.
+inline void oneThread() {
+    image::setExrThreads(1);
 }
 
 /// 2^20 pixels of at most 16 channels: 64 MB as float, far below the 2 GB bound.

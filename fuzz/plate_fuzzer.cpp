@@ -34,6 +34,11 @@ void checkPlate(const image::Plate& p) {
 
 } // namespace
 
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+    fuzz::oneThread();
+    return 0;
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string& in = fuzz::asFile(data, size, "ff-fuzz-plate");
     image::Plate p;
