@@ -487,6 +487,21 @@ TEST(CliSimulate, SharedPlatesRun) {
     }
 }
 
+// The checker process tells the guard the pixels' size as float once the header has passed its
+// checks (image/plate.h): the guard's bound for reading them grows with it. A refused header: none.
+TEST(CliSimulate, PlateCheckReportsThePixelsSizeOnceTheHeaderPassed) {
+    ff::test::TempDir dir;
+    writePlate(dir / "plate.exr", -1, -1, 0.0f);
+    const std::string file = " -- '" + (dir / "plate.exr").string() + "'";
+    const auto r = run("plate-check --max-pixels 1000000 --max-channels 64" + file);
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.out, "header " + std::to_string(kW * kH * 5 * 4) + "\n"); // R, G, B, A, Z as 4-byte floats
+    const auto refused = run("plate-check --max-pixels 10 --max-channels 64" + file);
+    EXPECT_EQ(refused.code, 3);
+    EXPECT_EQ(refused.out, "");
+    EXPECT_NE(refused.err.find("above the limit of 10 "), std::string::npos) << refused.err;
+}
+
 TEST(CliSimulate, DamagedFilesFailCleanlyAndQuickly) {
     const fs::path damaged = ff::test::sharedDataDir() / "damaged";
     if (!fs::exists(damaged))

@@ -100,12 +100,3 @@ TEST(PlateGuard, ACheckerThatPassesLetsThePlateBeRead) {
     EXPECT_EQ(p.height, 3);
     EXPECT_FLOAT_EQ(p.value(5, p.b), 3.0f);
 }
-
-TEST(PlateGuard, TheCheckerReportsThePixelsSizeAsFloatOnceTheHeaderPassed) {
-    Guard g("exit 0");
-    testing::internal::CaptureStdout();
-    const int status = image::checkPlate(g.plate, image::PlateLimits{});
-    const std::string out = testing::internal::GetCapturedStdout();
-    EXPECT_EQ(status, 0);
-    EXPECT_EQ(out, "header 192\n"); // 4 x 3 pixels x 4 channels (RGBA) x 4 bytes
-}
