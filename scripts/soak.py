@@ -4,8 +4,8 @@ process, watching peak memory, open file descriptors and files left behind (docs
 
     scripts/soak.py [--frames 1000] [--calls 1000] [--build build/release] [--max-growth 0.01]
 
-Peak RSS (VmHWM) is taken once the first tenth of the work is done (caches built, pools started)
-and at the end; the growth between them must stay under --max-growth, the descriptors open at the
+The light's path repeats every 100 steps. Peak RSS (VmHWM) is taken once the first tenth of the
+work is done (caches built, pools started, every position of the light seen) and at the end; the growth between them must stay under --max-growth, the descriptors open at the
 end no more than after the first tenth, and no temporary file may be left in the output folder, the
 cache or $TMPDIR. Prints the figures as JSON; exits 1 when a bound is broken.
 """
@@ -34,10 +34,17 @@ def status(pid):
         return None
 
 
-def light_at(i, n):
-    """The moving light's pixel position at step i of n: across the frame and down it (the field angle
-    and the azimuth both change)."""
-    return 20 + (WIDTH - 40) * i // n, 30 + (HEIGHT - 60) * i // n
+PERIOD = 100
+
+
+def light_at(i):
+    """The moving light's pixel position at step i: across the frame and down it (the field angle and
+    the azimuth both change), there and back every PERIOD steps. The work of a frame depends on where
+    its light is; repeating the path makes the first tenth (one period) hold every position, so that
+    a peak above its peak later is memory kept, not a harder frame."""
+    t = i % PERIOD
+    k = 2 * t if t < PERIOD // 2 else 2 * (PERIOD - t)  # 0 .. PERIOD .. 0
+    return 20 + (WIDTH - 40) * k // PERIOD, 30 + (HEIGHT - 60) * k // PERIOD
 
 
 def leftovers(folder, expected=lambda name: False):
@@ -52,11 +59,15 @@ def soak_simulate(cli, frames, work):
     plates, out, cache, tmp = (os.path.join(work, d) for d in ("plates", "out", "cache", "tmp"))
     for d in (plates, out, cache, tmp):
         os.makedirs(d)
-    for f in range(1, frames + 1):
-        x, y = light_at(f, frames)
+    for f in range(1, frames + 1):  # one plate per position of the light; the other frames link to it
+        plate = os.path.join(plates, f"plate.{f:04d}.exr")
+        if f > PERIOD:
+            os.symlink(f"plate.{(f - 1) % PERIOD + 1:04d}.exr", plate)
+            continue
+        x, y = light_at(f)
         subprocess.run(["oiiotool", "--pattern", "constant:color=0.02,0.02,0.03", f"{WIDTH}x{HEIGHT}", "3",
                         "--box:color=800,600,400:fill=1", f"{x},{y},{x + 2},{y + 2}", "-d", "half",
-                        "-o", os.path.join(plates, f"plate.{f:04d}.exr")], check=True)
+                        "-o", plate], check=True)
     env = dict(os.environ, FF_CACHE_DIR=cache, TMPDIR=tmp)
     command = [cli, "-q", "simulate", "--lens", LENS, "--plate", os.path.join(plates, "plate.%04d.exr"),
                "--frames", f"1-{frames}", "-o", os.path.join(out, "out.%04d.exr"),
@@ -68,7 +79,7 @@ def soak_simulate(cli, frames, work):
         s = status(proc.pid)
         if s:
             done = len([n for n in os.listdir(out) if n.endswith(".exr") and not n.startswith(".")])
-            if warm is None and done >= frames // 10:
+            if warm is None and done >= max(PERIOD, frames // 10):
                 warm = (done,) + s
             last = (done,) + s
         time.sleep(0.1)
@@ -99,14 +110,16 @@ def sample(done):
             "fds": len(os.listdir("/proc/self/fd"))}
 samples = {}
 for i in range(1, calls + 1):
-    x, y = 20 + (width - 40) * i // calls, 30 + (height - 60) * i // calls
+    t = i %% %d
+    k = 2 * t if t < %d // 2 else 2 * (%d - t)
+    x, y = 20 + (width - 40) * k // %d, 30 + (height - 60) * k // %d
     mode = modes[i %% len(modes)]
     image = ff.render(lens if mode in ("shaped", "diffraction") else table, [(float(x), float(y))], (width, height), mode)
     assert image.shape == (height, width, 3) and image.sum() > 0, (mode, image.shape)
-    if i == calls // 10: samples["warm"] = sample(i)
+    if i == max(%d, calls // 10): samples["warm"] = sample(i)
 samples["end"] = sample(calls)
 print(json.dumps(samples))
-""" % (WIDTH, HEIGHT)
+""" % (WIDTH, HEIGHT, PERIOD, PERIOD, PERIOD, PERIOD, PERIOD, PERIOD)
 
 
 def module_python(build):
@@ -147,8 +160,8 @@ def main():
     p.add_argument("--build", default=os.path.join(ROOT, "build", "release"))
     p.add_argument("--max-growth", type=float, default=0.01)
     a = p.parse_args()
-    if a.frames < 10 or a.calls < 10:
-        p.error("--frames and --calls must be at least 10")
+    if a.frames < 2 * PERIOD or a.calls < 2 * PERIOD:
+        p.error(f"--frames and --calls must be at least {2 * PERIOD} (the light's path repeats every {PERIOD})")
     cli = os.path.join(a.build, "src", "cli", "fourierflare")
     report, problems = {}, []
     with tempfile.TemporaryDirectory(prefix="ff-soak-") as work:
