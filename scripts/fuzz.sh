@@ -4,7 +4,7 @@
 #                                          ghosts_json table_json cache_entry plate
 #                                          aperture_mask; "list" lists them, "build" builds them all)
 # Seeds: fuzz/seeds/<target>/ (lens_parser: also the bundled lenses and ../shared/data/lenses-p2p
-# when present); dictionary fuzz/dict/<target>.dict. New corpus entries go to build-fuzz/corpus/<target>
+# when present); a dictionary from fuzz/dict/ where the format has keywords. New corpus entries go to build-fuzz/corpus/<target>
 # (not committed); crashes, hangs (> 10 s) and memory blow-ups (> 2 GB) to build-fuzz/<target>-*.
 set -euo pipefail
 cd "$(dirname "$0")/.."
