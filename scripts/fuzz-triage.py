@@ -25,7 +25,8 @@ IMAGE_TARGETS = {"plate", "aperture_mask"}
 FRAME = re.compile(r"^\s*#\d+ 0x[0-9a-f]+ in (.+?) (\S+)$")
 RUNTIME = ("__asan", "__sanitizer", "__interceptor", "__lsan", "__ubsan", "operator new", "operator delete",
            "malloc", "calloc", "realloc", "free", "std::", "__gnu_cxx", "fuzzer::", "__libc", "__GI_", "raise",
-           "abort", "LLVMFuzzerTestOneInput")
+           "__pthread_kill",
+           "abort")
 
 
 def blame(report):
@@ -39,6 +40,8 @@ def blame(report):
         if function.startswith(RUNTIME) or "libc.so" in where or "libstdc++" in where or "/c++/" in where:
             continue
         here = where.lstrip("(")
+        if not here.startswith("/"):
+            continue  # the C library's own sources (nptl/pthread_kill.c, stdlib/abort.c): its debug info
         return "ours" if here.startswith((os.path.join(ROOT, "src"), os.path.join(ROOT, "fuzz"))) else "library"
     return None
 

@@ -399,6 +399,12 @@ std::size_t writeSimulatedExr(const std::string& path, const Plate& plate, const
     const OIIO::TypeDesc layerFormat = half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT;
     for (const Layer& l : layers)
         for (const char* c : {".R", ".G", ".B"}) {
+            // Channel names are unique in an EXR: a second one of a name would be renamed (channel7)
+            // and the plate's channel lose its name, or be taken for the layer's.
+            if (std::find(out.channelnames.begin(), out.channelnames.end(), l.name + c) != out.channelnames.end())
+                bad(plate.path, "the plate already has a channel " + l.name + c + ", which the " + l.name +
+                                    " layer would add (a plate written by simulate? remove that layer from it, or "
+                                    "ask for other --layers)");
             out.channelnames.emplace_back(l.name + c);
             outFormat.emplace_back(layerFormat);
         }

@@ -1,7 +1,9 @@
+#include "core/error.h"
 #include "image/image_output.h"
 #include "image/plate.h"
 
 #include <OpenEXR/ImfRgbaFile.h>
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <array>
@@ -88,4 +90,32 @@ TEST(PlateReading, ALuminanceChromaPlateReadsAsRgb) {
     const image::Plate back = image::readPlate((dir / "out.exr").string());
     EXPECT_EQ(back.channels.size(), 9u);
     EXPECT_EQ(back.value(5, back.r), plate.value(5, plate.r));
+}
+
+// A plate that already holds a layer's channel (one written by simulate, read again) is refused
+// before anything is written: EXR channel names are unique, and the writer would rename one of them.
+TEST(PlateWriting, ALayerThatThePlateAlreadyHoldsIsRefused) {
+    ff::test::TempDir dir;
+    const std::string in = (dir / "in.exr").string(), out = (dir / "out.exr").string();
+    {
+        OIIO::ImageSpec spec(4, 3, 4, OIIO::TypeDesc::FLOAT);
+        spec.channelnames = {"R", "G", "B", "flare.G"};
+        const std::vector<float> px(4 * 3 * 4, 0.5f);
+        auto o = OIIO::ImageOutput::create(in);
+        ASSERT_TRUE(o && o->open(in, spec) && o->write_image(OIIO::TypeDesc::FLOAT, px.data()) && o->close());
+    }
+    const image::Plate plate = image::readPlate(in);
+    const std::vector<float> rgb(plate.pixelCount() * 3, 1.0f);
+    try {
+        image::writeSimulatedExr(out, plate, {{"flare", &rgb}}, {});
+        ADD_FAILURE() << "written";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::Input);
+        EXPECT_NE(std::string(e.what()).find("already has a channel flare.G"), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(std::filesystem::exists(out));
+    // Another layer name is fine, and every channel keeps its name.
+    image::writeSimulatedExr(out, plate, {{"ghosts", &rgb}}, {});
+    EXPECT_EQ(image::readPlate(out).channels,
+              (std::vector<std::string>{"R", "G", "B", "flare.G", "ghosts.R", "ghosts.G", "ghosts.B"}));
 }
