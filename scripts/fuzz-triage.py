@@ -25,7 +25,7 @@ IMAGE_TARGETS = {"plate", "aperture_mask"}
 FRAME = re.compile(r"^\s*#\d+ 0x[0-9a-f]+ in (.+?) (\S+)$")
 RUNTIME = ("__asan", "__sanitizer", "__interceptor", "__lsan", "__ubsan", "operator new", "operator delete",
            "malloc", "calloc", "realloc", "free", "std::", "__gnu_cxx", "fuzzer::", "__libc", "__GI_", "raise",
-           "__pthread_kill",
+           "__pthread_kill", "MallocHook",
            "abort")
 
 
