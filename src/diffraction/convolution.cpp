@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <memory>
 #include <mutex>
 
@@ -70,6 +71,50 @@ std::array<int, 2> kernelReach(const std::vector<float>& image, int width, int h
         }
     if (x1 < 0) return {0, 0};
     return {std::max(x1, width - 1 - x0), std::max(y1, height - 1 - y0)};
+}
+
+void addOutsideLight(const Psf& psf, long long x, long long y, const std::array<double, 3>& flux, int width, int height,
+                     std::vector<float>& out, double* offFrame) {
+    if (width <= 0 || height <= 0) return;
+    if (out.size() != static_cast<std::size_t>(width) * height * 3)
+        throw Error(ErrorKind::Runtime, "addOutsideLight: the image does not match its size");
+    const long long R = psf.radius;
+    const int pw = psf.width();
+    // The rows and columns the kernel reaches: the whole frame with a far field, else the square's.
+    long long x0 = 0, x1 = width - 1, y0 = 0, y1 = height - 1;
+    if (psf.far.empty()) {
+        x0 = std::max(x0, x - R), x1 = std::min(x1, x + R);
+        y0 = std::max(y0, y - R), y1 = std::min(y1, y + R);
+    }
+    std::vector<std::array<double, 3>> kept(static_cast<std::size_t>(height), std::array<double, 3>{});
+    if (x0 <= x1 && y0 <= y1)
+        tbb::parallel_for(static_cast<int>(y0), static_cast<int>(y1) + 1, [&](int py) {
+            const long long dy = py - y;
+            std::array<double, 3>& row = kept[static_cast<std::size_t>(py)];
+            for (int px = static_cast<int>(x0); px <= x1; ++px) {
+                const long long dx = px - x;
+                const bool square = std::llabs(dx) <= R && std::llabs(dy) <= R;
+                float* o = &out[(static_cast<std::size_t>(py) * width + px) * 3];
+                for (int c = 0; c < 3; ++c) {
+                    const std::size_t ch = static_cast<std::size_t>(c);
+                    if (flux[ch] == 0.0) continue;
+                    const double k = square ? psf.channel[ch][static_cast<std::size_t>((dy + R) * pw + (dx + R))]
+                                            : psf.far.at(c, static_cast<double>(dx), static_cast<double>(dy));
+                    o[c] += static_cast<float>(flux[ch] * k);
+                    row[ch] += flux[ch] * k;
+                }
+            }
+        });
+    if (!offFrame) return;
+    for (std::size_t c = 0; c < 3; ++c) {
+        double whole = 1.0, in = 0.0;
+        if (psf.far.empty()) {
+            whole = 0.0;
+            for (float v : psf.channel[c]) whole += v;
+        }
+        for (const std::array<double, 3>& row : kept) in += row[c];
+        *offFrame += std::max(0.0, flux[c] * whole - in);
+    }
 }
 
 namespace {

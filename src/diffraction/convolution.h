@@ -52,6 +52,15 @@ std::vector<float> convolve(const std::vector<float>& image, int width, int heig
 /// 1 with a far field (what lies beyond rx, ry leaves the frame), the square's sum without.
 std::vector<float> frameKernel(const Psf& psf, int c, int rx, int ry, double* total = nullptr);
 
+/// Adds to `out` (R, G, B interleaved, width x height) flux[c] times channel c of convolve's kernel
+/// centred on the pixel (x, y) outside the frame: the PSF of the part of a light that falls outside
+/// it, reaching in (the square near (x, y), the far field beyond). convolve of the image holding
+/// the light at (x, y) on a frame large enough to hold it, seen through this frame. The flux it
+/// carries beyond the frame is added to *offFrame (summed over the channels) when given. One pass
+/// over the frame's pixels (where a far field reaches it; those near (x, y) without one).
+void addOutsideLight(const Psf& psf, long long x, long long y, const std::array<double, 3>& flux, int width, int height,
+                     std::vector<float>& out, double* offFrame = nullptr);
+
 /// A 64-bit hash (FNV-1a) of everything the kernel is made from (the square, the far field): equal
 /// fingerprints, equal kernels. Keys a convolver's cached transform of the kernel across frames.
 std::uint64_t kernelFingerprint(const Psf& psf);

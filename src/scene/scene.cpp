@@ -325,22 +325,31 @@ fourier::FlareImage drawShaped(const ghosts::ShapedTable& table, const std::vect
     return image;
 }
 
+namespace {
+
+// Calls put(x, y, w) for the pixels (x, y) of the light's bilinear footprint (pixel centres at
+// integer + 0.5, offset by the origin) and their weights w; nothing for a light 1e9 px away.
+template <class Put>
+void footprint(const ghosts::Light& l, double originX, double originY, Put&& put) {
+    const double fx = l.xPx - originX - 0.5, fy = l.yPx - originY - 0.5;
+    const double x0 = std::floor(fx), y0 = std::floor(fy);
+    if (!(std::abs(x0) < 1e9 && std::abs(y0) < 1e9)) return;
+    for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i)
+            put(x0 + i, y0 + j, (i ? fx - x0 : 1.0 - (fx - x0)) * (j ? fy - y0 : 1.0 - (fy - y0)));
+}
+
+} // namespace
+
 std::vector<float> splatLights(const std::vector<ghosts::Light>& lights, int width, int height, double originX,
                                double originY) {
     std::vector<float> rgb(static_cast<std::size_t>(std::max(width, 0)) * std::max(height, 0) * 3, 0.0f);
-    for (const auto& l : lights) {
-        const double fx = l.xPx - originX - 0.5, fy = l.yPx - originY - 0.5;
-        const double x0 = std::floor(fx), y0 = std::floor(fy);
-        if (!(std::abs(x0) < 1e9 && std::abs(y0) < 1e9)) continue;
-        for (int j = 0; j < 2; ++j)
-            for (int i = 0; i < 2; ++i) {
-                const double x = x0 + i, y = y0 + j;
-                if (x < 0 || y < 0 || x >= width || y >= height) continue;
-                const double w = (i ? fx - x0 : 1.0 - (fx - x0)) * (j ? fy - y0 : 1.0 - (fy - y0));
-                const std::size_t p = static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x);
-                for (int c = 0; c < 3; ++c) rgb[p * 3 + c] += static_cast<float>(w * l.flux[c]);
-            }
-    }
+    for (const auto& l : lights)
+        footprint(l, originX, originY, [&](double x, double y, double w) {
+            if (x < 0 || y < 0 || x >= width || y >= height) return;
+            const std::size_t p = static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x);
+            for (int c = 0; c < 3; ++c) rgb[p * 3 + c] += static_cast<float>(w * l.flux[c]);
+        });
     return rgb;
 }
 
@@ -367,13 +376,25 @@ std::vector<float> renderDiffraction(const optics::Lens& lens, const std::vector
     diffraction::PsfSettings ps;
     ps.pitchMm = frame.pitchMm;
     ps.mask = std::move(dirt);
-    auto convolve = [&](const std::vector<float>& l, const diffraction::Psf& p) {
-        return device ? device->convolve(l, W, H, p, offFrame) : diffraction::convolve(l, W, H, p, offFrame);
+    // The lights' image through the PSF, and the PSF of each part of their footprints (splatLights's
+    // bilinear weights) that falls outside the frame, reaching in: a sun just off the frame casts its
+    // spikes into it.
+    auto convolve = [&](const std::vector<ghosts::Light>& ls, const diffraction::Psf& p) {
+        const std::vector<float> in = splatLights(ls, W, H);
+        std::vector<float> out =
+            device ? device->convolve(in, W, H, p, offFrame) : diffraction::convolve(in, W, H, p, offFrame);
+        for (const ghosts::Light& l : ls)
+            footprint(l, 0.0, 0.0, [&](double x, double y, double w) {
+                if ((x >= 0 && y >= 0 && x < W && y < H) || w == 0.0) return;
+                diffraction::addOutsideLight(p, static_cast<long long>(x), static_cast<long long>(y),
+                                             {w * l.flux[0], w * l.flux[1], w * l.flux[2]}, W, H, out, offFrame);
+            });
+        return out;
     };
     if (mode != "traced") {
         const diffraction::Psf psf = diffraction::pixelPsf(aperture, ps);
         if (summary) *summary = mode + "; " + describePsf(aperture, psf, ps.mask.get());
-        return convolve(splatLights(lights, W, H), psf);
+        return convolve(lights, psf);
     }
     // Each light through the PSF with the lens's traced wavefront at its own field (described by the
     // first light's PSF, then each light's reach).
@@ -383,7 +404,7 @@ std::vector<float> renderDiffraction(const optics::Lens& lens, const std::vector
         const glm::dvec2 at = frame.pixelToSensor(l.xPx, l.yPx);
         ps.pupil = diffraction::tracedPupil(lens, at.x, at.y, sensorZ);
         const diffraction::Psf own = diffraction::pixelPsf(aperture, ps);
-        const std::vector<float> one = convolve(splatLights({l}, W, H), own);
+        const std::vector<float> one = convolve({l}, own);
         for (std::size_t i = 0; i < spread.size(); ++i) spread[i] += one[i];
         if (text == mode) text += "; " + describePsf(aperture, own, ps.mask.get());
         text += "; at (" + text::fixed(l.xPx, 1) + ", " + text::fixed(l.yPx, 1) +

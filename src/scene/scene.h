@@ -71,7 +71,8 @@ std::string describePsf(const diffraction::Aperture& aperture, const diffraction
 
 /// The lights through the lens's PSF (render --mode diffraction, compare): the aberration-free PSF
 /// ("physical"), or each light through the PSF with the lens's traced wavefront at its field
-/// ("traced"; sensor plane sensorZ). The convolution runs on `device` when given. `offFrame` (summed
+/// ("traced"; sensor plane sensorZ). Lights outside the frame reach into it (their PSF added over the
+/// frame, on the CPU: a pass over the frame each). The convolution runs on `device` when given. `offFrame` (summed
 /// over the channels) and `summary` receive what left the frame and a description of the PSFs. `dirt`
 /// multiplies the iris (diffraction::PsfSettings::mask).
 std::vector<float> renderDiffraction(const optics::Lens& lens, const std::vector<ghosts::Light>& lights,

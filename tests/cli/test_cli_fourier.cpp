@@ -170,6 +170,32 @@ TEST(CliRender, DiffractionModeSpreadsTheLightsFlux) {
     EXPECT_NE(r.err.find("working f/"), std::string::npos) << r.err;
 }
 
+// render --mode diffraction with the light outside the frame: its diffraction reaches in, as in a
+// frame larger by 40 pixels on the left that holds the light (pixels of the same 20 um: a sensor as
+// much wider), whose probes are the same pixels of the scene.
+TEST(CliRender, DiffractionReachesInFromALightOutsideTheFrame) {
+    ff::test::TempDir dir;
+    const std::string common = "render lenses/cooke-triplet-50mm-f5.lens --mode diffraction ";
+    const auto window = run(common +
+                            "--light=-20.5,30.5,2,1,0.5 --size 96x64 --sensor-size 1.92x1.28 --probe 0,30 "
+                            "--probe 10,5 --probe 95,63 -o '" +
+                            (dir / "w.exr").string() + "'");
+    const auto large = run(common +
+                           "--light=19.5,30.5,2,1,0.5 --size 136x64 --sensor-size 2.72x1.28 --probe 40,30 "
+                           "--probe 50,5 --probe 135,63 -o '" +
+                           (dir / "l.exr").string() + "'");
+    ASSERT_EQ(window.code, 0) << window.err;
+    ASSERT_EQ(large.code, 0) << large.err;
+    const auto a = probes(window.out), b = probes(large.out);
+    ASSERT_EQ(a.size(), 3u);
+    ASSERT_EQ(b.size(), 3u);
+    for (std::size_t i = 0; i < 3; ++i)
+        for (std::size_t c = 0; c < 3; ++c) {
+            EXPECT_GT(a[i][c], 0.0) << i << " " << c;
+            EXPECT_NEAR(a[i][c], b[i][c], 1e-4 * b[i][c]) << i << " " << c;
+        }
+}
+
 // render --mode diffraction --diffraction traced: the light on the axis, where the lens's wavefront
 // is symmetric about it, keeps its flux in the frame and its pattern symmetric through its pixel;
 // the lens's own aberrations (spherical, colour) change the pattern from the aberration-free one.

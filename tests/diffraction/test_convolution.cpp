@@ -111,6 +111,57 @@ TEST(Convolution, AKeptConvolverGivesWhatAFreshOneGives) {
     }
 }
 
+// A light outside the frame reaches into it as it does on a frame large enough to hold it: the
+// convolution commutes with translation, so this frame is a window of that one (there by convolve's
+// routes, tested against the direct sum above). What the window misses of the light's flux (1 per
+// channel with a far field, the square's sum without) is what the large frame keeps outside the
+// window plus what it loses itself.
+TEST(Convolution, ALightOutsideTheFrameReachesInAsOnALargerFrame) {
+    const int W = 90, H = 50, pad = 40, LW = W + 2 * pad, LH = H + 2 * pad;
+    PsfSettings s;
+    s.pitchMm = 36.0 / W;
+    s.wavelengthsNm = {450.0, 550.0, 650.0};
+    s.transform = 256;
+    const Psf six = pixelPsf({6, 0.0, 8.0}, s), square = randomKernel(6, 3);
+    ASSERT_FALSE(six.far.empty());
+    ASSERT_TRUE(square.far.empty());
+    const std::array<double, 3> flux{2.0, 1.0, 0.5};
+    struct Case {
+        const Psf* psf;
+        int x, y;
+        bool reaches; ///< whether any of the kernel lands in the frame
+    };
+    const Case cases[] = {{&six, -25, 17, true},       {&six, W + 10, -8, true},  {&six, -3, H + 30, true},
+                          {&square, -3, 17, true},     {&square, W + 5, H, true}, {&square, -25, 17, false},
+                          {&square, W + 10, -8, false}};
+    for (const Case& k : cases) {
+        std::vector<float> window(static_cast<std::size_t>(W) * H * 3, 0.0f);
+        double off = 0.0;
+        addOutsideLight(*k.psf, k.x, k.y, flux, W, H, window, &off);
+        std::vector<float> large(static_cast<std::size_t>(LW) * LH * 3, 0.0f);
+        const std::size_t at = (static_cast<std::size_t>(k.y + pad) * LW + (k.x + pad)) * 3;
+        for (std::size_t c = 0; c < 3; ++c) large[at + c] = static_cast<float>(flux[c]);
+        double largeOff = 0.0;
+        const std::vector<float> all = convolve(large, LW, LH, *k.psf, &largeOff);
+        double beyond = 0.0, peak = 0.0;
+        for (int y = 0; y < LH; ++y)
+            for (int x = 0; x < LW; ++x)
+                for (int c = 0; c < 3; ++c) {
+                    const double v = all[(static_cast<std::size_t>(y) * LW + x) * 3 + c];
+                    if (x < pad || y < pad || x >= pad + W || y >= pad + H) {
+                        beyond += v;
+                        continue;
+                    }
+                    const float got = window[(static_cast<std::size_t>(y - pad) * W + (x - pad)) * 3 + c];
+                    EXPECT_NEAR(got, v, 1e-6 * std::abs(v) + 1e-12)
+                        << k.x << "," << k.y << " at " << x - pad << "," << y - pad << " channel " << c;
+                    peak = std::max(peak, v);
+                }
+        EXPECT_EQ(peak > 0.0, k.reaches) << k.x << "," << k.y;
+        EXPECT_NEAR(off, beyond + largeOff, 1e-5 * 3.5) << k.x << "," << k.y;
+    }
+}
+
 // One light in the middle: the layer is the kernel around it minus the light, summing to zero; it is
 // linear in the light and in the gain.
 TEST(Convolution, TheLayerRedistributesTheLightsFlux) {
