@@ -159,6 +159,7 @@ class Simulation {
         limits.maxPixels = static_cast<std::uint64_t>(o_.maxPixels);
         limits.checker = checker_;
         const image::Plate plate = image::readPlate(job.plate, limits);
+        image::checkLayersFit(plate, layers_);
         for (const auto& n : plate.notes) note(job.plate + ": " + n);
         const double tRead = lap(t);
         const scene::SimulatedPlate r = sim_->run(plate);

@@ -368,12 +368,27 @@ Plate readPlate(const std::string& path, const PlateLimits& limits) {
     return readDirect(path, limits, true);
 }
 
+void checkLayersFit(const Plate& plate, const std::vector<std::string>& names) {
+    // A second channel of a name would be renamed by the EXR writer (channel7) and the plate's channel
+    // lose its name, or be taken for the layer's.
+    for (const std::string& name : names)
+        for (const char* c : {".R", ".G", ".B"})
+            if (std::find(plate.channels.begin(), plate.channels.end(), name + c) != plate.channels.end())
+                bad(plate.path, "the plate already has a channel " + name + c + ", which the " + name +
+                                    " layer would add (a plate written by simulate? remove that layer from it, or "
+                                    "ask for other --layers)");
+}
+
 std::size_t writeSimulatedExr(const std::string& path, const Plate& plate, const std::vector<Layer>& layers,
                               const Metadata& metadata, bool half) {
     if (!plate.file) throwRuntimeError("writeSimulatedExr: the plate has no file");
-    for (const Layer& l : layers)
+    std::vector<std::string> names;
+    for (const Layer& l : layers) {
         if (!l.rgb || l.rgb->size() != plate.pixelCount() * 3)
             throwRuntimeError("writeSimulatedExr: the layer " + l.name + " does not match the plate");
+        names.push_back(l.name);
+    }
+    checkLayersFit(plate, names);
     const OIIO::ImageSpec& in = plate.file->spec;
     const int n = in.nchannels;
     // Input channel formats; those EXR cannot store are written as float.
@@ -398,12 +413,6 @@ std::size_t writeSimulatedExr(const std::string& path, const Plate& plate, const
     const OIIO::TypeDesc layerFormat = half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT;
     for (const Layer& l : layers)
         for (const char* c : {".R", ".G", ".B"}) {
-            // Channel names are unique in an EXR: a second one of a name would be renamed (channel7)
-            // and the plate's channel lose its name, or be taken for the layer's.
-            if (std::find(out.channelnames.begin(), out.channelnames.end(), l.name + c) != out.channelnames.end())
-                bad(plate.path, "the plate already has a channel " + l.name + c + ", which the " + l.name +
-                                    " layer would add (a plate written by simulate? remove that layer from it, or "
-                                    "ask for other --layers)");
             out.channelnames.emplace_back(l.name + c);
             outFormat.emplace_back(layerFormat);
         }

@@ -82,10 +82,16 @@ struct Layer {
     const std::vector<float>* rgb = nullptr;
 };
 
+/// Throws ff::Error (Input, naming the plate) when the plate already holds a channel one of the
+/// layers `names` would add (name.R, .G, .B: a plate written by simulate): EXR channel names are
+/// unique. writeSimulatedExr checks it; simulate checks it as soon as the plate is read.
+void checkLayersFit(const Plate& plate, const std::vector<std::string>& names);
+
 /// Writes an EXR (zip, scanlines) holding every channel of the plate unchanged — names, order, data
 /// and display windows, metadata; channels stored as half, float or uint32 keep their bits, other
 /// formats (8/16-bit integers) are written as float of the values read — followed by the layers'
-/// channels in order, as float or, with `half`, as half (16-bit float: values beyond its largest,
+/// channels in order (checkLayersFit first), as float or, with `half`, as half (16-bit float: values beyond its
+/// largest,
 /// +-65504, are written as that, not as infinity). Atomic. Returns the number of layer values that
 /// half saturated (0 for float); a NaN or infinity stays what it is.
 std::size_t writeSimulatedExr(const std::string& path, const Plate& plate, const std::vector<Layer>& layers,
