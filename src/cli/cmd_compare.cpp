@@ -49,7 +49,7 @@ struct CompareOptions {
 std::vector<ghosts::Light> plateLights(const CompareOptions& o, std::string& size, std::size_t& found) {
     std::vector<ghosts::Light> lights;
     image::PlateLimits limits;
-    limits.checker = std::filesystem::read_symlink("/proc/self/exe").string();
+    limits.checker = image::kThisProgram;
     const image::Plate plate = image::readPlate(o.plate, limits);
     image::DetectionSettings detection = image::parseThreshold(o.threshold);
     const image::DetectionReport report = image::detectLights(plate, detection);

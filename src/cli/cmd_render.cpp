@@ -16,6 +16,7 @@
 #include "fourier/render.h"
 #include "gpu/backend_choice.h"
 #include "image/image_output.h"
+#include "image/plate.h"
 #include "scene/flare_render.h"
 #include "scene/scene.h"
 #include "trace/ghost_analysis.h"
@@ -193,7 +194,7 @@ fourier::FlareImage renderLensFlare(const RenderOptions& o, const GlobalOptions&
     if (o.mode == "shaped") s.raster = gpu::polygonRaster(s.fourier);
     if (o.mode == "diffraction") {
         s.convolver = gpu::diffractionDevice(s.fourier);
-        s.dirt = o.dirt.mask(std::filesystem::read_symlink("/proc/self/exe").string());
+        s.dirt = o.dirt.mask(image::kThisProgram);
     }
     s.loadTable = [&](const optics::Lens& l, const ghosts::TableSettings&) {
         return loadTable(l, o.table, g, reporter);

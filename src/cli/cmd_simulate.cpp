@@ -312,7 +312,7 @@ class Simulation {
     std::vector<ghosts::Light> manualLights_;
     std::vector<std::string> layers_;
     std::unique_ptr<scene::Simulation> sim_;
-    std::string checker_ = std::filesystem::read_symlink("/proc/self/exe").string(); // this program, for `plate-check`
+    std::string checker_ = image::kThisProgram; // this program, for `plate-check`
 };
 
 void runSimulate(const SimulateOptions& o, const GlobalOptions& g) {

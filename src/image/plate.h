@@ -30,11 +30,17 @@ struct PlateLimits {
     double headerSeconds = 3.0;
     double floatBytesPerSecond = 25e6;
     /// The checker: run as `checker plate-check --max-pixels N --max-channels C FILE`; empty = no guard.
+    /// The CLI gives itself, kThisProgram.
     std::string checker;
     /// Called once the header has passed the checks, with the pixels' size as float in bytes (the
     /// checker process reports it to the guard on its standard output, see checkPlate()).
     void (*onHeader)(std::uint64_t floatBytes) = nullptr;
 };
+
+/// The running program, as a checker path: the kernel's link to its file, which exec follows even
+/// after the file was replaced or removed (a package upgraded during a shot), where the resolved
+/// path would name the new program or nothing.
+inline constexpr const char* kThisProgram = "/proc/self/exe";
 
 struct PlateFile; // the header and native channel data, for rewriting channels bit for bit
 

@@ -1,10 +1,14 @@
-// simulate on a plate that already holds a channel of a layer it would add (its own output read
-// again): refused as soon as the plate is read, before the frame's flare is computed.
+// simulate as a shot meets it: a plate that already holds a channel of a layer it would add (its own
+// output read again) is refused as soon as it is read, before the frame's flare is computed; the
+// program's file replaced or removed during a shot (a package upgrade) does not stop the next frame.
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <string>
+#include <sys/wait.h>
 
 #include "cli_runner.h"
 #include "test_support.h"
@@ -55,4 +59,28 @@ TEST(CliSimulate, APlateHoldingALayersChannelIsRefusedBeforeTheWork) {
         run(args + " --layers diffraction,flare", std::string("FF_CACHE_DIR='") + FF_TEST_CACHE_DIR + "'");
     ASSERT_EQ(other.code, 0) << other.err;
     EXPECT_TRUE(fs::exists(out));
+}
+
+// The plate checker is the running program: a copy of fourierflare, removed once it runs (its
+// /proc/PID/exe names the copy), still renders both frames of a sequence: each spawns its checker
+// after the file is gone.
+TEST(CliSimulate, TheProgramRemovedDuringAShotStillChecksThePlates) {
+    ff::test::TempDir dir;
+    for (const char* f : {"plate.0001.exr", "plate.0002.exr"}) writePlate(dir / f, "A");
+    const fs::path copy = dir / "ff-copy";
+    fs::copy_file(FF_CLI_PATH, copy);
+    std::ofstream(dir / "shot.sh") << "cd '" << FF_SOURCE_DIR << "'\nFF_CACHE_DIR='" << FF_TEST_CACHE_DIR << "' '"
+                                   << copy.string()
+                                   << "' simulate --lens lenses/cooke-triplet-50mm-f5.lens --sensor-size 3x2.25 "
+                                      "--frames 1-2 --plate '"
+                                   << (dir / "plate.%04d.exr").string() << "' -o '" << (dir / "out.%04d.exr").string()
+                                   << "' 2>'" << (dir / "err").string()
+                                   << "' &\npid=$!\nfor i in $(seq 1000); do\n  [ \"$(readlink /proc/$pid/exe)\" = '"
+                                   << copy.string() << "' ] && break\n  sleep 0.001\ndone\nrm '" << copy.string()
+                                   << "'\nwait $pid\n";
+    const int status = std::system(("bash '" + (dir / "shot.sh").string() + "'").c_str());
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << ff::test::readFile(dir / "err");
+    EXPECT_FALSE(fs::exists(copy));
+    EXPECT_TRUE(fs::exists(dir / "out.0001.exr"));
+    EXPECT_TRUE(fs::exists(dir / "out.0002.exr"));
 }
