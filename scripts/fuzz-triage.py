@@ -23,6 +23,7 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 IMAGE_TARGETS = {"plate", "aperture_mask"}
 FRAME = re.compile(r"^\s*#\d+ 0x[0-9a-f]+ in (.+?) (\S+)$")
+BUILD_ID = re.compile(r" \(BuildId: [0-9a-f]+\)$")
 RUNTIME = ("__asan", "__sanitizer", "__interceptor", "__lsan", "__ubsan", "operator new", "operator delete",
            "malloc", "calloc", "realloc", "free", "std::", "__gnu_cxx", "fuzzer::", "__libc", "__GI_", "raise",
            "__pthread_kill", "MallocHook",
@@ -33,7 +34,8 @@ def blame(report):
     """'ours', 'library' or None (no stack): the first frame not in a runtime or the standard library.
     Frames of our libraries name files under src/ or fuzz/; the image library's name its .so."""
     for line in report.splitlines():
-        m = FRAME.match(line)
+        # Frames without debug information end with their module's build id: "(lib.so+0x…) (BuildId: …)".
+        m = FRAME.match(BUILD_ID.sub("", line))
         if not m:
             continue
         function, where = m.groups()
