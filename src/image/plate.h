@@ -96,10 +96,9 @@ void checkLayersFit(const Plate& plate, const std::vector<std::string>& names);
 /// Writes an EXR (zip, scanlines) holding every channel of the plate unchanged — names, order, data
 /// and display windows, metadata; channels stored as half, float or uint32 keep their bits, other
 /// formats (8/16-bit integers) are written as float of the values read — followed by the layers'
-/// channels in order (checkLayersFit first), as float or, with `half`, as half (16-bit float: values beyond its
-/// largest,
-/// +-65504, are written as that, not as infinity). Atomic. Returns the number of layer values that
-/// half saturated (0 for float); a NaN or infinity stays what it is.
+/// channels in order (checkLayersFit first), as float or, with `half`, as half (16-bit float:
+/// values beyond its largest, +-65504, are written as that, not as infinity). Atomic. Returns the
+/// number of layer values that half saturated (0 for float); a NaN or infinity stays what it is.
 std::size_t writeSimulatedExr(const std::string& path, const Plate& plate, const std::vector<Layer>& layers,
                               const Metadata& metadata, bool half = false);
 
