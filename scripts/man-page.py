@@ -83,6 +83,9 @@ def main():
         ".TP\n.B FOURIERFLARE_DATA_DIR\nThe bundled data folder, instead of the installed one.",
         ".TP\n.B FF_CACHE_DIR\nThe ghost-table and PSF cache (default: $XDG_CACHE_HOME/fourierflare or "
         "~/.cache/fourierflare).",
+        ".TP\n.B FF_PLATE_CHECK_SECONDS\nThe CPU time (seconds, default 3) the check of a plate's header may "
+        "spend before the file is refused as hanging the image library; its pixels get as much again plus 1 s "
+        "per 25 MB, and each stage 20 times its CPU bound of wall-clock time.",
         ".TP\n.B SOURCE_DATE_EPOCH\nThe time stamp written into image headers (seconds since 1970, UTC); "
         "without it none is written, so the same command writes the same bytes.",
         ".SH FILES",

@@ -50,6 +50,7 @@ std::vector<ghosts::Light> plateLights(const CompareOptions& o, std::string& siz
     std::vector<ghosts::Light> lights;
     image::PlateLimits limits;
     limits.checker = image::kThisProgram;
+    limits.cpuSeconds = image::plateCheckSeconds();
     const image::Plate plate = image::readPlate(o.plate, limits);
     image::DetectionSettings detection = image::parseThreshold(o.threshold);
     const image::DetectionReport report = image::detectLights(plate, detection);

@@ -158,6 +158,7 @@ class Simulation {
         image::PlateLimits limits;
         limits.maxPixels = static_cast<std::uint64_t>(o_.maxPixels);
         limits.checker = checker_;
+        limits.cpuSeconds = image::plateCheckSeconds();
         const image::Plate plate = image::readPlate(job.plate, limits);
         image::checkLayersFit(plate, layers_);
         for (const auto& n : plate.notes) note(job.plate + ": " + n);
@@ -454,7 +455,9 @@ void addSimulateCommand(CLI::App& app, GlobalOptions& global) {
     cmd->footer("Examples:\n"
                 "  fourierflare simulate --lens lenses/double-gauss-50mm-f2.lens --plate data/night-street.exr -o "
                 "out/night-street.exr --preview out/night-street.png\n"
-                "  fourierflare simulate --lens L.lens --plate shot.%04d.exr --frames 1001-1100 -o out/shot.%04d.exr");
+                "  fourierflare simulate --lens L.lens --plate shot.%04d.exr --frames 1001-1100 -o out/shot.%04d.exr\n"
+                "Each plate is first read by a checker process, bounded by its CPU time (FF_PLATE_CHECK_SECONDS, "
+                "default 3 s for the header) and 20 times that of wall-clock time (docs/simulate.md).");
     cmd->callback([o, &global] {
         requireLens(o->lens);
         runSimulate(*o, global);

@@ -29,6 +29,7 @@ std::shared_ptr<const diffraction::PupilMask> DirtOptions::mask(const std::strin
         limits.maxPixels = 8192ull * 8192ull;
         limits.maxChannels = 64;
         limits.checker = checker;
+        limits.cpuSeconds = image::plateCheckSeconds();
         const image::Plate p = image::readPlate(apertureMask, limits);
         m = diffraction::maskFromImage(p.pixels, p.width, p.height, static_cast<int>(p.channels.size()), p.r,
                                        p.r == p.g ? -1 : p.g, p.r == p.b ? -1 : p.b, apertureMask);

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <optional>
@@ -228,8 +229,37 @@ Plate readDirect(const std::string& path, const PlateLimits& limits, bool keepNa
     return p;
 }
 
-// Runs the checker on the file under the wall-clock bounds of PlateLimits; throws what went wrong
-// there. Its stderr (the reason it gives) and its stdout (the `header BYTES` line) come through pipes.
+// The CPU time (user + system, all threads) process `pid` has spent so far, in seconds; -1 when it
+// cannot be read (the process has gone).
+double cpuSecondsOf(pid_t pid) {
+    char name[64];
+    std::snprintf(name, sizeof name, "/proc/%d/stat", static_cast<int>(pid));
+    std::FILE* f = std::fopen(name, "r");
+    if (!f) return -1.0;
+    char buf[1024];
+    const std::size_t got = std::fread(buf, 1, sizeof buf - 1, f);
+    std::fclose(f);
+    buf[got] = '\0';
+    // pid (comm) state ppid ... : utime and stime are fields 14 and 15, the 12th and 13th after the
+    // command name, which may itself hold spaces and parentheses.
+    const char* p = std::strrchr(buf, ')');
+    unsigned long long utime = 0, stime = 0;
+    if (!p || std::sscanf(p + 1, " %*c %*d %*d %*d %*d %*d %*u %*u %*u %*u %*u %llu %llu", &utime, &stime) != 2)
+        return -1.0;
+    static const double tick = static_cast<double>(sysconf(_SC_CLK_TCK));
+    return static_cast<double>(utime + stime) / tick;
+}
+
+// Seconds (or a factor) to three significant digits: 3, 0.15, 60, 3.04.
+std::string secondsText(double s) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", s);
+    return text;
+}
+
+// Runs the checker on the file under the bounds of PlateLimits; throws what went wrong there. Its
+// stderr (the reason it gives) and its stdout (the `header BYTES` line) come through pipes; its CPU
+// time is read from /proc every 50 ms.
 void guardedRead(const std::string& path, const PlateLimits& limits) {
     int err[2], out[2];
     if (pipe(err) != 0) throwRuntimeError("cannot create a pipe to check '" + path + "'");
@@ -258,17 +288,19 @@ void guardedRead(const std::string& path, const PlateLimits& limits) {
     }
     const auto start = std::chrono::steady_clock::now();
     auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-    double deadline = limits.headerSeconds;
-    bool headerPassed = false, timedOut = false;
+    // The current stage's bounds: CPU time (the checker's total) and wall-clock time (since spawning).
+    double cpuBound = limits.cpuSeconds, wallBound = limits.wallFactor * limits.cpuSeconds, cpu = 0.0;
+    enum class Over { No, Cpu, Wall } over = Over::No;
+    auto overBound = [&] {
+        if (const double c = cpuSecondsOf(pid); c >= 0.0) cpu = c;
+        return cpu > cpuBound ? Over::Cpu : elapsed() > wallBound ? Over::Wall : Over::No;
+    };
+    bool headerPassed = false;
     std::string message, report;
     pollfd fds[2] = {{err[0], POLLIN, 0}, {out[0], POLLIN, 0}};
     while (fds[0].fd >= 0 || fds[1].fd >= 0) { // until both pipes are closed: the checker has finished (or died)
-        const double left = deadline - elapsed();
-        if (left <= 0.0) {
-            timedOut = true;
-            break;
-        }
-        const int ready = poll(fds, 2, static_cast<int>(std::ceil(left * 1000.0)));
+        if ((over = overBound()) != Over::No) break;
+        const int ready = poll(fds, 2, 50);
         if (ready < 0 && errno != EINTR) break;
         for (int i = 0; ready > 0 && i < 2; ++i) {
             if (fds[i].fd < 0 || fds[i].revents == 0) continue;
@@ -286,25 +318,34 @@ void guardedRead(const std::string& path, const PlateLimits& limits) {
         if (!headerPassed && report.find('\n') != std::string::npos &&
             std::sscanf(report.c_str(), "header %llu", &bytes) == 1) {
             headerPassed = true;
-            deadline = elapsed() + limits.headerSeconds + static_cast<double>(bytes) / limits.floatBytesPerSecond;
+            const double stage = limits.cpuSeconds + static_cast<double>(bytes) / limits.floatBytesPerSecond;
+            if (const double c = cpuSecondsOf(pid); c >= 0.0) cpu = c;
+            cpuBound = cpu + stage;
+            wallBound = elapsed() + limits.wallFactor * stage;
         }
     }
     for (const pollfd& p : fds)
         if (p.fd >= 0) close(p.fd);
     int status = 0;
-    while (!timedOut && waitpid(pid, &status, WNOHANG) == 0) {
-        if (elapsed() > deadline)
-            timedOut = true;
-        else
-            usleep(1000);
+    while (over == Over::No && waitpid(pid, &status, WNOHANG) == 0) {
+        if ((over = overBound()) == Over::No) usleep(1000);
     }
-    if (timedOut) {
+    if (over != Over::No) {
         kill(pid, SIGKILL);
         waitpid(pid, &status, 0);
-        char seconds[32];
-        std::snprintf(seconds, sizeof seconds, "%.1f", deadline);
-        bad(path, std::string(headerPassed ? "reading the image's pixels" : "reading the image's header") +
-                      " did not finish within " + seconds + " s (a corrupt file?)");
+        const std::string stage = headerPassed ? "reading the image's pixels" : "reading the image's header";
+        const std::string raise = "; FF_PLATE_CHECK_SECONDS raises the bound (now " + secondsText(limits.cpuSeconds) +
+                                  " s of CPU time for the header, the wall-clock bound " +
+                                  secondsText(limits.wallFactor) + " times that)";
+        if (over == Over::Cpu)
+            bad(path, stage + " spent " + secondsText(cpu) + " s of CPU time without finishing, more than its " +
+                          secondsText(cpuBound) + " s: the image library is stuck in a loop (a corrupt file?)" + raise);
+        // Stuck without spending CPU time: a lock in the library, or a file system that does not
+        // answer. Not evidence of a bad file, so not an input error (a farm may retry).
+        throw Error(ErrorKind::Runtime, SourceLocation{path},
+                    stage + " did not finish within " + secondsText(wallBound) + " s, having spent " +
+                        secondsText(cpu) + " s of CPU time: stuck waiting (for a file system that does not answer, " +
+                        "or on a lock in the image library)" + raise);
     }
     if (WIFSIGNALED(status))
         bad(path, "the image library crashed reading this file (signal " + std::to_string(WTERMSIG(status)) +
@@ -361,6 +402,18 @@ Plate plateFromPixels(const std::string& name, int width, int height, std::vecto
     findChannels(name, p);
     checkValues(name, p);
     return p;
+}
+
+double plateCheckSeconds() {
+    const char* text = std::getenv("FF_PLATE_CHECK_SECONDS");
+    if (!text || !*text) return kPlateCheckSeconds;
+    char* end = nullptr;
+    errno = 0;
+    const double s = std::strtod(text, &end);
+    if (errno != 0 || *end != '\0' || !(s >= 0.1 && s <= 86400.0))
+        throw Error(ErrorKind::Usage, std::string("FF_PLATE_CHECK_SECONDS is '") + text +
+                                          "': it must be a number of seconds from 0.1 to 86400");
+    return s;
 }
 
 Plate readPlate(const std::string& path, const PlateLimits& limits) {

@@ -6,9 +6,11 @@
 // before anything is allocated. And because a corrupt file can crash or hang the image library itself
 // (Debian's OpenImageIO 2.4 aborts or hangs on some fuzzed EXR files), the file is first read in full
 // by a fresh process (the `checker` program, given the file and the limits, which calls checkPlate()
-// under a memory limit) with a time limit; only if that succeeds is it read here. A crash, a hang or
-// an error in the checker becomes an ff::Error (Input) naming the file. (A fresh process, not a fork:
-// a forked child inherits the image library's thread pools without their threads and can hang.)
+// under a memory limit) with bounds on its CPU and wall-clock time (PlateLimits); only if that
+// succeeds is it read here. A crash, a loop or an error in the checker becomes an ff::Error (Input)
+// naming the file; a checker stuck without spending CPU time, an ff::Error (Runtime). (A fresh
+// process, not a fork: a forked child inherits the image library's thread pools without their
+// threads and can hang.)
 
 #include "image/image_output.h"
 
@@ -19,16 +21,24 @@
 
 namespace ff::image {
 
+/// The default CPU bound of a plate's header check (PlateLimits::cpuSeconds), in seconds; the
+/// environment variable FF_PLATE_CHECK_SECONDS sets another (plateCheckSeconds()).
+inline constexpr double kPlateCheckSeconds = 3.0;
+
 struct PlateLimits {
     std::uint64_t maxPixels = 8192ull * 8192ull; ///< data-window pixels
     int maxChannels = 64;
-    /// The guarded read's wall-clock bounds (not CPU time: a loaded machine gives a hung checker
-    /// little CPU): `headerSeconds` for the checker to start, open the file and pass the header
-    /// checks; then `headerSeconds` again plus one second per `floatBytesPerSecond` of the pixels as
-    /// float, the size the header declares (within the limits above), for reading them. A file that
-    /// hangs the image library before its header is checked fails after `headerSeconds`.
-    double headerSeconds = 3.0;
+    /// The guarded read's bounds, in two stages: to start, open the file and pass the header checks;
+    /// then to read the pixels, whose size as float the header declares (within the limits above).
+    /// The checker's CPU time (user + system, all its threads) may grow by `cpuSeconds` in the first
+    /// stage and by `cpuSeconds` plus one second per `floatBytesPerSecond` in the second: a loop in
+    /// the image library runs out of it whatever the load, while a valid file that is slow only
+    /// because the machine is busy waits for a core without spending it. Each stage's wall-clock
+    /// time is bounded by `wallFactor` times its CPU bound, for a checker stuck without spending CPU
+    /// time (blocked on a lock, or on a file system that does not answer).
+    double cpuSeconds = kPlateCheckSeconds;
     double floatBytesPerSecond = 25e6;
+    double wallFactor = 20.0;
     /// The checker: run as `checker plate-check --max-pixels N --max-channels C FILE`; empty = no guard.
     /// The CLI gives itself, kThisProgram.
     std::string checker;
@@ -36,6 +46,11 @@ struct PlateLimits {
     /// checker process reports it to the guard on its standard output, see checkPlate()).
     void (*onHeader)(std::uint64_t floatBytes) = nullptr;
 };
+
+/// The CPU bound of the plate checks, PlateLimits::cpuSeconds: FF_PLATE_CHECK_SECONDS where it is set
+/// (a number of seconds, 0.1 to 86400), else kPlateCheckSeconds. Throws ff::Error (Usage) naming the
+/// variable for any other value.
+double plateCheckSeconds();
 
 /// The running program, as a checker path: the kernel's link to its file, which exec follows even
 /// after the file was replaced or removed (a package upgraded during a shot), where the resolved
@@ -66,7 +81,8 @@ struct Plate {
 
 /// Reads the first part of an image. Throws ff::Error (Input) with the file name for anything that
 /// is not a usable plate: unreadable, corrupt, too large (say which limit and how to raise it), deep,
-/// no colour channels, or more than half of its pixels negative, NaN or infinite.
+/// no colour channels, or more than half of its pixels negative, NaN or infinite; ff::Error (Runtime)
+/// when the checker was stopped by the wall-clock bound without having spent its CPU time.
 Plate readPlate(const std::string& path, const PlateLimits& limits = {});
 
 /// A plate from pixels in memory (`channels` interleaved, rows top to bottom; data window = display
