@@ -10,15 +10,8 @@ namespace {
 
 using Vec2 = glm::dvec2;
 
-// Signed area (shoelace; positive when clockwise on the screen, +y down).
-double signedArea(std::span<const Vec2> p) {
-    double a = 0.0;
-    for (std::size_t i = 0; i < p.size(); ++i) a += p[i].x * p[(i + 1) % p.size()].y - p[(i + 1) % p.size()].x * p[i].y;
-    return 0.5 * a;
-}
-
-// Area of a simple polygon inside the box [x0, x1] x [y0, y1] (Sutherland-Hodgman, then the shoelace formula).
-double areaInBox(std::span<const Vec2> poly, double x0, double y0, double x1, double y1) {
+// A simple polygon clipped to the box [x0, x1] x [y0, y1] (Sutherland-Hodgman).
+std::vector<Vec2> clippedToBox(std::span<const Vec2> poly, double x0, double y0, double x1, double y1) {
     std::vector<Vec2> a(poly.begin(), poly.end()), b;
     auto clip = [&](auto inside, auto intersect) {
         b.clear();
@@ -39,7 +32,27 @@ double areaInBox(std::span<const Vec2> poly, double x0, double y0, double x1, do
          [&](const Vec2& p, const Vec2& q) { return Vec2(p.x + (q.x - p.x) * (y0 - p.y) / (q.y - p.y), y0); });
     clip([&](const Vec2& p) { return p.y <= y1; },
          [&](const Vec2& p, const Vec2& q) { return Vec2(p.x + (q.x - p.x) * (y1 - p.y) / (q.y - p.y), y1); });
-    return std::abs(signedArea(a));
+    return a;
+}
+
+// Signed area (positive when clockwise on the screen, +y down) and first moments (integrals of x and
+// y) of a polygon: Green's theorem over its edges.
+struct Moments {
+    double area = 0.0, mx = 0.0, my = 0.0;
+};
+Moments momentsOf(std::span<const Vec2> p) {
+    Moments m;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const Vec2 &a = p[i], &b = p[(i + 1) % p.size()];
+        const double cross = a.x * b.y - b.x * a.y;
+        m.area += cross;
+        m.mx += (a.x + b.x) * cross;
+        m.my += (a.y + b.y) * cross;
+    }
+    m.area *= 0.5;
+    m.mx /= 6.0;
+    m.my /= 6.0;
+    return m;
 }
 
 } // namespace
@@ -49,14 +62,19 @@ CoverageRaster::CoverageRaster(const ImageFrame& frame)
       acc_(stride_ * static_cast<std::size_t>(std::max(frame.height, 0)), 0.0) {}
 
 void CoverageRaster::polygon(std::span<const Vec2> poly, double e, RasterStats& stats) {
+    polygon(poly, e, Vec2(0.0), stats);
+}
+
+void CoverageRaster::polygon(std::span<const Vec2> poly, double e, const Vec2& g, RasterStats& stats) {
     if (poly.empty() || e == 0.0) return;
-    const double area = signedArea(poly);
+    const Moments m = momentsOf(poly);
+    const double area = m.area;
     Vec2 lo(1e300), hi(-1e300);
     for (const Vec2& p : poly) {
         lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
         hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
     }
-    if (!std::isfinite(area)) { // a vertex at infinity or NaN: nowhere in the image
+    if (!std::isfinite(area) || !std::isfinite(m.mx) || !std::isfinite(m.my)) { // a vertex at infinity or NaN
         stats.offImage += e;
         return;
     }
@@ -73,12 +91,22 @@ void CoverageRaster::polygon(std::span<const Vec2> poly, double e, RasterStats& 
         point(mean / static_cast<double>(poly.size()), e, stats);
         return;
     }
-    // An edge running down (+y) adds its density to the right of it: a polygon of positive signed area
-    // (clockwise on the screen) has its downward edges on the left, hence the sign.
-    const double d = -e / area;
-    for (std::size_t i = 0; i < poly.size(); ++i) edge(poly[i], poly[(i + 1) % poly.size()], d);
+    // The density (e / |A|) (1 + g . (p - c)) as d0 + dx x + dy y. An edge running down (+y) adds
+    // the density to the right of it: a polygon of positive signed area (clockwise on the screen) has
+    // its downward edges on the left, hence the sign -1 / A.
+    const Vec2 c(m.mx / area, m.my / area);
+    const double s = -e / area;
+    const Density d{s * (1.0 - g.x * c.x - g.y * c.y), s * g.x, s * g.y};
+    const bool linear = g.x != 0.0 || g.y != 0.0;
+    if (linear && slope_.empty()) slope_.assign(acc_.size(), 0.0);
+    for (std::size_t i = 0; i < poly.size(); ++i) edge(poly[i], poly[(i + 1) % poly.size()], linear ? d : Density{s});
     const bool inFrame = lo.x >= 0.0 && lo.y >= 0.0 && hi.x <= frame_.width && hi.y <= frame_.height;
-    const double drawn = inFrame ? e : e * areaInBox(poly, 0.0, 0.0, frame_.width, frame_.height) / std::abs(area);
+    double drawn = e;
+    if (!inFrame) {
+        const std::vector<Vec2> in = clippedToBox(poly, 0.0, 0.0, frame_.width, frame_.height);
+        const Moments mi = momentsOf(in);
+        drawn = e / area * (mi.area + g.x * (mi.mx - c.x * mi.area) + g.y * (mi.my - c.y * mi.area));
+    }
     stats.deposited += drawn;
     stats.offImage += std::max(0.0, e - drawn);
 }
@@ -109,12 +137,14 @@ void CoverageRaster::point(const Vec2& p, double e, RasterStats& stats) {
     pixel(x + 1, y + 1, e * ax * ay, stats);
 }
 
-void CoverageRaster::edge(Vec2 a, Vec2 b, double d) {
+void CoverageRaster::edge(Vec2 a, Vec2 b, const Density& density) {
     if (a.y == b.y) return;
+    Density d = density;
     if (a.y > b.y) {
         std::swap(a, b);
-        d = -d;
+        d = {-d.d0, -d.dx, -d.dy};
     }
+    const bool linear = d.dx != 0.0 || d.dy != 0.0;
     // Rows outside the frame receive nothing.
     const double H = frame_.height, W = frame_.width;
     const double y0 = std::max(a.y, 0.0), y1 = std::min(b.y, H);
@@ -122,7 +152,8 @@ void CoverageRaster::edge(Vec2 a, Vec2 b, double d) {
     const double dxdy = (b.x - a.x) / (b.y - a.y);
     const Vec2 p(a.x + (y0 - a.y) * dxdy, y0), q(a.x + (y1 - a.y) * dxdy, y1);
     // Columns: the part right of the frame adds only beyond it and is dropped; the part left of it is
-    // moved onto x = 0, which adds the same to every pixel of the frame.
+    // moved onto x = 0, which adds the same to every pixel of the frame (whole columns receive the
+    // same from a segment anywhere to their left, uniform density or linear).
     double tA = 2.0, tB = 2.0; // the parameters where the segment crosses x = 0 and x = W, if it does
     if (p.x * q.x < 0.0) tA = -p.x / (q.x - p.x);
     if ((p.x - W) * (q.x - W) < 0.0) tB = (W - p.x) / (q.x - p.x);
@@ -137,7 +168,10 @@ void CoverageRaster::edge(Vec2 a, Vec2 b, double d) {
         if (xm <= 0.0) s.x = t.x = 0.0;
         s.x = std::clamp(s.x, 0.0, W);
         t.x = std::clamp(t.x, 0.0, W);
-        segment(s, t, d);
+        if (linear)
+            linearSegment(s, t, d);
+        else
+            segment(s, t, d.d0);
     }
 }
 
@@ -186,15 +220,69 @@ void CoverageRaster::segment(const Vec2& p0, const Vec2& p1, double d) {
     }
 }
 
+void CoverageRaster::linearSegment(const Vec2& p0, const Vec2& p1, const Density& d) {
+    // p0.y < p1.y, both inside [0, W] x [0, H]. In each row the segment crosses, between ya and yb,
+    // column j receives the integral of the density over the part of [j, j + 1] x [ya, yb] right of
+    // the segment. Columns wholly right of it receive (yb - ya) (d0 + dy ymean) + dx (yb - ya) (j + 1/2):
+    // the constant goes into acc_ and the slope into slope_, whose prefix sums the release multiplies
+    // by the column's centre; the columns the segment spans get their exact integrals through acc_.
+    const double dxdy = (p1.x - p0.x) / (p1.y - p0.y);
+    double x = p0.x;
+    const int rowFrom = static_cast<int>(std::floor(p0.y)), rowTo = static_cast<int>(std::ceil(p1.y));
+    for (int y = rowFrom; y < std::min(rowTo, frame_.height); ++y) {
+        const double ya = std::max(static_cast<double>(y), p0.y), yb = std::min(y + 1.0, p1.y);
+        const double h = yb - ya;
+        const double xNext = y + 1.0 >= p1.y ? p1.x : x + dxdy * h;
+        double* row = &acc_[static_cast<std::size_t>(y) * stride_];
+        double* slope = &slope_[static_cast<std::size_t>(y) * stride_];
+        const int i0 = static_cast<int>(std::floor(std::min(x, xNext))),
+                  i1 = static_cast<int>(std::ceil(std::max(x, xNext)));
+        const double xa = x;
+        // The integral over [ya, yb] of the density's integral from the segment (clamped to the
+        // column) to j + 1: quadratic in y between the points where the segment crosses j and j + 1,
+        // so Simpson's rule on each piece is exact.
+        auto column = [&](int j) {
+            const double left = j, right = j + 1.0;
+            auto inner = [&](double yy) {
+                const double u = std::clamp(h > 0.0 ? xa + (xNext - xa) * (yy - ya) / h : xa, left, right);
+                return (d.d0 + d.dy * yy) * (right - u) + 0.5 * d.dx * (right * right - u * u);
+            };
+            double cuts[4] = {ya, yb, yb, yb};
+            int n = 1;
+            for (double edgeX : {left, right})
+                if ((xa - edgeX) * (xNext - edgeX) < 0.0) cuts[n++] = ya + h * (edgeX - xa) / (xNext - xa);
+            if (n == 3 && cuts[1] > cuts[2]) std::swap(cuts[1], cuts[2]);
+            cuts[n] = yb;
+            double sum = 0.0;
+            for (int k = 0; k < n; ++k) {
+                const double a = cuts[k], b = cuts[k + 1];
+                sum += (b - a) / 6.0 * (inner(a) + 4.0 * inner(0.5 * (a + b)) + inner(b));
+            }
+            return sum;
+        };
+        double before = 0.0;
+        for (int j = i0; j < i1; ++j) {
+            const double v = column(j);
+            row[j] += v - before;
+            before = v;
+        }
+        row[i1] += h * (d.d0 + d.dy * 0.5 * (ya + yb)) - before;
+        slope[i1] += h * d.dx;
+        x = xNext;
+    }
+}
+
 void CoverageRaster::addTo(std::vector<double>& image) const {
     const std::size_t W = static_cast<std::size_t>(std::max(frame_.width, 0));
     for (std::size_t y = 0; y < acc_.size() / stride_; ++y) {
-        double sum = 0.0;
+        double sum = 0.0, slope = 0.0;
         const double* row = &acc_[y * stride_];
+        const double* rowSlope = slope_.empty() ? nullptr : &slope_[y * stride_];
         double* out = &image[y * W];
         for (std::size_t x = 0; x < W; ++x) {
             sum += row[x];
-            out[x] += std::max(sum, 0.0);
+            if (rowSlope) slope += rowSlope[x];
+            out[x] += std::max(sum + slope * (static_cast<double>(x) + 0.5), 0.0);
         }
     }
 }
@@ -203,10 +291,11 @@ std::vector<double> CoverageRaster::release() && {
     // The rows' prefix sums in place, then the rows packed to the frame's width (each moves left).
     const std::size_t W = static_cast<std::size_t>(std::max(frame_.width, 0));
     for (std::size_t y = 0; y < acc_.size() / stride_; ++y) {
-        double sum = 0.0;
+        double sum = 0.0, slope = 0.0;
         for (std::size_t x = 0; x < W; ++x) {
             sum += acc_[y * stride_ + x];
-            acc_[y * W + x] = std::max(sum, 0.0);
+            if (!slope_.empty()) slope += slope_[y * stride_ + x];
+            acc_[y * W + x] = std::max(sum + slope * (static_cast<double>(x) + 0.5), 0.0);
         }
     }
     acc_.resize(W * (acc_.size() / stride_));

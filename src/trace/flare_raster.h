@@ -34,10 +34,12 @@ struct RasterStats {
     std::size_t quads = 0, splats = 0;
 };
 
-/// Accumulates polygons of uniform density with exact pixel-area coverage at a cost that grows with
+/// Accumulates polygons of uniform or linear density with exact pixel-area coverage at a cost that grows with
 /// their perimeter in pixels, not their area: each edge adds, row by row, its signed area to the few
 /// columns it crosses, and one prefix sum per row (addTo, release) turns those into density x covered
-/// area (the accumulation rasteriser of font renderers, with the density carried along). Any simple
+/// area (the accumulation rasteriser of font renderers, with the density carried along; a linear
+/// density adds a second prefix sum, of its slope along the row, and the exact integrals in the
+/// columns an edge crosses). Any simple
 /// polygon of either orientation is exact; results depend only on the order of the calls. Energies are
 /// non-negative, so a negative prefix sum is rounding (~1e-16 of the row's partial sums) and reads 0.
 class CoverageRaster {
@@ -50,6 +52,13 @@ class CoverageRaster {
     /// polygon of zero area (a point, a segment) becomes a bilinear splat at its vertices' mean.
     /// Energy landing outside the frame is counted in stats.offImage, not drawn.
     void polygon(std::span<const glm::dvec2> poly, double e, RasterStats& stats);
+    /// Deposits energy e over the polygon with the density linear over it: (e / A) (1 + g . (p - c)),
+    /// A its area, c its centroid, g the density's gradient relative to its mean (per pixel). Each
+    /// pixel receives the exact integral of that density over its intersection with the polygon, so
+    /// the total is e whatever g; g should keep the density non-negative over the polygon (a pixel
+    /// whose sum is negative reads 0). A polygon inside one pixel puts e in that pixel; one of no
+    /// area is splatted as above.
+    void polygon(std::span<const glm::dvec2> poly, double e, const glm::dvec2& g, RasterStats& stats);
     /// Energy e into pixel (px, py); outside the frame it is counted in stats.offImage.
     void pixel(int px, int py, double e, RasterStats& stats);
     /// Bilinear splat of energy e at pixel position p (pixel centres at +0.5).
@@ -61,12 +70,20 @@ class CoverageRaster {
     std::vector<double> release() &&;
 
   private:
-    void edge(glm::dvec2 a, glm::dvec2 b, double d);
+    /// A density d0 + dx x + dy y (pixel coordinates), signed as the edge adds it.
+    struct Density {
+        double d0 = 0.0, dx = 0.0, dy = 0.0;
+    };
+    void edge(glm::dvec2 a, glm::dvec2 b, const Density& d);
     void segment(const glm::dvec2& p0, const glm::dvec2& p1, double d);
+    void linearSegment(const glm::dvec2& p0, const glm::dvec2& p1, const Density& d);
 
     ImageFrame frame_;
     std::size_t stride_; ///< width + 2: the columns a row's last edge spills into
-    std::vector<double> acc_;
+    /// Per row, the entries whose prefix sum is each pixel's value: acc_ alone for uniform
+    /// densities; a linear one adds slope_, whose prefix sum is multiplied by the pixel's centre x
+    /// (allocated by the first polygon that needs it).
+    std::vector<double> acc_, slope_;
 };
 
 } // namespace ff::trace
