@@ -223,9 +223,10 @@ void CoverageRaster::segment(const Vec2& p0, const Vec2& p1, double d) {
 void CoverageRaster::linearSegment(const Vec2& p0, const Vec2& p1, const Density& d) {
     // p0.y < p1.y, both inside [0, W] x [0, H]. In each row the segment crosses, between ya and yb,
     // column j receives the integral of the density over the part of [j, j + 1] x [ya, yb] right of
-    // the segment. Columns wholly right of it receive (yb - ya) (d0 + dy ymean) + dx (yb - ya) (j + 1/2):
-    // the constant goes into acc_ and the slope into slope_, whose prefix sums the release multiplies
-    // by the column's centre; the columns the segment spans get their exact integrals through acc_.
+    // the segment: its exact value in the columns the segment spans (through acc_), and
+    // (yb - ya) (d0 + dy ymean + dx (j + 1/2)) in those wholly right of it, from column i1 on: that
+    // value at i1 through acc_, and the slope (yb - ya) dx through slope_, which the release sums
+    // twice (the slope's sum times the distance from i1). Only additions: exact as integers too.
     const double dxdy = (p1.x - p0.x) / (p1.y - p0.y);
     double x = p0.x;
     const int rowFrom = static_cast<int>(std::floor(p0.y)), rowTo = static_cast<int>(std::ceil(p1.y));
@@ -266,7 +267,7 @@ void CoverageRaster::linearSegment(const Vec2& p0, const Vec2& p1, const Density
             row[j] += v - before;
             before = v;
         }
-        row[i1] += h * (d.d0 + d.dy * 0.5 * (ya + yb)) - before;
+        row[i1] += h * (d.d0 + d.dy * 0.5 * (ya + yb) + d.dx * (i1 + 0.5)) - before;
         slope[i1] += h * d.dx;
         x = xNext;
     }
@@ -275,14 +276,14 @@ void CoverageRaster::linearSegment(const Vec2& p0, const Vec2& p1, const Density
 void CoverageRaster::addTo(std::vector<double>& image) const {
     const std::size_t W = static_cast<std::size_t>(std::max(frame_.width, 0));
     for (std::size_t y = 0; y < acc_.size() / stride_; ++y) {
-        double sum = 0.0, slope = 0.0;
+        double sum = 0.0, slope = 0.0, ramp = 0.0;
         const double* row = &acc_[y * stride_];
         const double* rowSlope = slope_.empty() ? nullptr : &slope_[y * stride_];
         double* out = &image[y * W];
         for (std::size_t x = 0; x < W; ++x) {
             sum += row[x];
-            if (rowSlope) slope += rowSlope[x];
-            out[x] += std::max(sum + slope * (static_cast<double>(x) + 0.5), 0.0);
+            if (rowSlope) ramp += slope, slope += rowSlope[x];
+            out[x] += std::max(sum + ramp, 0.0);
         }
     }
 }
@@ -291,11 +292,11 @@ std::vector<double> CoverageRaster::release() && {
     // The rows' prefix sums in place, then the rows packed to the frame's width (each moves left).
     const std::size_t W = static_cast<std::size_t>(std::max(frame_.width, 0));
     for (std::size_t y = 0; y < acc_.size() / stride_; ++y) {
-        double sum = 0.0, slope = 0.0;
+        double sum = 0.0, slope = 0.0, ramp = 0.0;
         for (std::size_t x = 0; x < W; ++x) {
             sum += acc_[y * stride_ + x];
-            if (!slope_.empty()) slope += slope_[y * stride_ + x];
-            acc_[y * W + x] = std::max(sum + slope * (static_cast<double>(x) + 0.5), 0.0);
+            if (!slope_.empty()) ramp += slope, slope += slope_[y * stride_ + x];
+            acc_[y * W + x] = std::max(sum + ramp, 0.0);
         }
     }
     acc_.resize(W * (acc_.size() / stride_));

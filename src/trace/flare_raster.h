@@ -38,8 +38,8 @@ struct RasterStats {
 /// their perimeter in pixels, not their area: each edge adds, row by row, its signed area to the few
 /// columns it crosses, and one prefix sum per row (addTo, release) turns those into density x covered
 /// area (the accumulation rasteriser of font renderers, with the density carried along; a linear
-/// density adds a second prefix sum, of its slope along the row, and the exact integrals in the
-/// columns an edge crosses). Any simple
+/// density adds its slope along the row, summed twice, and the exact integrals in the columns an
+/// edge crosses). Any simple
 /// polygon of either orientation is exact; results depend only on the order of the calls. Energies are
 /// non-negative, so a negative prefix sum is rounding (~1e-16 of the row's partial sums) and reads 0.
 class CoverageRaster {
@@ -81,8 +81,8 @@ class CoverageRaster {
     ImageFrame frame_;
     std::size_t stride_; ///< width + 2: the columns a row's last edge spills into
     /// Per row, the entries whose prefix sum is each pixel's value: acc_ alone for uniform
-    /// densities; a linear one adds slope_, whose prefix sum is multiplied by the pixel's centre x
-    /// (allocated by the first polygon that needs it).
+    /// densities; a linear one adds slope_, whose prefix sum, summed again, is the ramp a slope
+    /// adds from its column on (allocated by the first polygon that needs it).
     std::vector<double> acc_, slope_;
 };
 

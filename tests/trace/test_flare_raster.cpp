@@ -239,10 +239,11 @@ TEST(CoverageRaster, ReleaseGivesTheSameImageAsAddTo) {
     raster.polygon(std::vector<glm::dvec2>{{0.5, 0.5}, {8.2, 1.0}, {3.0, 4.9}}, 2.0, st);
     raster.point({4.3, 2.2}, 1.0, st);
     raster.pixel(8, 4, 0.5, st);
+    raster.polygon(std::vector<glm::dvec2>{{1.2, 0.3}, {7.5, 4.6}, {0.4, 4.1}}, 1.5, {0.1, -0.05}, st);
     std::vector<double> a(45, 0.0);
     raster.addTo(a);
     const std::vector<double> b = std::move(raster).release();
     ASSERT_EQ(b.size(), a.size());
     for (std::size_t p = 0; p < a.size(); ++p) EXPECT_EQ(a[p], b[p]);
-    EXPECT_NEAR(sum(a), 3.5, 1e-12);
+    EXPECT_NEAR(sum(a), 5.0, 1e-12);
 }
