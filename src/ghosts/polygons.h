@@ -1,5 +1,5 @@
 #pragma once
-// Clipped polygons of uniform density: one ghost instance at one wavelength as the shaped renderer
+// Clipped polygons of uniform or linear density: one ghost instance at one wavelength as the shaped renderer
 // draws it (shaped_ghosts.h) and as its fits are measured (ghost_fit.h).
 
 #include <glm/vec2.hpp>
@@ -14,7 +14,10 @@ struct ShapedPolygons {
     struct Poly {
         std::uint32_t first = 0, count = 0; ///< its vertices: vertices[first .. first + count), in order
         float yMin = 0.0f, yMax = 0.0f;     ///< rows it spans, pixels
-        double energy = 0.0;                ///< flux spread uniformly over it
+        double energy = 0.0;                ///< flux spread over it
+        /// The density's gradient relative to its mean, per pixel: (energy / area) (1 + g . (p - c))
+        /// about the polygon's centroid c (trace::CoverageRaster::polygon); 0 where it is uniform.
+        glm::vec2 gradient{0.0f};
     };
     std::vector<glm::vec2> vertices; ///< pixels of the frame drawn into (origin top-left, centres at +0.5)
     std::vector<Poly> polys;
@@ -22,7 +25,7 @@ struct ShapedPolygons {
     std::size_t triangles = 0;
     double pupilCells = 0.0; ///< the lit pupil area the polygons come from, in cells of their mesh
 
-    void add(const glm::dvec2* p, std::size_t n, double e);
+    void add(const glm::dvec2* p, std::size_t n, double e, const glm::dvec2& gradient = glm::dvec2(0.0));
 };
 
 } // namespace ff::ghosts

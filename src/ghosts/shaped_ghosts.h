@@ -112,6 +112,11 @@ struct ShapedRenderSettings {
     /// by at most irradianceStep (relative) for that brightest instance, growing in inverse
     /// proportion to a ghost's irradiance like the flatness (the absolute step is what the image's
     /// error sees): the cells' faceted texture, a cross-hatch, leaves the image.
+    /// Each triangle's density linear over it, the plane through its vertices' irradiances (the
+    /// mesh's weight over the Jacobian of its interpolating surface), its flux kept; false: uniform
+    /// (its mean irradiance). Off: at the default subdivision it is not yet closer to the converged
+    /// traced render on every lens (docs/ghost-table.md, "Linear elements").
+    bool linearDensity = false;
     double flatnessPx = 0.02;
     double irradianceStep = 0.002;
     double maxFlatnessPx = 1.0;

@@ -46,6 +46,12 @@ std::array<double, 4> catmullRom(double u) {
     return {0.5 * (-u + 2 * u2 - u3), 0.5 * (2 - 5 * u2 + 3 * u3), 0.5 * (u + 4 * u2 - 3 * u3), 0.5 * (-u2 + u3)};
 }
 
+// Their derivatives in u.
+std::array<double, 4> catmullRomSlope(double u) {
+    const double u2 = u * u;
+    return {0.5 * (-1 + 4 * u - 3 * u2), 0.5 * (-10 * u + 9 * u2), 0.5 * (1 + 8 * u - 9 * u2), 0.5 * (-2 * u + 3 * u2)};
+}
+
 } // namespace
 
 void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t w, double azimuthRad, double flux,
@@ -74,8 +80,9 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
     if (!mb) wc = {0.0, wc[1] + 2.0 * wc[0], wc[2] - wc[0], wc[3]};
     if (!ma) wc = {wc[0], wc[1] - wc[3], wc[2] + 2.0 * wc[3], 0.0};
 
-    // Per vertex: pixel x, y, weight, then the constraints' values.
-    const std::size_t S = 3 + C;
+    // Per vertex: pixel x, y, weight, the constraints' values, then the map's Jacobian (pixels^2 per
+    // cell; NaN where it cannot be taken).
+    const std::size_t J = 3 + C, S = 4 + C;
     std::vector<double> attr(V * S, 0.0);
     std::vector<char> ok(V, 0);
     double xMin = std::numeric_limits<double>::infinity(), xMax = -xMin, yMin = xMin, yMax = -xMin;
@@ -118,6 +125,27 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
         yMax = std::max(yMax, px.y);
     }
     if (!(xMax >= xMin)) return;
+    // The Jacobian at each vertex by central differences (one-sided at the grid's border or next to a
+    // lost ray): the weight over it is the irradiance there, which shapes each element's density.
+    for (std::size_t v = 0; v < V; ++v) {
+        attr[v * S + J] = std::numeric_limits<double>::quiet_NaN();
+        if (!ok[v] || !settings.linearDensity) continue;
+        const int i = static_cast<int>(v % (n + 1)), j = static_cast<int>(v / (n + 1));
+        auto difference = [&](int di, int dj) {
+            auto at = [&](int a, int b) -> const double* {
+                if (a < 0 || b < 0 || a > n || b > n) return nullptr;
+                const std::size_t u = static_cast<std::size_t>(b) * (n + 1) + a;
+                return ok[u] ? &attr[u * S] : nullptr;
+            };
+            const double *lo = at(i - di, j - dj), *hi = at(i + di, j + dj), *mid = &attr[v * S];
+            if (lo && hi) return glm::dvec2(0.5 * (hi[0] - lo[0]), 0.5 * (hi[1] - lo[1]));
+            if (hi) return glm::dvec2(hi[0] - mid[0], hi[1] - mid[1]);
+            if (lo) return glm::dvec2(mid[0] - lo[0], mid[1] - lo[1]);
+            return glm::dvec2(std::numeric_limits<double>::quiet_NaN());
+        };
+        const glm::dvec2 du = difference(1, 0), dv = difference(0, 1);
+        attr[v * S + J] = du.x * dv.y - du.y * dv.x;
+    }
     // Cells are split into k x k sub-cells placed by bicubic (Catmull-Rom) interpolation of the grid,
     // k growing until the bicubic surface, and the aperture edges crossing the cell, lie within
     // in.flatnessPx of the sub-cells' flat triangles (the deviation falls as 1 / k^2). Cells next to
@@ -128,6 +156,33 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
     TriangleClipper clipper;
     std::array<std::array<double, 3>, kMaxConstraints> c{};
     std::array<glm::dvec2, kMaxPolygon> poly{};
+    // A triangle's density: the plane through its vertices' irradiances (weight / |Jacobian|) where
+    // the map keeps its orientation over it, as a gradient relative to the plane's value at `at`
+    // (the centroid of what is drawn); 0 (uniform) where it folds or a Jacobian is missing.
+    auto gradientOf = [&](const double* P, const double* Q, const double* R, const glm::dvec2& at) {
+        const double jP = P[J], jQ = Q[J], jR = R[J];
+        if (!settings.linearDensity || !(jP * jQ > 0.0 && jP * jR > 0.0)) return glm::dvec2(0.0);
+        const double rP = std::max(0.0, P[2]) / std::abs(jP), rQ = std::max(0.0, Q[2]) / std::abs(jQ),
+                     rR = std::max(0.0, R[2]) / std::abs(jR);
+        const glm::dvec2 e1(Q[0] - P[0], Q[1] - P[1]), e2(R[0] - P[0], R[1] - P[1]);
+        const double det = e1.x * e2.y - e1.y * e2.x;
+        if (!(std::abs(det) > 0.0)) return glm::dvec2(0.0);
+        const glm::dvec2 grad(((rQ - rP) * e2.y - (rR - rP) * e1.y) / det, ((rR - rP) * e1.x - (rQ - rP) * e2.x) / det);
+        const double value = rP + grad.x * (at.x - P[0]) + grad.y * (at.y - P[1]);
+        if (!(value > 0.0) || !std::isfinite(grad.x) || !std::isfinite(grad.y)) return glm::dvec2(0.0);
+        return grad / value;
+    };
+    auto centroid = [](const glm::dvec2* p, std::size_t count) {
+        double a = 0.0;
+        glm::dvec2 sum(0.0);
+        for (std::size_t k = 0; k < count; ++k) {
+            const glm::dvec2 &u = p[k], &v = p[(k + 1) % count];
+            const double cross = u.x * v.y - v.x * u.y;
+            a += cross;
+            sum += (u + v) * cross;
+        }
+        return a != 0.0 ? sum / (3.0 * a) : p[0];
+    };
     auto triangle = [&](const double* P, const double* Q, const double* R, double area) {
         const double e = flux * area * (P[2] + Q[2] + R[2]) / 3.0;
         if (!(e > 0.0)) return;
@@ -139,7 +194,7 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
         }
         if (active == 0) {
             poly[0] = {P[0], P[1]}, poly[1] = {Q[0], Q[1]}, poly[2] = {R[0], R[1]};
-            out.add(poly.data(), 3, e);
+            out.add(poly.data(), 3, e, gradientOf(P, Q, R, (poly[0] + poly[1] + poly[2]) / 3.0));
             out.pupilCells += area;
             return;
         }
@@ -150,13 +205,17 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
             const glm::dvec3& b = clipper[q];
             poly[q] = {b.x * P[0] + b.y * Q[0] + b.z * R[0], b.x * P[1] + b.y * Q[1] + b.z * R[1]};
         }
-        out.add(poly.data(), clipper.size(), e * share);
+        out.add(poly.data(), clipper.size(), e * share, gradientOf(P, Q, R, centroid(poly.data(), clipper.size())));
     };
-    std::vector<std::vector<std::array<double, 4>>> weights(settings.maxSubdivision + 1);
+    std::vector<std::vector<std::array<double, 4>>> weights(settings.maxSubdivision + 1),
+        slopes(settings.maxSubdivision + 1);
     auto weightsFor = [&](int K) -> const std::vector<std::array<double, 4>>& {
         auto& cr = weights[K];
         if (cr.empty())
-            for (int a = 0; a <= K; ++a) cr.push_back(catmullRom(double(a) / K));
+            for (int a = 0; a <= K; ++a) {
+                cr.push_back(catmullRom(double(a) / K));
+                slopes[K].push_back(catmullRomSlope(double(a) / K));
+            }
         return cr;
     };
     std::vector<double> sub;
@@ -257,13 +316,28 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
             for (int b = 0; b <= K; ++b)
                 for (int a = 0; a <= K; ++a) {
                     double* o = &sub[(static_cast<std::size_t>(b) * (K + 1) + a) * S];
+                    // The Jacobian is the interpolating surface's own, so that each sub-triangle's
+                    // density agrees with its flux to second order in its size.
                     if (cubic) {
-                        for (std::size_t z = 0; z < S; ++z) o[z] = bicubic(cr[a], cr[b], z);
+                        for (std::size_t z = 0; z < J; ++z) o[z] = bicubic(cr[a], cr[b], z);
+                        const auto &su = slopes[K][a], &sv = slopes[K][b];
+                        o[J] = settings.linearDensity ? bicubic(su, cr[b], 0) * bicubic(cr[a], sv, 1) -
+                                                            bicubic(cr[a], sv, 0) * bicubic(su, cr[b], 1)
+                                                      : 0.0;
                     } else {
                         const double u = double(a) / K, v = double(b) / K;
-                        for (std::size_t z = 0; z < S; ++z)
+                        for (std::size_t z = 0; z < J; ++z)
                             o[z] = (1 - v) * ((1 - u) * attr[v00 * S + z] + u * attr[v10 * S + z]) +
                                    v * ((1 - u) * attr[v01 * S + z] + u * attr[v11 * S + z]);
+                        auto du = [&](std::size_t z) {
+                            return (1 - v) * (attr[v10 * S + z] - attr[v00 * S + z]) +
+                                   v * (attr[v11 * S + z] - attr[v01 * S + z]);
+                        };
+                        auto dv = [&](std::size_t z) {
+                            return (1 - u) * (attr[v01 * S + z] - attr[v00 * S + z]) +
+                                   u * (attr[v11 * S + z] - attr[v10 * S + z]);
+                        };
+                        o[J] = settings.linearDensity ? du(0) * dv(1) - dv(0) * du(1) : 0.0;
                     }
                 }
             const double subArea = 0.5 / (double(K) * K);
@@ -279,9 +353,13 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
         }
 }
 
-void ShapedPolygons::add(const glm::dvec2* p, std::size_t n, double e) {
-    Poly q{static_cast<std::uint32_t>(vertices.size()), static_cast<std::uint32_t>(n),
-           std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(), e};
+void ShapedPolygons::add(const glm::dvec2* p, std::size_t n, double e, const glm::dvec2& gradient) {
+    Poly q{static_cast<std::uint32_t>(vertices.size()),
+           static_cast<std::uint32_t>(n),
+           std::numeric_limits<float>::infinity(),
+           -std::numeric_limits<float>::infinity(),
+           e,
+           glm::vec2(gradient)};
     for (std::size_t i = 0; i < n; ++i) {
         const glm::vec2 v(p[i]);
         vertices.push_back(v);

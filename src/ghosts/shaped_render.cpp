@@ -119,7 +119,7 @@ Drawn drawInstances(const ShapedTable& table, const std::vector<ShapedLight>& li
                                 continue;
                             }
                         }
-                        rasters[w][b].polygon(std::span(p.data(), q.count), q.energy, unused);
+                        rasters[w][b].polygon(std::span(p.data(), q.count), q.energy, glm::dvec2(q.gradient), unused);
                     }
                 }
             });

@@ -34,7 +34,8 @@ void GlPolygonRaster::begin(const trace::ImageFrame& frame, std::size_t channels
     scale_ = std::ldexp(1.0, 62) / energyBound;
     stagedVertices_.clear();
     stagedPolygons_.clear();
-    accumulator_.zeros(std::max<std::size_t>(1, channels_ * height_ * (width_ + 2) * 2 * sizeof(std::uint32_t)));
+    // The entries and the slopes (polygon_edges.comp), 64 bits each.
+    accumulator_.zeros(std::max<std::size_t>(1, 2 * channels_ * height_ * (width_ + 2) * 2 * sizeof(std::uint32_t)));
 }
 
 void GlPolygonRaster::draw(std::size_t c, const ghosts::ShapedPolygons& polygons) {
@@ -42,8 +43,8 @@ void GlPolygonRaster::draw(std::size_t c, const ghosts::ShapedPolygons& polygons
     for (const auto& p : polygons.polys) {
         if (p.count == 0 || p.energy == 0.0) continue;
         if (stagedVertices_.size() + p.count > batch_) flush();
-        stagedPolygons_.push_back(
-            {static_cast<std::uint32_t>(stagedVertices_.size()), p.count, static_cast<std::uint32_t>(c), 0, p.energy});
+        stagedPolygons_.push_back({static_cast<std::uint32_t>(stagedVertices_.size()), p.count,
+                                   static_cast<std::uint32_t>(c), 0, p.energy, p.gradient.x, p.gradient.y});
         stagedVertices_.insert(stagedVertices_.end(), polygons.vertices.begin() + p.first,
                                polygons.vertices.begin() + p.first + p.count);
     }
@@ -66,6 +67,7 @@ void GlPolygonRaster::flush() {
     edges_->set("width", width_);
     edges_->set("height", height_);
     edges_->set("count", static_cast<int>(count));
+    edges_->set("channels", static_cast<int>(channels_));
     edges_->setDouble("scale", scale_);
     glDispatchCompute(std::min(groups, kMaxGroups), (groups + kMaxGroups - 1) / kMaxGroups, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);

@@ -30,7 +30,7 @@ class GlPolygonRaster final : public ghosts::PolygonRaster {
     // std430 layout of polygon_edges.comp's Polygon.
     struct GpuPolygon {
         std::uint32_t first, count, channel, pad;
-        double energy;
+        double energy, gx, gy;
     };
     void flush();
 

@@ -112,6 +112,42 @@ TEST(ShapedGhosts, AGlassPlateGhostIsAUniformDiscOfKnownIrradiance) {
     }
 }
 
+// Linear elements (ShapedRenderSettings::linearDensity) shape each triangle's density and keep its
+// flux: the plate's ghost (a constant Jacobian and weight) stays the uniform disc, and the Cooke
+// triplet's ghosts between table angles keep every channel's flux to rounding while their pixels move.
+TEST(ShapedGhosts, LinearElementsKeepTheFluxOfEveryTriangle) {
+    {
+        const ShapedTable table = plateTable(0, 0.0, 0.0);
+        const trace::ImageFrame frame{240, 160, 36.0 / 240};
+        ShapedRenderSettings linear;
+        linear.linearDensity = true;
+        const ShapedRender flat = renderShaped(table, {ShapedLight{}}, frame);
+        const ShapedRender r = renderShaped(table, {ShapedLight{}}, frame, linear);
+        // Equal to the float rounding of the stored mesh (its Jacobian constant to ~1e-7).
+        for (int c = 0; c < 3; ++c) EXPECT_LT(relativeL2(r.channel[c], flat.channel[c]), 1e-6) << "channel " << c;
+    }
+    TableSettings s;
+    s.grid = 16;
+    s.angles = 5;
+    const ShapedTable table =
+        buildShapedTable(optics::loadLens(std::string(FF_SOURCE_DIR) + "/lenses/cooke-triplet-50mm-f5.lens"), s);
+    const trace::ImageFrame frame{240, 160, 36.0 / 240};
+    ShapedLight light;
+    light.field = {0.55 * table.maxAngleDeg * std::numbers::pi / 180, 0.8};
+    ShapedRenderSettings linear;
+    linear.linearDensity = true;
+    const ShapedRender flat = renderShaped(table, {light}, frame);
+    const ShapedRender r = renderShaped(table, {light}, frame, linear);
+    EXPECT_EQ(r.triangles, flat.triangles);
+    EXPECT_NEAR(r.deposited + r.offImage, flat.deposited + flat.offImage, 1e-9 * (flat.deposited + flat.offImage));
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(sum(r.channel[c]), sum(flat.channel[c]), 1e-3 * sum(flat.channel[c])) << "channel " << c;
+        const double moved = relativeL2(r.channel[c], flat.channel[c]);
+        EXPECT_GT(moved, 1e-4) << "channel " << c; // the densities are not uniform
+        EXPECT_LT(moved, 0.05) << "channel " << c;
+    }
+}
+
 // The same plate with a 6-blade iris turned by 10 degrees and a light off the axis at azimuth 40
 // degrees: the ghost is the iris itself (unit magnification; the tilt of the beam shifts it, but
 // the plate is flat, so its shape is the iris's whatever the light's azimuth) — a hexagon that keeps

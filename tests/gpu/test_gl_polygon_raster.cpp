@@ -1,5 +1,6 @@
 // polygon_edges.comp + polygon_rows.comp (gpu::GlPolygonRaster) against the CPU's
-// trace::CoverageRaster: random polygons of every kind the shaped renderer makes (triangles over five
+// trace::CoverageRaster: random polygons of every kind the shaped renderer makes, of uniform and linear
+// densities (triangles over five
 // decades of size, clipped polygons of many vertices, slivers, polygons inside one pixel, points and
 // segments, some over the frame's edges or far outside it) with energies over six decades; the
 // image independent of the batching; and the whole shaped renderer on the Cooke triplet.
@@ -80,7 +81,16 @@ std::vector<ghosts::ShapedPolygons> randomPolygons(int W, int H, unsigned seed) 
             break;
         }
         if (k % 97 == 0) p[0] = {1e12, 5.0}; // far outside: nothing drawn
-        ps.add(p.data(), p.size(), energy());
+        // Every other polygon of area with a linear density: a gradient of up to 1.8 over its
+        // extent, which keeps it positive.
+        glm::dvec2 gradient(0.0);
+        if (k % 2 == 0 && k % 6 < 4) {
+            double extent = 0.0;
+            for (const auto& v : p) extent = std::max(extent, std::abs(v.x - p[0].x) + std::abs(v.y - p[0].y));
+            const double a = 2.0 * std::numbers::pi * u(rng);
+            gradient = 0.9 * u(rng) / std::max(extent, 1e-9) * glm::dvec2(std::cos(a), std::sin(a));
+        }
+        ps.add(p.data(), p.size(), energy(), gradient);
     }
     return out;
 }
@@ -91,7 +101,7 @@ std::vector<double> onCpu(const ghosts::ShapedPolygons& ps, const trace::ImageFr
     std::vector<glm::dvec2> p;
     for (const auto& q : ps.polys) {
         p.assign(ps.vertices.begin() + q.first, ps.vertices.begin() + q.first + q.count);
-        raster.polygon(p, q.energy, stats);
+        raster.polygon(p, q.energy, glm::dvec2(q.gradient), stats);
     }
     return std::move(raster).release();
 }
@@ -157,16 +167,21 @@ TEST(GlPolygonRaster, ShapedGhostsMatchTheCpu) {
     lights[0].field = {0.4 * table.maxAngleDeg * std::numbers::pi / 180, 0.7};
     lights[1].field = {0.9 * table.maxAngleDeg * std::numbers::pi / 180, 2.6};
     lights[1].flux = {3.0, 2.0, 0.5};
-    const ghosts::ShapedRender cpu = ghosts::renderShaped(table, lights, frame);
-    GlPolygonRaster raster(*context);
-    const ghosts::ShapedRender gl = ghosts::renderShaped(table, lights, frame, {}, &raster);
-    EXPECT_EQ(gl.triangles, cpu.triangles);
-    EXPECT_GT(cpu.offImage, 0.0);
-    EXPECT_NEAR(gl.offImage, cpu.offImage, 1e-6 * (cpu.deposited + cpu.offImage));
-    for (int c = 0; c < 3; ++c) {
-        const auto d = compare(gl.channel[c], cpu.channel[c]);
-        EXPECT_LE(d.relativeL2, 1e-6) << "channel " << c;
-        EXPECT_LE(d.worst, 1e-6 * d.peak) << "channel " << c;
+    for (bool linear : {false, true}) { // uniform and linear elements
+        SCOPED_TRACE(linear ? "linear elements" : "uniform elements");
+        ghosts::ShapedRenderSettings settings;
+        settings.linearDensity = linear;
+        const ghosts::ShapedRender cpu = ghosts::renderShaped(table, lights, frame, settings);
+        GlPolygonRaster raster(*context);
+        const ghosts::ShapedRender gl = ghosts::renderShaped(table, lights, frame, settings, &raster);
+        EXPECT_EQ(gl.triangles, cpu.triangles);
+        EXPECT_GT(cpu.offImage, 0.0);
+        EXPECT_NEAR(gl.offImage, cpu.offImage, 1e-6 * (cpu.deposited + cpu.offImage));
+        for (int c = 0; c < 3; ++c) {
+            const auto d = compare(gl.channel[c], cpu.channel[c]);
+            EXPECT_LE(d.relativeL2, 1e-6) << "channel " << c;
+            EXPECT_LE(d.worst, 1e-6 * d.peak) << "channel " << c;
+        }
     }
 }
 
