@@ -361,14 +361,32 @@ void guardedRead(const std::string& path, const PlateLimits& limits) {
 int checkPlate(const std::string& path, const PlateLimits& limits) {
 #if !defined(__SANITIZE_ADDRESS__)
     // Pixels as float plus the library's own buffers: a header that lies about its sizes fails here
-    // instead of exhausting the machine. (AddressSanitizer reserves far more address space: no limit.)
+    // instead of exhausting the machine. Until the header has passed its checks, the process may grow
+    // by kHeaderAddressSpace only: a header is small, and a damaged one declaring a gigabyte string
+    // fails at once instead of spending seconds of CPU time filling it. (AddressSanitizer reserves far
+    // more address space: no limit.)
     const rlim_t budget =
         static_cast<rlim_t>(limits.maxPixels) * static_cast<rlim_t>(limits.maxChannels) * 8u + (rlim_t(4) << 30);
-    const rlimit rl{budget, budget};
+    constexpr rlim_t kHeaderAddressSpace = rlim_t(1) << 30;
+    rlim_t now = 0;
+    if (std::FILE* f = std::fopen("/proc/self/statm", "r")) {
+        unsigned long long pages = 0;
+        if (std::fscanf(f, "%llu", &pages) == 1)
+            now = static_cast<rlim_t>(pages) * static_cast<rlim_t>(sysconf(_SC_PAGESIZE));
+        std::fclose(f);
+    }
+    const rlimit rl{std::min(budget, now + kHeaderAddressSpace), budget};
     setrlimit(RLIMIT_AS, &rl);
 #endif
     PlateLimits reporting = limits;
     reporting.onHeader = [](std::uint64_t floatBytes) {
+#if !defined(__SANITIZE_ADDRESS__)
+        rlimit whole{};
+        if (getrlimit(RLIMIT_AS, &whole) == 0) {
+            whole.rlim_cur = whole.rlim_max; // the header has passed: the pixels get the whole budget
+            setrlimit(RLIMIT_AS, &whole);
+        }
+#endif
         std::printf("header %llu\n", static_cast<unsigned long long>(floatBytes));
         std::fflush(stdout);
     };
