@@ -48,9 +48,9 @@ TEST(Colour, FlatSpectrumIsWhiteAndMatchingFunctionsPeakWhereTheyShould) {
 
 namespace {
 
-// Exact area of a polygon inside the unit pixel [x, x + 1] x [y, y + 1], by clipping it against the
-// pixel's four sides (an independent per-pixel computation, cost ~ area, to check the edge raster).
-double pixelCoverage(std::vector<glm::dvec2> p, double x, double y) {
+// A polygon clipped to the unit pixel [x, x + 1] x [y, y + 1] against its four sides (an independent
+// per-pixel computation, cost ~ area, to check the edge raster).
+std::vector<glm::dvec2> clippedToPixel(std::vector<glm::dvec2> p, double x, double y) {
     auto clip = [&](int axis, double v, bool keepAbove) {
         std::vector<glm::dvec2> out;
         for (std::size_t i = 0; i < p.size(); ++i) {
@@ -65,17 +65,48 @@ double pixelCoverage(std::vector<glm::dvec2> p, double x, double y) {
     clip(0, x + 1, false);
     clip(1, y, true);
     clip(1, y + 1, false);
+    return p;
+}
+
+// Exact area of a polygon inside the unit pixel at (x, y).
+double pixelCoverage(const std::vector<glm::dvec2>& poly, double x, double y) {
+    const std::vector<glm::dvec2> p = clippedToPixel(poly, x, y);
     double area = 0.0;
     for (std::size_t i = 0; i < p.size(); ++i)
         area += p[i].x * p[(i + 1) % p.size()].y - p[(i + 1) % p.size()].x * p[i].y;
     return 0.5 * std::abs(area);
 }
 
+// Uniform numbers in [0, 1) from a 64-bit linear congruential generator: the same on every platform.
+struct Uniform {
+    std::uint64_t state;
+    double operator()() {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return static_cast<double>(state >> 11) * 0x1.0p-53;
+    }
+};
+
 double polygonArea(const std::vector<glm::dvec2>& p) {
     double area = 0.0;
     for (std::size_t i = 0; i < p.size(); ++i)
         area += p[i].x * p[(i + 1) % p.size()].y - p[(i + 1) % p.size()].x * p[i].y;
     return 0.5 * std::abs(area);
+}
+
+// The raster holds `expected` per pixel, and its stats split `total` into the drawn part (the sum of
+// `expected`) and the part off the frame, which is not empty.
+void expectDrawn(const CoverageRaster& raster, const RasterStats& st, const std::vector<double>& expected,
+                 double total) {
+    std::vector<double> image(expected.size(), 0.0);
+    raster.addTo(image);
+    double drawn = 0.0;
+    for (std::size_t p = 0; p < image.size(); ++p) {
+        EXPECT_NEAR(image[p], expected[p], 1e-9 * (1.0 + std::abs(expected[p]))) << p;
+        drawn += expected[p];
+    }
+    EXPECT_NEAR(st.deposited, drawn, 1e-9 * total);
+    EXPECT_NEAR(st.deposited + st.offImage, total, 1e-9 * total);
+    EXPECT_LT(st.deposited, total); // some triangles reach past the frame
 }
 
 } // namespace
@@ -88,11 +119,7 @@ TEST(CoverageRaster, PolygonsOfEitherOrientationMatchPerPixelClipping) {
     CoverageRaster raster(frame);
     RasterStats st;
     std::vector<double> expected(23 * 17, 0.0);
-    std::uint64_t state = 12345;
-    auto uniform = [&]() {
-        state = state * 6364136223846793005ull + 1442695040888963407ull;
-        return static_cast<double>(state >> 11) * 0x1.0p-53;
-    };
+    Uniform uniform{12345};
     double total = 0.0;
     auto draw = [&](const std::vector<glm::dvec2>& poly, double e) {
         raster.polygon(poly, e, st);
@@ -110,16 +137,7 @@ TEST(CoverageRaster, PolygonsOfEitherOrientationMatchPerPixelClipping) {
         draw(tri, std::pow(10.0, -3.0 + 6.0 * uniform()));
     }
     draw({{2.5, 2.5}, {20.2, 3.1}, {8.0, 7.7}, {19.0, 15.5}, {1.7, 14.0}}, 50.0); // concave
-    std::vector<double> image(expected.size(), 0.0);
-    raster.addTo(image);
-    double drawn = 0.0;
-    for (std::size_t p = 0; p < image.size(); ++p) {
-        EXPECT_NEAR(image[p], expected[p], 1e-9 * (1.0 + std::abs(expected[p]))) << p;
-        drawn += expected[p];
-    }
-    EXPECT_NEAR(st.deposited, drawn, 1e-9 * total);
-    EXPECT_NEAR(st.deposited + st.offImage, total, 1e-9 * total);
-    EXPECT_LT(st.deposited, total); // some triangles reach past the frame
+    expectDrawn(raster, st, expected, total);
 }
 
 namespace {
@@ -129,21 +147,7 @@ namespace {
 // shoelace sums), an independent per-pixel computation.
 double pixelIntegral(const std::vector<glm::dvec2>& poly, const std::array<glm::dvec2, 3>& p,
                      const std::array<double, 3>& value, double x, double y) {
-    std::vector<glm::dvec2> q = poly;
-    auto clip = [&](int axis, double v, bool keepAbove) {
-        std::vector<glm::dvec2> out;
-        for (std::size_t i = 0; i < q.size(); ++i) {
-            const glm::dvec2 a = q[i], b = q[(i + 1) % q.size()];
-            const bool ia = keepAbove ? a[axis] >= v : a[axis] <= v, ib = keepAbove ? b[axis] >= v : b[axis] <= v;
-            if (ia) out.push_back(a);
-            if (ia != ib) out.push_back(a + (b - a) * ((v - a[axis]) / (b[axis] - a[axis])));
-        }
-        q = out;
-    };
-    clip(0, x, true);
-    clip(0, x + 1, false);
-    clip(1, y, true);
-    clip(1, y + 1, false);
+    const std::vector<glm::dvec2> q = clippedToPixel(poly, x, y);
     double a2 = 0.0, cx = 0.0, cy = 0.0;
     for (std::size_t i = 0; i < q.size(); ++i) {
         const glm::dvec2 u = q[i], v = q[(i + 1) % q.size()];
@@ -173,11 +177,7 @@ TEST(CoverageRaster, LinearDensitiesMatchPerPixelIntegrals) {
     CoverageRaster raster(frame);
     RasterStats st;
     std::vector<double> expected(23 * 17, 0.0);
-    std::uint64_t state = 777;
-    auto uniform = [&]() {
-        state = state * 6364136223846793005ull + 1442695040888963407ull;
-        return static_cast<double>(state >> 11) * 0x1.0p-53;
-    };
+    Uniform uniform{777};
     double total = 0.0;
     // The polygon, and the plane through value[k] at p[k]: energy, and gradient relative to the mean.
     auto draw = [&](const std::vector<glm::dvec2>& poly, const std::array<glm::dvec2, 3>& p,
@@ -220,16 +220,7 @@ TEST(CoverageRaster, LinearDensitiesMatchPerPixelIntegrals) {
     // Concave, inside the triangle below whose plane stays positive over it.
     draw({{2.5, 2.5}, {20.2, 3.1}, {8.0, 7.7}, {19.0, 15.5}, {1.7, 14.0}}, {{{0.0, 0.0}, {30.0, 0.0}, {0.0, 30.0}}},
          {5.0, 1.0, 9.0});
-    std::vector<double> image(expected.size(), 0.0);
-    raster.addTo(image);
-    double drawn = 0.0;
-    for (std::size_t p = 0; p < image.size(); ++p) {
-        EXPECT_NEAR(image[p], expected[p], 1e-9 * (1.0 + std::abs(expected[p]))) << p;
-        drawn += expected[p];
-    }
-    EXPECT_NEAR(st.deposited, drawn, 1e-9 * total);
-    EXPECT_NEAR(st.deposited + st.offImage, total, 1e-9 * total);
-    EXPECT_LT(st.deposited, total); // some triangles reach past the frame
+    expectDrawn(raster, st, expected, total);
 }
 
 TEST(CoverageRaster, ReleaseGivesTheSameImageAsAddTo) {
