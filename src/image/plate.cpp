@@ -340,12 +340,14 @@ void guardedRead(const std::string& path, const PlateLimits& limits) {
         if (over == Over::Cpu)
             bad(path, stage + " spent " + secondsText(cpu) + " s of CPU time without finishing, more than its " +
                           secondsText(cpuBound) + " s: the image library is stuck in a loop (a corrupt file?)" + raise);
-        // Stuck without spending CPU time: a lock in the library, or a file system that does not
-        // answer. Not evidence of a bad file, so not an input error (a farm may retry).
+        // Out of wall-clock time with CPU time left: it waited (a lock in the library, a file system
+        // that does not answer, or a machine far busier than any node should be). Not evidence of a
+        // bad file, so not an input error (a farm may retry).
         throw Error(ErrorKind::Runtime, SourceLocation{path},
                     stage + " did not finish within " + secondsText(wallBound) + " s, having spent " +
-                        secondsText(cpu) + " s of CPU time: stuck waiting (for a file system that does not answer, " +
-                        "or on a lock in the image library)" + raise);
+                        secondsText(cpu) + " of its " + secondsText(cpuBound) +
+                        " s of CPU time: it waited (for a file system that does not answer, a lock in the image " +
+                        "library or a machine's cores)" + raise);
     }
     if (WIFSIGNALED(status))
         bad(path, "the image library crashed reading this file (signal " + std::to_string(WTERMSIG(status)) +
@@ -375,7 +377,7 @@ int checkPlate(const std::string& path, const PlateLimits& limits) {
             now = static_cast<rlim_t>(pages) * static_cast<rlim_t>(sysconf(_SC_PAGESIZE));
         std::fclose(f);
     }
-    const rlimit rl{std::min(budget, now + kHeaderAddressSpace), budget};
+    const rlimit rl{now > 0 ? std::min(budget, now + kHeaderAddressSpace) : budget, budget};
     setrlimit(RLIMIT_AS, &rl);
 #endif
     PlateLimits reporting = limits;
