@@ -24,6 +24,9 @@ struct ShapedPolygons {
     double energy = 0.0; ///< drawn, in and out of the frame
     std::size_t triangles = 0;
     double pupilCells = 0.0; ///< the lit pupil area the polygons come from, in cells of their mesh
+    /// The polygons' areas summed, in pixels of their frame: the pixels they cover, a region the
+    /// ghost's map folds over counted once per sheet.
+    double areaPx = 0.0;
 
     void add(const glm::dvec2* p, std::size_t n, double e, const glm::dvec2& gradient = glm::dvec2(0.0));
 };

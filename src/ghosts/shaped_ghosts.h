@@ -142,11 +142,15 @@ struct ShapedRender {
     double culledShare = 0.0;                   ///< largest share of a light's ghost flux culled
     double deposited = 0.0, offImage = 0.0;     ///< flux summed over the channels
     std::size_t triangles = 0;
+    /// Triangles per pixel they cover (ShapedPolygons::areaPx), the mean over the instances drawn
+    /// directly and their channels: what the subdivision costs against what it draws.
+    double trianglesPerPixel = 0.0, mostTrianglesPerPixel = 0.0; ///< the mean, the largest
     /// The gridded instances (ShapedRenderSettings::gridError): their cell integrals on the grid,
     /// row-major, and the error their route is estimated to add, relative to each channel's L2 norm
     /// (the largest channel's).
     std::array<std::vector<double>, 3> grid;
     std::size_t gridded = 0, gridTriangles = 0;
+    double gridTrianglesPerCell = 0.0; ///< the same for the gridded instances, per grid cell
     double gridErrorEstimate = 0.0;
 };
 

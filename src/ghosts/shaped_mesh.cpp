@@ -354,6 +354,9 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
 }
 
 void ShapedPolygons::add(const glm::dvec2* p, std::size_t n, double e, const glm::dvec2& gradient) {
+    double area2 = 0.0;
+    for (std::size_t i = 0; i < n; ++i) area2 += p[i].x * p[(i + 1) % n].y - p[(i + 1) % n].x * p[i].y;
+    if (std::isfinite(area2)) areaPx += 0.5 * std::abs(area2);
     Poly q{static_cast<std::uint32_t>(vertices.size()),
            static_cast<std::uint32_t>(n),
            std::numeric_limits<float>::infinity(),

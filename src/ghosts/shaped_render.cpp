@@ -56,6 +56,10 @@ struct Drawn {
     std::vector<std::vector<double>> channel; ///< W frame-sized images
     double energy = 0.0;
     std::size_t triangles = 0;
+    /// Triangles per pixel they cover (ShapedPolygons::areaPx), summed over the instances and
+    /// channels that drew any, and their number.
+    double perPixel = 0.0, mostPerPixel = 0.0; ///< and the largest
+    std::size_t drawnSets = 0;
 };
 
 // A chunk of instances at a time: their polygons made in parallel, then drawn, on the CPU into
@@ -126,6 +130,12 @@ Drawn drawInstances(const ShapedTable& table, const std::vector<ShapedLight>& li
         for (std::size_t k = 0; k < (i1 - i0) * W; ++k) {
             out.energy += polys[k].energy;
             out.triangles += polys[k].triangles;
+            if (polys[k].areaPx > 0.0) {
+                const double perPixel = static_cast<double>(polys[k].triangles) / polys[k].areaPx;
+                out.perPixel += perPixel;
+                out.mostPerPixel = std::max(out.mostPerPixel, perPixel);
+                ++out.drawnSets;
+            }
         }
     }
     const std::size_t pixels = static_cast<std::size_t>(frame.width) * frame.height;
@@ -370,6 +380,8 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
     Drawn drawn = drawInstances(table, lights, direct, frame, W, settings, raster);
     double energy = drawn.energy;
     out.triangles = drawn.triangles;
+    out.trianglesPerPixel = drawn.drawnSets ? drawn.perPixel / static_cast<double>(drawn.drawnSets) : 0.0;
+    out.mostTrianglesPerPixel = drawn.mostPerPixel;
     const std::size_t pixels = static_cast<std::size_t>(frame.width) * frame.height;
     for (std::size_t w = 0; w < 3; ++w) {
         out.channel[w] = w < W ? std::move(drawn.channel[w]) : std::vector<double>(pixels, 0.0);
@@ -387,6 +399,7 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
         Drawn onGrid = drawInstances(table, lights, gridded, gf, W, onCells, nullptr, kSplatBelowCells);
         energy += onGrid.energy;
         out.gridTriangles = onGrid.triangles;
+        out.gridTrianglesPerCell = onGrid.drawnSets ? onGrid.perPixel / static_cast<double>(onGrid.drawnSets) : 0.0;
         for (std::size_t w = 0; w < 3; ++w) {
             out.grid[w] = w < W ? std::move(onGrid.channel[w])
                                 : std::vector<double>(static_cast<std::size_t>(grid.width) * grid.height, 0.0);

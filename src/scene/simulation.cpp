@@ -134,11 +134,16 @@ void Simulation::drawShaped(const image::Plate& plate, SimulatedPlate& out) {
                            "on a " +
                            text::fixed(s_.sensorWidthMm, 1) + " mm wide sensor): they get no flare");
     out.flare = flare.interleaved();
+    // Triangles per pixel (per grid cell) they cover, the mean over the instances: what the
+    // subdivision costs against what it draws.
     out.flareText = std::to_string(stats.drawn) + " ghost instances drawn (" + std::to_string(stats.triangles) +
-                    " triangles; " + std::to_string(stats.gridded) + " of them through the Fourier series, " +
-                    std::to_string(stats.gridTriangles) + " triangles on its grid, estimated error " +
-                    text::scientific(stats.gridErrorEstimate, 2) + "), " + std::to_string(stats.culled) +
-                    " culled holding at most " + text::scientific(stats.culledShare, 2) + " of a light's ghost flux";
+                    " triangles, " + text::fixed(stats.trianglesPerPixel, 2) + " per pixel covered (at most " +
+                    text::fixed(stats.mostTrianglesPerPixel, 1) + "); " + std::to_string(stats.gridded) +
+                    " of them through the Fourier series, " + std::to_string(stats.gridTriangles) +
+                    " triangles on its grid, " + text::fixed(stats.gridTrianglesPerCell, 2) +
+                    " per cell covered, estimated error " + text::scientific(stats.gridErrorEstimate, 2) + "), " +
+                    std::to_string(stats.culled) + " culled holding at most " + text::scientific(stats.culledShare, 2) +
+                    " of a light's ghost flux";
     out.modelMeta = {{"fourierflare:ghostModel", "shaped"},
                      {"fourierflare:backend", s_.raster ? s_.fourier.backend->describe() : std::string("cpu")},
                      {"fourierflare:culled", std::to_string(stats.culled) + " ghost instances, at most " +

@@ -110,6 +110,10 @@ TEST(ShapedGhosts, AGlassPlateGhostIsAUniformDiscOfKnownIrradiance) {
         EXPECT_NEAR(sum(r.channel[c]) / R2, 1.0, 2e-3) << "channel " << c;
         EXPECT_LT(relativeL2(r.channel[c], expected), 0.02) << "channel " << c;
     }
+    // Its triangles cover the disc once in each channel: per pixel, a third of them over its area.
+    const double discPx = std::numbers::pi * radius * radius / (frame.pitchMm * frame.pitchMm);
+    EXPECT_NEAR(r.trianglesPerPixel, static_cast<double>(r.triangles) / 3.0 / discPx, 0.01 * r.trianglesPerPixel);
+    EXPECT_NEAR(r.mostTrianglesPerPixel, r.trianglesPerPixel, 1e-3 * r.trianglesPerPixel);
 }
 
 // Linear elements (ShapedRenderSettings::linearDensity) shape each triangle's density and keep its
