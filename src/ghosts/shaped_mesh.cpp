@@ -82,7 +82,7 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
 
     // Per vertex: pixel x, y, weight, the constraints' values, then the map's Jacobian (pixels^2 per
     // cell; NaN where it cannot be taken).
-    const std::size_t J = 3 + C, S = 4 + C;
+    const std::size_t J = 3 + C, S = settings.linearDensity ? 4 + C : 3 + C;
     std::vector<double> attr(V * S, 0.0);
     std::vector<char> ok(V, 0);
     double xMin = std::numeric_limits<double>::infinity(), xMax = -xMin, yMin = xMin, yMax = -xMin;
@@ -127,9 +127,9 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
     if (!(xMax >= xMin)) return;
     // The Jacobian at each vertex by central differences (one-sided at the grid's border or next to a
     // lost ray): the weight over it is the irradiance there, which shapes each element's density.
-    for (std::size_t v = 0; v < V; ++v) {
+    for (std::size_t v = 0; v < V && settings.linearDensity; ++v) {
         attr[v * S + J] = std::numeric_limits<double>::quiet_NaN();
-        if (!ok[v] || !settings.linearDensity) continue;
+        if (!ok[v]) continue;
         const int i = static_cast<int>(v % (n + 1)), j = static_cast<int>(v / (n + 1));
         auto difference = [&](int di, int dj) {
             auto at = [&](int a, int b) -> const double* {
@@ -160,8 +160,9 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
     // the map keeps its orientation over it, as a gradient relative to the plane's value at `at`
     // (the centroid of what is drawn); 0 (uniform) where it folds or a Jacobian is missing.
     auto gradientOf = [&](const double* P, const double* Q, const double* R, const glm::dvec2& at) {
+        if (!settings.linearDensity) return glm::dvec2(0.0);
         const double jP = P[J], jQ = Q[J], jR = R[J];
-        if (!settings.linearDensity || !(jP * jQ > 0.0 && jP * jR > 0.0)) return glm::dvec2(0.0);
+        if (!(jP * jQ > 0.0 && jP * jR > 0.0)) return glm::dvec2(0.0);
         const double rP = std::max(0.0, P[2]) / std::abs(jP), rQ = std::max(0.0, Q[2]) / std::abs(jQ),
                      rR = std::max(0.0, R[2]) / std::abs(jR);
         const glm::dvec2 e1(Q[0] - P[0], Q[1] - P[1]), e2(R[0] - P[0], R[1] - P[1]);
@@ -321,9 +322,9 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
                     if (cubic) {
                         for (std::size_t z = 0; z < J; ++z) o[z] = bicubic(cr[a], cr[b], z);
                         const auto &su = slopes[K][a], &sv = slopes[K][b];
-                        o[J] = settings.linearDensity ? bicubic(su, cr[b], 0) * bicubic(cr[a], sv, 1) -
-                                                            bicubic(cr[a], sv, 0) * bicubic(su, cr[b], 1)
-                                                      : 0.0;
+                        if (settings.linearDensity)
+                            o[J] = bicubic(su, cr[b], 0) * bicubic(cr[a], sv, 1) -
+                                   bicubic(cr[a], sv, 0) * bicubic(su, cr[b], 1);
                     } else {
                         const double u = double(a) / K, v = double(b) / K;
                         for (std::size_t z = 0; z < J; ++z)
@@ -337,7 +338,7 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
                             return (1 - u) * (attr[v01 * S + z] - attr[v00 * S + z]) +
                                    u * (attr[v11 * S + z] - attr[v10 * S + z]);
                         };
-                        o[J] = settings.linearDensity ? du(0) * dv(1) - dv(0) * du(1) : 0.0;
+                        if (settings.linearDensity) o[J] = du(0) * dv(1) - dv(0) * du(1);
                     }
                 }
             const double subArea = 0.5 / (double(K) * K);
@@ -357,18 +358,16 @@ void ShapedPolygons::add(const glm::dvec2* p, std::size_t n, double e, const glm
     double area2 = 0.0;
     for (std::size_t i = 0; i < n; ++i) area2 += p[i].x * p[(i + 1) % n].y - p[(i + 1) % n].x * p[i].y;
     if (std::isfinite(area2)) areaPx += 0.5 * std::abs(area2);
-    Poly q{static_cast<std::uint32_t>(vertices.size()),
-           static_cast<std::uint32_t>(n),
-           std::numeric_limits<float>::infinity(),
-           -std::numeric_limits<float>::infinity(),
-           e,
-           glm::vec2(gradient)};
+    Poly q{static_cast<std::uint32_t>(vertices.size()), static_cast<std::uint32_t>(n),
+           std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(), e};
     for (std::size_t i = 0; i < n; ++i) {
         const glm::vec2 v(p[i]);
         vertices.push_back(v);
         q.yMin = std::min(q.yMin, v.y);
         q.yMax = std::max(q.yMax, v.y);
     }
+    if (gradients.empty() && (gradient.x != 0.0 || gradient.y != 0.0)) gradients.assign(polys.size(), glm::vec2(0.0f));
+    if (!gradients.empty()) gradients.push_back(glm::vec2(gradient));
     polys.push_back(q);
     energy += e;
     ++triangles;

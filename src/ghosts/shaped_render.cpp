@@ -109,7 +109,8 @@ Drawn drawInstances(const ShapedTable& table, const std::vector<ShapedLight>& li
                 std::array<glm::dvec2, kMaxPolygon> p{};
                 for (std::size_t i = i0; i < i1; ++i) {
                     const ShapedPolygons& ps = polys[(i - i0) * W + w];
-                    for (const ShapedPolygons::Poly& q : ps.polys) {
+                    for (std::size_t qi = 0; qi < ps.polys.size(); ++qi) {
+                        const ShapedPolygons::Poly& q = ps.polys[qi];
                         if (q.yMax < r0 - 1.0f || q.yMin > r1 + 1.0f) continue; // a splat reaches a pixel further
                         for (std::uint32_t v = 0; v < q.count; ++v)
                             p[v] = {ps.vertices[q.first + v].x, ps.vertices[q.first + v].y - r0};
@@ -123,7 +124,7 @@ Drawn drawInstances(const ShapedTable& table, const std::vector<ShapedLight>& li
                                 continue;
                             }
                         }
-                        rasters[w][b].polygon(std::span(p.data(), q.count), q.energy, glm::dvec2(q.gradient), unused);
+                        rasters[w][b].polygon(std::span(p.data(), q.count), q.energy, ps.gradient(qi), unused);
                     }
                 }
             });

@@ -40,11 +40,13 @@ void GlPolygonRaster::begin(const trace::ImageFrame& frame, std::size_t channels
 
 void GlPolygonRaster::draw(std::size_t c, const ghosts::ShapedPolygons& polygons) {
     if (c >= channels_) throw Error(ErrorKind::Runtime, "the GL polygon raster has no channel " + std::to_string(c));
-    for (const auto& p : polygons.polys) {
+    for (std::size_t i = 0; i < polygons.polys.size(); ++i) {
+        const auto& p = polygons.polys[i];
+        const glm::dvec2 g = polygons.gradient(i);
         if (p.count == 0 || p.energy == 0.0) continue;
         if (stagedVertices_.size() + p.count > batch_) flush();
         stagedPolygons_.push_back({static_cast<std::uint32_t>(stagedVertices_.size()), p.count,
-                                   static_cast<std::uint32_t>(c), 0, p.energy, p.gradient.x, p.gradient.y});
+                                   static_cast<std::uint32_t>(c), 0, p.energy, g.x, g.y});
         stagedVertices_.insert(stagedVertices_.end(), polygons.vertices.begin() + p.first,
                                polygons.vertices.begin() + p.first + p.count);
     }

@@ -99,9 +99,10 @@ std::vector<double> onCpu(const ghosts::ShapedPolygons& ps, const trace::ImageFr
     trace::CoverageRaster raster(frame);
     trace::RasterStats stats;
     std::vector<glm::dvec2> p;
-    for (const auto& q : ps.polys) {
+    for (std::size_t i = 0; i < ps.polys.size(); ++i) {
+        const auto& q = ps.polys[i];
         p.assign(ps.vertices.begin() + q.first, ps.vertices.begin() + q.first + q.count);
-        raster.polygon(p, q.energy, glm::dvec2(q.gradient), stats);
+        raster.polygon(p, q.energy, ps.gradient(i), stats);
     }
     return std::move(raster).release();
 }
