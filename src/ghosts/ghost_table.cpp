@@ -133,7 +133,9 @@ TableEntry fitEntry(const ShapedTable& table, std::size_t g, std::size_t w, int 
     TableEntry e;
     if (mesh.data.empty() || !(mesh.flux > 0.0)) return e;
     // Pass 1: a frame of 1 um pixels on the axis; no subdivision.
+    // Uniform elements: the fits' moments are those of the flat cells.
     ShapedRenderSettings flat;
+    flat.linearDensity = false;
     flat.subcellPx = std::numeric_limits<double>::infinity();
     const trace::ImageFrame micron{0, 0, 1e-3};
     ShapedPolygons coarse;
@@ -144,7 +146,7 @@ TableEntry fitEntry(const ShapedTable& table, std::size_t g, std::size_t w, int 
     const double spread = std::max({std::sqrt(m.mxx), std::sqrt(m.myy), 1e-3});
     const trace::ImageFrame local{options.imageSize, options.imageSize,
                                   2.0 * options.extentSigmas * spread / options.imageSize, m.centroidX, m.centroidY};
-    ShapedRenderSettings fine;
+    ShapedRenderSettings fine = flat;
     fine.subcellPx = 1.0;
     ShapedPolygons polys;
     meshPolygons(table, {g, a, 0.0, 0.1}, w, 0.0, 1.0, local, fine, polys);

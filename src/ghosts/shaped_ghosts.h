@@ -102,23 +102,22 @@ struct ShapedRenderSettings {
     /// its ghost flux (summed over the channels).
     double cullShare = 0.005;
     /// Each cell of a ghost's mesh is drawn as k x k sub-cells placed by bicubic interpolation of
-    /// the grid, k (at most maxSubdivision) growing until the flat sub-cells, and the aperture
-    /// edges cutting them, lie within a tolerance of the bicubic surface: flatnessPx pixels for
-    /// the ghost instance of highest mean irradiance in the frame, growing in inverse proportion to
-    /// a ghost's irradiance up to maxFlatnessPx (its share of the image's squared error is its
-    /// irradiance squared times the area its misplaced edges sweep). Where the bicubic stencil is
+    /// the grid, k (at most maxSubdivision) the largest of two rules stated in pixels
+    /// (docs/ghost-table.md, "Subdivision in pixels"). Where light lands: the flat sub-cells, and the
+    /// aperture edges cutting them, lie within flatnessPx pixels of the bicubic surface for the
+    /// ghost instance of highest mean irradiance in the frame, growing in inverse proportion to a
+    /// ghost's irradiance up to maxFlatnessPx (its share of the image's squared error is its
+    /// irradiance squared times the area its misplaced edges sweep); where the bicubic stencil is
     /// incomplete (the grid's border, lost rays) cells cut by an edge get sub-cells of about
-    /// subcellPx pixels. Beyond that, k grows until neighbouring flat sub-cells differ in irradiance
-    /// by at most irradianceStep (relative) for that brightest instance, growing in inverse
-    /// proportion to a ghost's irradiance like the flatness (the absolute step is what the image's
-    /// error sees): the cells' faceted texture, a cross-hatch, leaves the image.
-    /// Each triangle's density linear over it, the plane through its vertices' irradiances (the
-    /// mesh's weight over the Jacobian of its interpolating surface), its flux kept; false: uniform
-    /// (its mean irradiance). Off: at the default subdivision it is not yet closer to the converged
-    /// traced render on every lens (docs/ghost-table.md, "Linear elements").
-    bool linearDensity = false;
+    /// subcellPx pixels. How it is spread: the error the elements' density leaves in a pixel is at
+    /// most irradianceError times the instance's brightest pixel — second order in the sub-cell's
+    /// size for linear elements, first order for uniform ones, and no sub-cell below a quarter pixel.
+    /// Each triangle's density is linear over it (linearDensity), the plane through its vertices'
+    /// irradiances (the mesh's weight over the Jacobian of its interpolating surface) with its flux
+    /// kept, where it covers at least a pixel; below that, and with linearDensity false, uniform.
+    bool linearDensity = true;
     double flatnessPx = 0.02;
-    double irradianceStep = 0.002;
+    double irradianceError = 0.002;
     double maxFlatnessPx = 1.0;
     double subcellPx = 2.0;
     int maxSubdivision = 8;

@@ -52,6 +52,50 @@ std::array<double, 4> catmullRomSlope(double u) {
     return {0.5 * (-1 + 4 * u - 3 * u2), 0.5 * (-10 * u + 9 * u2), 0.5 * (1 + 8 * u - 9 * u2), 0.5 * (-2 * u + 3 * u2)};
 }
 
+// Below this area (pixels^2) an element is drawn uniform: the pixel that holds it integrates its
+// density's slope away (to second order), and a ghost focused to a few pixels has Jacobians too
+// noisy (its landing points are 32-bit floats) for a slope to mean anything.
+constexpr double kLinearMinAreaPx = 1.0;
+// The irradiance never splits a cell into sub-cells narrower than this (pixels): below it, the
+// sub-cells' flux lands in the pixel that holds them whatever their density.
+constexpr double kIrradianceSubcellPx = 0.25;
+
+// The irradiance (weight per pixel^2) over one cell of the grid, for the subdivision in pixels: at its
+// four corners (00, 10, 01, 11) and its centre, and its map's Jacobian signs there.
+struct CellIrradiance {
+    std::array<double, 4> corner{};
+    double centre = 0.0;
+    bool fold = false; ///< the map folds over the cell (its Jacobian changes sign), or one is missing
+    double areaPx = 0.0, sizePx = 0.0;
+};
+
+// The sub-cells per side k (1..maxK) that the cell's irradiance asks for, so that the error its
+// elements leave in a pixel is at most `tolerance` (weight per pixel^2; docs/ghost-table.md,
+// "Subdivision in pixels"). A sub-cell of size h = sizePx / k:
+//   linear elements (area >= kLinearMinAreaPx): the plane's error, second order: dev / k^2, dev the
+//     bicubic irradiance at the centre against the planes through the corners;
+//   uniform ones: the step between neighbours, spread / k, which a pixel sees whole when h >= 1 px
+//     and over a share h of it below: spread / (2k) min(1, h).
+// A fold cell (the irradiance unbounded over it, its elements uniform) counts as the uniform case
+// with the spread from 0 to its largest finite value. No cell is split into sub-cells narrower than
+// kIrradianceSubcellPx.
+int irradianceSplit(const CellIrradiance& c, double tolerance, bool linear, int maxK) {
+    const int cap = std::clamp(static_cast<int>(std::ceil(c.sizePx / kIrradianceSubcellPx)), 1, maxK);
+    const auto& r = c.corner;
+    double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+    for (double v : {r[0], r[1], r[2], r[3], c.centre})
+        if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+    const double spread = c.fold ? hi : std::max(0.0, hi - lo);
+    const double dev = std::max(std::abs(c.centre - 0.5 * (r[0] + r[3])), std::abs(c.centre - 0.5 * (r[1] + r[2])));
+    for (int k = 1; k < cap; ++k) {
+        const double h = c.sizePx / k;
+        const bool slope = linear && !c.fold && c.areaPx >= 2.0 * kLinearMinAreaPx * k * k;
+        const double err = slope ? dev / (double(k) * k) : 0.5 * spread / k * std::min(1.0, h);
+        if (err <= tolerance) return k;
+    }
+    return cap;
+}
+
 } // namespace
 
 void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t w, double azimuthRad, double flux,
@@ -82,7 +126,8 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
 
     // Per vertex: pixel x, y, weight, the constraints' values, then the map's Jacobian (pixels^2 per
     // cell; NaN where it cannot be taken).
-    const std::size_t J = 3 + C, S = settings.linearDensity ? 4 + C : 3 + C;
+    const bool linear = settings.linearDensity;
+    const std::size_t J = 3 + C, S = 4 + C;
     std::vector<double> attr(V * S, 0.0);
     std::vector<char> ok(V, 0);
     double xMin = std::numeric_limits<double>::infinity(), xMax = -xMin, yMin = xMin, yMax = -xMin;
@@ -127,7 +172,7 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
     if (!(xMax >= xMin)) return;
     // The Jacobian at each vertex by central differences (one-sided at the grid's border or next to a
     // lost ray): the weight over it is the irradiance there, which shapes each element's density.
-    for (std::size_t v = 0; v < V && settings.linearDensity; ++v) {
+    for (std::size_t v = 0; v < V; ++v) {
         attr[v * S + J] = std::numeric_limits<double>::quiet_NaN();
         if (!ok[v]) continue;
         const int i = static_cast<int>(v % (n + 1)), j = static_cast<int>(v / (n + 1));
@@ -160,14 +205,14 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
     // the map keeps its orientation over it, as a gradient relative to the plane's value at `at`
     // (the centroid of what is drawn); 0 (uniform) where it folds or a Jacobian is missing.
     auto gradientOf = [&](const double* P, const double* Q, const double* R, const glm::dvec2& at) {
-        if (!settings.linearDensity) return glm::dvec2(0.0);
+        if (!linear) return glm::dvec2(0.0);
         const double jP = P[J], jQ = Q[J], jR = R[J];
         if (!(jP * jQ > 0.0 && jP * jR > 0.0)) return glm::dvec2(0.0);
         const double rP = std::max(0.0, P[2]) / std::abs(jP), rQ = std::max(0.0, Q[2]) / std::abs(jQ),
                      rR = std::max(0.0, R[2]) / std::abs(jR);
         const glm::dvec2 e1(Q[0] - P[0], Q[1] - P[1]), e2(R[0] - P[0], R[1] - P[1]);
         const double det = e1.x * e2.y - e1.y * e2.x;
-        if (!(std::abs(det) > 0.0)) return glm::dvec2(0.0);
+        if (!(std::abs(det) >= 2.0 * kLinearMinAreaPx)) return glm::dvec2(0.0);
         const glm::dvec2 grad(((rQ - rP) * e2.y - (rR - rP) * e1.y) / det, ((rR - rP) * e1.x - (rQ - rP) * e2.x) / det);
         const double value = rP + grad.x * (at.x - P[0]) + grad.y * (at.y - P[1]);
         if (!(value > 0.0) || !std::isfinite(grad.x) || !std::isfinite(grad.y)) return glm::dvec2(0.0);
@@ -228,7 +273,27 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
                             wx[3] * nb[q * 4 + 3][z]);
         return acc;
     };
-    const auto half = catmullRom(0.5);
+    const auto half = catmullRom(0.5), halfSlope = catmullRomSlope(0.5);
+    // The instance's brightest pixel, estimated (weight per pixel^2): the largest mean irradiance of a
+    // cell the apertures leave whole, over at least a pixel (a smaller cell's flux lands in about one);
+    // of any cell where none is whole.
+    double peakWhole = 0.0, peakAny = 0.0;
+    for (int j = 0; j < n && std::isfinite(in.irradianceError); ++j)
+        for (int i = 0; i < n; ++i) {
+            const std::size_t v00 = static_cast<std::size_t>(j) * (n + 1) + i, v10 = v00 + 1, v01 = v00 + n + 1,
+                              v11 = v01 + 1;
+            if (!(ok[v00] && ok[v10] && ok[v01] && ok[v11])) continue;
+            const double *a = &attr[v00 * S], *b = &attr[v10 * S], *d = &attr[v01 * S], *e = &attr[v11 * S];
+            const double areaPx = 0.5 * std::abs((e[0] - a[0]) * (d[1] - b[1]) - (d[0] - b[0]) * (e[1] - a[1]));
+            const double mean = 0.25 * (a[2] + b[2] + d[2] + e[2]) / std::max(areaPx, 1.0);
+            if (!std::isfinite(mean)) continue;
+            bool whole = true;
+            for (std::size_t k = 0; k < C && whole; ++k)
+                whole = a[3 + k] >= 0.0 && b[3 + k] >= 0.0 && d[3 + k] >= 0.0 && e[3 + k] >= 0.0;
+            peakAny = std::max(peakAny, mean);
+            if (whole) peakWhole = std::max(peakWhole, mean);
+        }
+    const double tolerance = in.irradianceError * (peakWhole > 0.0 ? peakWhole : peakAny);
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
             const std::size_t v00 = static_cast<std::size_t>(j) * (n + 1) + i, v10 = v00 + 1, v01 = v00 + n + 1,
@@ -295,13 +360,24 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
                     K = std::clamp(static_cast<int>(
                                        std::ceil(std::sqrt(std::max(landing / in.flatnessPx, edgeDev / edgeFlatness)))),
                                    1, settings.maxSubdivision);
-                // A flat sub-cell carries its mean irradiance; its neighbour's differs by the relative
-                // change of the map's Jacobian across it, about 8 dev / (K sizePx) for a map that
-                // deviates dev pixels from flat over a cell of sizePx (dev = h^2 x'' / 8, sizePx = h x').
-                if (cubic && sizePx > 0.0) {
-                    const double bend = 8.0 * landing / sizePx;
-                    K = std::max(K, std::clamp(static_cast<int>(std::ceil(bend / in.irradianceStep)), 1,
-                                               settings.maxSubdivision));
+                // Then the error the elements' density leaves in the pixels (irradianceSplit): the
+                // irradiance at the corners (their Jacobians) and at the centre (the bicubic's own).
+                if (cubic && sizePx > 0.0 && tolerance > 0.0 && std::isfinite(tolerance)) {
+                    CellIrradiance ci;
+                    ci.sizePx = sizePx;
+                    ci.areaPx = 0.5 * std::abs((c11[0] - c00[0]) * (c01[1] - c10[1]) - (c01[0] - c10[0]) * (c11[1] - c00[1]));
+                    const double jc = bicubic(halfSlope, half, 0) * bicubic(half, halfSlope, 1) -
+                                      bicubic(half, halfSlope, 0) * bicubic(halfSlope, half, 1);
+                    ci.centre = std::max(0.0, bicubic(half, half, 2)) / std::abs(jc);
+                    const std::array<const double*, 4> corners4{c00, c10, c01, c11};
+                    bool positive = jc > 0.0, negative = jc < 0.0;
+                    for (int q = 0; q < 4; ++q) {
+                        ci.corner[q] = std::max(0.0, corners4[q][2]) / std::abs(corners4[q][J]);
+                        positive = positive && corners4[q][J] > 0.0;
+                        negative = negative && corners4[q][J] < 0.0;
+                    }
+                    ci.fold = !(positive || negative);
+                    K = std::max(K, irradianceSplit(ci, tolerance, linear, settings.maxSubdivision));
                 }
             }
             if (K == 1) {
@@ -322,8 +398,7 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
                     if (cubic) {
                         for (std::size_t z = 0; z < J; ++z) o[z] = bicubic(cr[a], cr[b], z);
                         const auto &su = slopes[K][a], &sv = slopes[K][b];
-                        if (settings.linearDensity)
-                            o[J] = bicubic(su, cr[b], 0) * bicubic(cr[a], sv, 1) -
+                        o[J] = bicubic(su, cr[b], 0) * bicubic(cr[a], sv, 1) -
                                    bicubic(cr[a], sv, 0) * bicubic(su, cr[b], 1);
                     } else {
                         const double u = double(a) / K, v = double(b) / K;
@@ -338,7 +413,7 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
                             return (1 - u) * (attr[v01 * S + z] - attr[v00 * S + z]) +
                                    u * (attr[v11 * S + z] - attr[v10 * S + z]);
                         };
-                        if (settings.linearDensity) o[J] = du(0) * dv(1) - dv(0) * du(1);
+                        o[J] = du(0) * dv(1) - dv(0) * du(1);
                     }
                 }
             const double subArea = 0.5 / (double(K) * K);

@@ -17,8 +17,9 @@ struct MeshInstance {
     double flatnessPx = 0.0; ///< the subdivision's tolerance (ShapedRenderSettings::flatnessPx)
     /// the tolerance where an aperture's edge crosses a cell (0: flatnessPx)
     double edgeFlatnessPx = 0.0;
-    /// the largest relative step of irradiance between neighbouring sub-cells (irradianceStep)
-    double irradianceStep = std::numeric_limits<double>::infinity();
+    /// the largest error the elements' density may leave in a pixel, relative to the instance's
+    /// brightest pixel (ShapedRenderSettings::irradianceError; infinity: none)
+    double irradianceError = std::numeric_limits<double>::infinity();
     /// Every decimation-th vertex of the mesh on each axis (a divisor of the ghost's grid): cells
     /// of decimation^2 cells, for a grid coarser than the mesh (ShapedRenderSettings::grid).
     int decimation = 1;

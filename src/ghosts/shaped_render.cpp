@@ -328,7 +328,7 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
     for (std::size_t i = 0; i < instances.size(); ++i) {
         const double dim = irradiance[i] > 0.0 ? top / irradiance[i] : std::numeric_limits<double>::infinity();
         instances[i].mesh.flatnessPx = std::min(settings.maxFlatnessPx, settings.flatnessPx * dim);
-        instances[i].mesh.irradianceStep = settings.irradianceStep * dim;
+        instances[i].mesh.irradianceError = settings.irradianceError;
     }
 
     // The split. Per channel c, instance i has ||g||^2 >= norm2 and, on the grid, the squared error
@@ -367,7 +367,7 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
             // coarser chord of a convex outline cuts off flux (about 4/3 sag / radius of it).
             in.mesh.edgeFlatnessPx = in.mesh.flatnessPx / grid.step;
             in.mesh.flatnessPx = settings.gridFlatness;
-            in.mesh.irradianceStep = std::numeric_limits<double>::infinity();
+            in.mesh.irradianceError = std::numeric_limits<double>::infinity();
             in.mesh.decimation = 1;
             for (int d = 2; gh.grid / d >= kMinGridCells; ++d)
                 if (gh.grid % d == 0 && d * cellPx <= kGridCellsPerMeshCell * grid.step) in.mesh.decimation = d;

@@ -238,34 +238,33 @@ void CoverageRaster::linearSegment(const Vec2& p0, const Vec2& p1, const Density
         double* slope = &slope_[static_cast<std::size_t>(y) * stride_];
         const int i0 = static_cast<int>(std::floor(std::min(x, xNext))),
                   i1 = static_cast<int>(std::ceil(std::max(x, xNext)));
-        const double xa = x;
-        // The integral over [ya, yb] of the density's integral from the segment (clamped to the
-        // column) to j + 1: quadratic in y between the points where the segment crosses j and j + 1,
-        // so Simpson's rule on each piece is exact.
-        auto column = [&](int j) {
-            const double left = j, right = j + 1.0;
-            auto inner = [&](double yy) {
-                const double u = std::clamp(h > 0.0 ? xa + (xNext - xa) * (yy - ya) / h : xa, left, right);
-                return (d.d0 + d.dy * yy) * (right - u) + 0.5 * d.dx * (right * right - u * u);
-            };
-            double cuts[4] = {ya, yb, yb, yb};
-            int n = 1;
-            for (double edgeX : {left, right})
-                if ((xa - edgeX) * (xNext - edgeX) < 0.0) cuts[n++] = ya + h * (edgeX - xa) / (xNext - xa);
-            if (n == 3 && cuts[1] > cuts[2]) std::swap(cuts[1], cuts[2]);
-            cuts[n] = yb;
-            double sum = 0.0;
-            for (int k = 0; k < n; ++k) {
-                const double a = cuts[k], b = cuts[k + 1];
-                sum += (b - a) / 6.0 * (inner(a) + 4.0 * inner(0.5 * (a + b)) + inner(b));
-            }
-            return sum;
+        // Column j's value is P(j + 1) - P(j), P(c) the integral of the density over the row's part
+        // right of the segment and left of the line x = c. In coordinates from (i0, ya), with
+        // tau = y - ya, the segment at xl + s tau and the density e0 + dx X + dy tau:
+        //   P(c) = Int_{x(tau) < c} [Phi(c, tau) - Phi(x(tau), tau)] dtau,  Phi(X, tau) = (e0 + dy tau) X + dx X^2 / 2,
+        // Phi(x(tau), tau) = q0 + q1 tau + q2 tau^2 with the antiderivative R below, and
+        // {tau : x(tau) < c} an interval of [0, h] ending where the segment crosses c.
+        const double s = h > 0.0 ? (xNext - x) / h : 0.0, xl = x - i0;
+        const double e0 = d.d0 + d.dx * i0 + d.dy * ya;
+        const double q0 = e0 * xl + 0.5 * d.dx * xl * xl, q1 = e0 * s + d.dy * xl + d.dx * xl * s,
+                     q2 = d.dy * s + 0.5 * d.dx * s * s;
+        auto R = [&](double t) { return t * (q0 + t * (0.5 * q1 + t * q2 / 3.0)); };
+        auto P = [&](double c) {
+            double a = 0.0, b = h;
+            if (s > 0.0)
+                b = std::clamp((c - xl) / s, 0.0, h);
+            else if (s < 0.0)
+                a = std::clamp((c - xl) / s, 0.0, h);
+            else if (!(xl < c))
+                return 0.0;
+            return (e0 * c + 0.5 * d.dx * c * c) * (b - a) + 0.5 * d.dy * c * (b * b - a * a) - (R(b) - R(a));
         };
-        double before = 0.0;
+        double before = 0.0, below = 0.0;
         for (int j = i0; j < i1; ++j) {
-            const double v = column(j);
+            const double next = P(j + 1.0 - i0), v = next - below;
             row[j] += v - before;
             before = v;
+            below = next;
         }
         row[i1] += h * (d.d0 + d.dy * 0.5 * (ya + yb) + d.dx * (i1 + 0.5)) - before;
         slope[i1] += h * d.dx;

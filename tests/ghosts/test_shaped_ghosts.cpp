@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <numeric>
 
@@ -123,9 +124,10 @@ TEST(ShapedGhosts, LinearElementsKeepTheFluxOfEveryTriangle) {
     {
         const ShapedTable table = plateTable(0, 0.0, 0.0);
         const trace::ImageFrame frame{240, 160, 36.0 / 240};
-        ShapedRenderSettings linear;
+        ShapedRenderSettings uniform, linear;
+        uniform.linearDensity = false;
         linear.linearDensity = true;
-        const ShapedRender flat = renderShaped(table, {ShapedLight{}}, frame);
+        const ShapedRender flat = renderShaped(table, {ShapedLight{}}, frame, uniform);
         const ShapedRender r = renderShaped(table, {ShapedLight{}}, frame, linear);
         // Equal to the float rounding of the stored mesh (its Jacobian constant to ~1e-7).
         for (int c = 0; c < 3; ++c) EXPECT_LT(relativeL2(r.channel[c], flat.channel[c]), 1e-6) << "channel " << c;
@@ -138,9 +140,13 @@ TEST(ShapedGhosts, LinearElementsKeepTheFluxOfEveryTriangle) {
     const trace::ImageFrame frame{240, 160, 36.0 / 240};
     ShapedLight light;
     light.field = {0.55 * table.maxAngleDeg * std::numbers::pi / 180, 0.8};
-    ShapedRenderSettings linear;
+    // The same cells for both: the irradiance's part of the subdivision depends on the elements.
+    ShapedRenderSettings uniform;
+    uniform.linearDensity = false;
+    uniform.irradianceError = std::numeric_limits<double>::infinity();
+    ShapedRenderSettings linear = uniform;
     linear.linearDensity = true;
-    const ShapedRender flat = renderShaped(table, {light}, frame);
+    const ShapedRender flat = renderShaped(table, {light}, frame, uniform);
     const ShapedRender r = renderShaped(table, {light}, frame, linear);
     EXPECT_EQ(r.triangles, flat.triangles);
     EXPECT_NEAR(r.deposited + r.offImage, flat.deposited + flat.offImage, 1e-9 * (flat.deposited + flat.offImage));
@@ -315,7 +321,7 @@ TEST(ShapedGhosts, EachFittedEntryHoldsTheFluxTheRendererDraws) {
     flat.cullShare = 0.0;
     flat.flatnessPx = flat.maxFlatnessPx = 1e9;
     flat.subcellPx = 1e9;
-    flat.irradianceStep = 1e9;
+    flat.irradianceError = 1e9;
     const double reach = std::hypot(table.sensorSizeMm.first, table.sensorSizeMm.second);
     const trace::ImageFrame frame{200, 200, reach / 100}; // holds the circle the table counts
     double worst = 0.0;
