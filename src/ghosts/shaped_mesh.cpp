@@ -365,7 +365,8 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
                 if (cubic && sizePx > 0.0 && tolerance > 0.0 && std::isfinite(tolerance)) {
                     CellIrradiance ci;
                     ci.sizePx = sizePx;
-                    ci.areaPx = 0.5 * std::abs((c11[0] - c00[0]) * (c01[1] - c10[1]) - (c01[0] - c10[0]) * (c11[1] - c00[1]));
+                    ci.areaPx =
+                        0.5 * std::abs((c11[0] - c00[0]) * (c01[1] - c10[1]) - (c01[0] - c10[0]) * (c11[1] - c00[1]));
                     const double jc = bicubic(halfSlope, half, 0) * bicubic(half, halfSlope, 1) -
                                       bicubic(half, halfSlope, 0) * bicubic(halfSlope, half, 1);
                     ci.centre = std::max(0.0, bicubic(half, half, 2)) / std::abs(jc);
@@ -399,7 +400,7 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
                         for (std::size_t z = 0; z < J; ++z) o[z] = bicubic(cr[a], cr[b], z);
                         const auto &su = slopes[K][a], &sv = slopes[K][b];
                         o[J] = bicubic(su, cr[b], 0) * bicubic(cr[a], sv, 1) -
-                                   bicubic(cr[a], sv, 0) * bicubic(su, cr[b], 1);
+                               bicubic(cr[a], sv, 0) * bicubic(su, cr[b], 1);
                     } else {
                         const double u = double(a) / K, v = double(b) / K;
                         for (std::size_t z = 0; z < J; ++z)
