@@ -96,10 +96,26 @@ int irradianceSplit(const CellIrradiance& c, double tolerance, bool linear, int 
     return cap;
 }
 
-} // namespace
+// One instance's mesh at one wavelength, interpolated in angle and placed in the frame: per vertex S
+// doubles, pixel x, y, weight, the C constraints' values, then the map's Jacobian (pixels^2 per cell;
+// NaN where it cannot be taken).
+struct MeshVertices {
+    int n = 0; ///< cells per side
+    std::size_t C = 0, J = 0, S = 0;
+    std::vector<double> attr;
+    std::vector<char> ok; ///< the vertex's ray lands
+    double xMin = std::numeric_limits<double>::infinity(), xMax = -xMin, yMin = xMin, yMax = -xMin;
 
-void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t w, double azimuthRad, double flux,
-                  const trace::ImageFrame& frame, const ShapedRenderSettings& settings, ShapedPolygons& out) {
+    std::size_t index(int i, int j) const { return static_cast<std::size_t>(j) * (n + 1) + i; }
+    const double* at(std::size_t v) const { return &attr[v * S]; }
+    bool lit() const { return xMax >= xMin; }
+};
+
+// The mesh between the table's angles a0 and a0 + 1 at fraction in.t (Catmull-Rom in angle), every
+// in.decimation-th vertex, its landing points turned by azimuthRad into the frame's pixels, the iris
+// turned by -azimuthRad; the Jacobians left NaN (addJacobians).
+MeshVertices interpolateVertices(const ShapedTable& table, const MeshInstance& in, std::size_t w, double azimuthRad,
+                                 const trace::ImageFrame& frame) {
     const ShapedGhost& gh = table.ghosts[in.ghost];
     const int A = table.angles();
     const ShapedMesh& m0 = gh.meshes[w][in.a0];
@@ -111,29 +127,29 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
     if (ma && ma->data.empty()) ma = nullptr;
     const std::size_t stride = gh.stride(), nA = gh.apertureSteps.size();
     const int dec = in.decimation > 0 && gh.grid % in.decimation == 0 ? in.decimation : 1;
-    const int n = gh.grid / dec;
+    MeshVertices m;
+    m.n = gh.grid / dec;
+    const int n = m.n;
     const std::size_t V = static_cast<std::size_t>(n + 1) * (n + 1);
     // A decimated cell holds dec^2 of the mesh's cells: its weight (flux per cell) scales so.
     const double cellWeight = double(dec) * dec;
     const double cs = std::cos(azimuthRad), sn = std::sin(azimuthRad);
     const IrisEdges iris(table.iris, -azimuthRad);
-    const std::size_t C = std::min(kMaxConstraints, nA + gh.stopCrossings * iris.count());
+    m.C = std::min(kMaxConstraints, nA + gh.stopCrossings * iris.count());
+    m.J = 3 + m.C;
+    m.S = 4 + m.C;
     // Catmull-Rom weights in angle; a missing neighbour beyond the table's ends is the linear
     // extrapolation of the two inner angles (2 p0 - p1), folded into the weights.
     std::array<double, 4> wc = catmullRom(in.t);
     if (!mb) wc = {0.0, wc[1] + 2.0 * wc[0], wc[2] - wc[0], wc[3]};
     if (!ma) wc = {wc[0], wc[1] - wc[3], wc[2] + 2.0 * wc[3], 0.0};
 
-    // Per vertex: pixel x, y, weight, the constraints' values, then the map's Jacobian (pixels^2 per
-    // cell; NaN where it cannot be taken).
-    const bool linear = settings.linearDensity;
-    const std::size_t J = 3 + C, S = 4 + C;
-    std::vector<double> attr(V * S, 0.0);
-    std::vector<char> ok(V, 0);
-    double xMin = std::numeric_limits<double>::infinity(), xMax = -xMin, yMin = xMin, yMax = -xMin;
+    m.attr.assign(V * m.S, 0.0);
+    m.ok.assign(V, 0);
     // A mesh without light is a mesh of lost rays.
     const std::vector<float> lost(stride, std::numeric_limits<float>::quiet_NaN());
     for (std::size_t v = 0; v < V; ++v) {
+        m.attr[v * m.S + m.J] = std::numeric_limits<double>::quiet_NaN();
         const std::size_t src = (v / (n + 1) * (gh.grid + 1) + v % (n + 1)) * static_cast<std::size_t>(dec) * stride;
         const float* p = m0.data.empty() ? lost.data() : &m0.data[src];
         const float* q = m1.data.empty() ? lost.data() : &m1.data[src];
@@ -154,58 +170,218 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
         };
         const double x = interpolate(0), y = interpolate(1);
         const glm::dvec2 px = frame.sensorToPixel(cs * x - sn * y, sn * x + cs * y);
-        double* o = &attr[v * S];
+        double* o = &m.attr[v * m.S];
         o[0] = px.x;
         o[1] = px.y;
         o[2] = cellWeight * interpolate(2);
-        ok[v] = 1;
+        m.ok[v] = 1;
         std::size_t k = 0;
-        for (; k < nA && k < C; ++k) o[3 + k] = interpolate(3 + k);
+        for (; k < nA && k < m.C; ++k) o[3 + k] = interpolate(3 + k);
         for (std::size_t s = 0; s < gh.stopCrossings; ++s) {
             const double sx = interpolate(3 + nA + 2 * s);
             const double sy = interpolate(4 + nA + 2 * s);
-            for (std::size_t b = 0; b < iris.count() && k < C; ++b) o[3 + k++] = iris.value(b, sx, sy);
+            for (std::size_t b = 0; b < iris.count() && k < m.C; ++b) o[3 + k++] = iris.value(b, sx, sy);
         }
-        xMin = std::min(xMin, px.x), xMax = std::max(xMax, px.x), yMin = std::min(yMin, px.y),
-        yMax = std::max(yMax, px.y);
+        m.xMin = std::min(m.xMin, px.x), m.xMax = std::max(m.xMax, px.x), m.yMin = std::min(m.yMin, px.y),
+        m.yMax = std::max(m.yMax, px.y);
     }
-    if (!(xMax >= xMin)) return;
-    // The Jacobian at each vertex by central differences (one-sided at the grid's border or next to a
-    // lost ray): the weight over it is the irradiance there, which shapes each element's density.
-    for (std::size_t v = 0; v < V; ++v) {
-        attr[v * S + J] = std::numeric_limits<double>::quiet_NaN();
-        if (!ok[v]) continue;
-        const int i = static_cast<int>(v % (n + 1)), j = static_cast<int>(v / (n + 1));
-        auto difference = [&](int di, int dj) {
-            auto at = [&](int a, int b) -> const double* {
-                if (a < 0 || b < 0 || a > n || b > n) return nullptr;
-                const std::size_t u = static_cast<std::size_t>(b) * (n + 1) + a;
-                return ok[u] ? &attr[u * S] : nullptr;
+    return m;
+}
+
+// The Jacobian at each vertex by central differences (one-sided at the grid's border or next to a
+// lost ray): the weight over it is the irradiance there, which shapes each element's density.
+void addJacobians(MeshVertices& m) {
+    const int n = m.n;
+    auto at = [&](int a, int b) -> const double* {
+        if (a < 0 || b < 0 || a > n || b > n) return nullptr;
+        const std::size_t u = m.index(a, b);
+        return m.ok[u] ? m.at(u) : nullptr;
+    };
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+            const std::size_t v = m.index(i, j);
+            if (!m.ok[v]) continue;
+            auto difference = [&](int di, int dj) {
+                const double *lo = at(i - di, j - dj), *hi = at(i + di, j + dj), *mid = m.at(v);
+                if (lo && hi) return glm::dvec2(0.5 * (hi[0] - lo[0]), 0.5 * (hi[1] - lo[1]));
+                if (hi) return glm::dvec2(hi[0] - mid[0], hi[1] - mid[1]);
+                if (lo) return glm::dvec2(mid[0] - lo[0], mid[1] - lo[1]);
+                return glm::dvec2(std::numeric_limits<double>::quiet_NaN());
             };
-            const double *lo = at(i - di, j - dj), *hi = at(i + di, j + dj), *mid = &attr[v * S];
-            if (lo && hi) return glm::dvec2(0.5 * (hi[0] - lo[0]), 0.5 * (hi[1] - lo[1]));
-            if (hi) return glm::dvec2(hi[0] - mid[0], hi[1] - mid[1]);
-            if (lo) return glm::dvec2(mid[0] - lo[0], mid[1] - lo[1]);
-            return glm::dvec2(std::numeric_limits<double>::quiet_NaN());
-        };
-        const glm::dvec2 du = difference(1, 0), dv = difference(0, 1);
-        attr[v * S + J] = du.x * dv.y - du.y * dv.x;
+            const glm::dvec2 du = difference(1, 0), dv = difference(0, 1);
+            m.attr[v * m.S + m.J] = du.x * dv.y - du.y * dv.x;
+        }
+}
+
+// The instance's brightest pixel, estimated (weight per pixel^2): the largest mean irradiance of a
+// cell the apertures leave whole, over at least a pixel (a smaller cell's flux lands in about one);
+// of any cell where none is whole.
+double brightestPixel(const MeshVertices& m) {
+    double whole = 0.0, any = 0.0;
+    for (int j = 0; j < m.n; ++j)
+        for (int i = 0; i < m.n; ++i) {
+            const std::size_t v00 = m.index(i, j), v10 = v00 + 1, v01 = m.index(i, j + 1), v11 = v01 + 1;
+            if (!(m.ok[v00] && m.ok[v10] && m.ok[v01] && m.ok[v11])) continue;
+            const double *a = m.at(v00), *b = m.at(v10), *d = m.at(v01), *e = m.at(v11);
+            const double areaPx = 0.5 * std::abs((e[0] - a[0]) * (d[1] - b[1]) - (d[0] - b[0]) * (e[1] - a[1]));
+            const double mean = 0.25 * (a[2] + b[2] + d[2] + e[2]) / std::max(areaPx, 1.0);
+            if (!std::isfinite(mean)) continue;
+            bool inside = true;
+            for (std::size_t k = 0; k < m.C && inside; ++k)
+                inside = a[3 + k] >= 0.0 && b[3 + k] >= 0.0 && d[3 + k] >= 0.0 && e[3 + k] >= 0.0;
+            any = std::max(any, mean);
+            if (inside) whole = std::max(whole, mean);
+        }
+    return whole > 0.0 ? whole : any;
+}
+
+// Cuts the cells of a mesh into sub-cells and their triangles into clipped polygons. Cells are split
+// into k x k sub-cells placed by bicubic (Catmull-Rom) interpolation of the grid, k the larger of two
+// rules: the bicubic surface, and the aperture edges crossing the cell, within in.flatnessPx of the
+// sub-cells' flat triangles (the deviation falls as 1 / k^2), and irradianceSplit's. Cells next to the
+// grid's border or a lost ray are interpolated bilinearly; those an edge crosses are cut until a
+// sub-cell spans about settings.subcellPx pixels.
+class CellCutter {
+  public:
+    CellCutter(const MeshVertices& m, const MeshInstance& in, const ShapedRenderSettings& settings,
+               const trace::ImageFrame& frame, double flux, ShapedPolygons& out)
+        : m_(m), in_(in), settings_(settings), frame_(frame), flux_(flux), out_(out),
+          tolerance_(std::isfinite(in.irradianceError) ? in.irradianceError * brightestPixel(m) : 0.0),
+          kEdge_(std::clamp(
+              static_cast<int>(std::ceil(std::max(m.xMax - m.xMin, m.yMax - m.yMin) / m.n / settings.subcellPx)), 1,
+              settings.maxSubdivision)),
+          weights_(settings.maxSubdivision + 1), slopes_(settings.maxSubdivision + 1) {}
+
+    void cell(int i, int j) {
+        const MeshVertices& m = m_;
+        const std::size_t v00 = m.index(i, j), v10 = v00 + 1, v01 = m.index(i, j + 1), v11 = v01 + 1;
+        const bool all = m.ok[v00] && m.ok[v10] && m.ok[v01] && m.ok[v11];
+        // The 4 x 4 neighbourhood; bilinear where it leaves the grid or meets a lost ray.
+        bool cubic = all;
+        for (int q = -1; q <= 2 && cubic; ++q)
+            for (int r = -1; r <= 2 && cubic; ++r) {
+                const int x = i + r, y = j + q;
+                if (x < 0 || y < 0 || x > m.n || y > m.n || !m.ok[m.index(x, y)])
+                    cubic = false;
+                else
+                    nb_[(q + 1) * 4 + (r + 1)] = m.at(m.index(x, y));
+            }
+        const std::array<const double*, 4> c{m.at(v00), m.at(v10), m.at(v01), m.at(v11)};
+        // A cell with its four corners outside one aperture is dark (the margins are smooth at the
+        // grid's scale; a curved edge bulging into it from outside would carry a sliver).
+        for (std::size_t k = 0; k < m.C && all; ++k)
+            if (c[0][3 + k] < 0.0 && c[1][3 + k] < 0.0 && c[2][3 + k] < 0.0 && c[3][3 + k] < 0.0) return;
+        const int K = all ? subdivision(c, cubic) : 1;
+        if (K == 1) {
+            const std::array<std::size_t, 4> corners{v00, v10, v01, v11};
+            for (const auto& tri : cellTriangles(m.ok[v00], m.ok[v10], m.ok[v01], m.ok[v11]))
+                if (tri[0] < 4) triangle(m.at(corners[tri[0]]), m.at(corners[tri[1]]), m.at(corners[tri[2]]), 0.5);
+            return;
+        }
+        subdivide(c, cubic, K);
     }
-    // Cells are split into k x k sub-cells placed by bicubic (Catmull-Rom) interpolation of the grid,
-    // k growing until the bicubic surface, and the aperture edges crossing the cell, lie within
-    // in.flatnessPx of the sub-cells' flat triangles (the deviation falls as 1 / k^2). Cells next to
-    // the grid's border or a lost ray are interpolated bilinearly; those an edge crosses are cut
-    // until a sub-cell spans about settings.subcellPx pixels.
-    const double cellPx = std::max(xMax - xMin, yMax - yMin) / n;
-    const int kEdge = std::clamp(static_cast<int>(std::ceil(cellPx / settings.subcellPx)), 1, settings.maxSubdivision);
-    TriangleClipper clipper;
-    std::array<std::array<double, 3>, kMaxConstraints> c{};
-    std::array<glm::dvec2, kMaxPolygon> poly{};
+
+  private:
+    // Sub-cells per side for a cell whose four corners land (c: 00, 10, 01, 11).
+    int subdivision(const std::array<const double*, 4>& c, bool cubic) {
+        const std::size_t C = m_.C, J = m_.J;
+        // A cell that lies a cell's size beyond the frame (its bicubic surface cannot bulge further)
+        // stays flat: its light only counts as leaving the frame.
+        const double cx0 = std::min({c[0][0], c[1][0], c[2][0], c[3][0]}),
+                     cx1 = std::max({c[0][0], c[1][0], c[2][0], c[3][0]}),
+                     cy0 = std::min({c[0][1], c[1][1], c[2][1], c[3][1]}),
+                     cy1 = std::max({c[0][1], c[1][1], c[2][1], c[3][1]});
+        const double reach = 1.0 + std::max(cx1 - cx0, cy1 - cy0);
+        if (cx1 < -reach || cy1 < -reach || cx0 > frame_.width + reach || cy0 > frame_.height + reach) return 1;
+        // Deviation of the bicubic surface from the flat cell at its centre, in pixels: of the
+        // landing point, and of where a cutting aperture's edge (a constraint's zero) crosses the
+        // cell (the constraint's deviation over its gradient across the cell).
+        auto deviation = [&](std::size_t z) {
+            const double flat = 0.25 * (c[0][z] + c[1][z] + c[2][z] + c[3][z]);
+            return std::abs(bicubic(half_, half_, z) - flat);
+        };
+        bool edge = false;
+        const double landing = cubic ? std::max(deviation(0), deviation(1)) : 0.0;
+        double edgeDev = 0.0;
+        const double sizePx = std::max({std::abs(c[3][0] - c[0][0]), std::abs(c[1][0] - c[2][0]),
+                                        std::abs(c[3][1] - c[0][1]), std::abs(c[1][1] - c[2][1])});
+        for (std::size_t k = 0; k < C; ++k) {
+            const double lo = std::min({c[0][3 + k], c[1][3 + k], c[2][3 + k], c[3][3 + k]}),
+                         hi = std::max({c[0][3 + k], c[1][3 + k], c[2][3 + k], c[3][3 + k]});
+            if (!(lo < 0.0 && hi >= 0.0)) continue;
+            edge = true;
+            if (cubic) edgeDev = std::max(edgeDev, deviation(3 + k) * sizePx / (hi - lo));
+        }
+        if (edge && !cubic) return kEdge_;
+        const double edgeFlatness = in_.edgeFlatnessPx > 0.0 ? in_.edgeFlatnessPx : in_.flatnessPx;
+        int K = std::clamp(
+            static_cast<int>(std::ceil(std::sqrt(std::max(landing / in_.flatnessPx, edgeDev / edgeFlatness)))), 1,
+            settings_.maxSubdivision);
+        // Then the error the elements' density leaves in the pixels (irradianceSplit): the irradiance
+        // at the corners (their Jacobians) and at the centre (the bicubic's own).
+        if (cubic && sizePx > 0.0 && tolerance_ > 0.0 && std::isfinite(tolerance_)) {
+            CellIrradiance ci;
+            ci.sizePx = sizePx;
+            ci.areaPx =
+                0.5 * std::abs((c[3][0] - c[0][0]) * (c[2][1] - c[1][1]) - (c[2][0] - c[1][0]) * (c[3][1] - c[0][1]));
+            const double jc = bicubic(halfSlope_, half_, 0) * bicubic(half_, halfSlope_, 1) -
+                              bicubic(half_, halfSlope_, 0) * bicubic(halfSlope_, half_, 1);
+            ci.centre = std::max(0.0, bicubic(half_, half_, 2)) / std::abs(jc);
+            bool positive = jc > 0.0, negative = jc < 0.0;
+            for (int q = 0; q < 4; ++q) {
+                ci.corner[q] = std::max(0.0, c[q][2]) / std::abs(c[q][J]);
+                positive = positive && c[q][J] > 0.0;
+                negative = negative && c[q][J] < 0.0;
+            }
+            ci.fold = !(positive || negative);
+            K = std::max(K, irradianceSplit(ci, tolerance_, settings_.linearDensity, settings_.maxSubdivision));
+        }
+        return K;
+    }
+
+    // The cell as K x K sub-cells, two triangles each.
+    void subdivide(const std::array<const double*, 4>& c, bool cubic, int K) {
+        const std::size_t J = m_.J, S = m_.S;
+        const auto& cr = weightsFor(K);
+        sub_.resize(static_cast<std::size_t>(K + 1) * (K + 1) * S);
+        for (int b = 0; b <= K; ++b)
+            for (int a = 0; a <= K; ++a) {
+                double* o = &sub_[(static_cast<std::size_t>(b) * (K + 1) + a) * S];
+                // The Jacobian is the interpolating surface's own, so that each sub-triangle's
+                // density agrees with its flux to second order in its size.
+                if (cubic) {
+                    for (std::size_t z = 0; z < J; ++z) o[z] = bicubic(cr[a], cr[b], z);
+                    const auto &su = slopes_[K][a], &sv = slopes_[K][b];
+                    o[J] =
+                        bicubic(su, cr[b], 0) * bicubic(cr[a], sv, 1) - bicubic(cr[a], sv, 0) * bicubic(su, cr[b], 1);
+                } else {
+                    const double u = double(a) / K, v = double(b) / K;
+                    for (std::size_t z = 0; z < J; ++z)
+                        o[z] = (1 - v) * ((1 - u) * c[0][z] + u * c[1][z]) + v * ((1 - u) * c[2][z] + u * c[3][z]);
+                    auto du = [&](std::size_t z) { return (1 - v) * (c[1][z] - c[0][z]) + v * (c[3][z] - c[2][z]); };
+                    auto dv = [&](std::size_t z) { return (1 - u) * (c[2][z] - c[0][z]) + u * (c[3][z] - c[1][z]); };
+                    o[J] = du(0) * dv(1) - dv(0) * du(1);
+                }
+            }
+        const double subArea = 0.5 / (double(K) * K);
+        for (int b = 0; b < K; ++b)
+            for (int a = 0; a < K; ++a) {
+                const double* s00 = &sub_[(static_cast<std::size_t>(b) * (K + 1) + a) * S];
+                const double* s10 = s00 + S;
+                const double* s01 = s00 + (K + 1) * S;
+                const double* s11 = s01 + S;
+                triangle(s00, s10, s11, subArea);
+                triangle(s00, s11, s01, subArea);
+            }
+    }
+
     // A triangle's density: the plane through its vertices' irradiances (weight / |Jacobian|) where
-    // the map keeps its orientation over it, as a gradient relative to the plane's value at `at`
-    // (the centroid of what is drawn); 0 (uniform) where it folds or a Jacobian is missing.
-    auto gradientOf = [&](const double* P, const double* Q, const double* R, const glm::dvec2& at) {
-        if (!linear) return glm::dvec2(0.0);
+    // the map keeps its orientation over it, as a gradient relative to the plane's value at `at` (the
+    // centroid of what is drawn); 0 (uniform) where it folds, a Jacobian is missing, or it covers less
+    // than kLinearMinAreaPx.
+    glm::dvec2 gradientOf(const double* P, const double* Q, const double* R, const glm::dvec2& at) const {
+        if (!settings_.linearDensity) return glm::dvec2(0.0);
+        const std::size_t J = m_.J;
         const double jP = P[J], jQ = Q[J], jR = R[J];
         if (!(jP * jQ > 0.0 && jP * jR > 0.0)) return glm::dvec2(0.0);
         const double rP = std::max(0.0, P[2]) / std::abs(jP), rQ = std::max(0.0, Q[2]) / std::abs(jQ),
@@ -217,8 +393,9 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
         const double value = rP + grad.x * (at.x - P[0]) + grad.y * (at.y - P[1]);
         if (!(value > 0.0) || !std::isfinite(grad.x) || !std::isfinite(grad.y)) return glm::dvec2(0.0);
         return grad / value;
-    };
-    auto centroid = [](const glm::dvec2* p, std::size_t count) {
+    }
+
+    static glm::dvec2 centroid(const glm::dvec2* p, std::size_t count) {
         double a = 0.0;
         glm::dvec2 sum(0.0);
         for (std::size_t k = 0; k < count; ++k) {
@@ -228,206 +405,82 @@ void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t 
             sum += (u + v) * cross;
         }
         return a != 0.0 ? sum / (3.0 * a) : p[0];
-    };
-    auto triangle = [&](const double* P, const double* Q, const double* R, double area) {
-        const double e = flux * area * (P[2] + Q[2] + R[2]) / 3.0;
+    }
+
+    // The triangle of vertices P, Q, R (pupil area `area` cells), clipped by the constraints that
+    // change sign over it, added to out_ with its weight's flux.
+    void triangle(const double* P, const double* Q, const double* R, double area) {
+        const double e = flux_ * area * (P[2] + Q[2] + R[2]) / 3.0;
         if (!(e > 0.0)) return;
         std::size_t active = 0;
-        for (std::size_t k = 0; k < C; ++k) {
+        for (std::size_t k = 0; k < m_.C; ++k) {
             const double a = P[3 + k], b = Q[3 + k], d = R[3 + k];
             if (a < 0.0 && b < 0.0 && d < 0.0) return;
-            if (a < 0.0 || b < 0.0 || d < 0.0) c[active++] = {a, b, d};
+            if (a < 0.0 || b < 0.0 || d < 0.0) c_[active++] = {a, b, d};
         }
         if (active == 0) {
-            poly[0] = {P[0], P[1]}, poly[1] = {Q[0], Q[1]}, poly[2] = {R[0], R[1]};
-            out.add(poly.data(), 3, e, gradientOf(P, Q, R, (poly[0] + poly[1] + poly[2]) / 3.0));
-            out.pupilCells += area;
+            poly_[0] = {P[0], P[1]}, poly_[1] = {Q[0], Q[1]}, poly_[2] = {R[0], R[1]};
+            out_.add(poly_.data(), 3, e, gradientOf(P, Q, R, (poly_[0] + poly_[1] + poly_[2]) / 3.0));
+            out_.pupilCells += area;
             return;
         }
-        const double share = clipper.clip(c.data(), active);
+        const double share = clipper_.clip(c_.data(), active);
         if (share <= 0.0) return;
-        out.pupilCells += area * share;
-        for (std::size_t q = 0; q < clipper.size(); ++q) {
-            const glm::dvec3& b = clipper[q];
-            poly[q] = {b.x * P[0] + b.y * Q[0] + b.z * R[0], b.x * P[1] + b.y * Q[1] + b.z * R[1]};
+        out_.pupilCells += area * share;
+        for (std::size_t q = 0; q < clipper_.size(); ++q) {
+            const glm::dvec3& b = clipper_[q];
+            poly_[q] = {b.x * P[0] + b.y * Q[0] + b.z * R[0], b.x * P[1] + b.y * Q[1] + b.z * R[1]};
         }
-        out.add(poly.data(), clipper.size(), e * share, gradientOf(P, Q, R, centroid(poly.data(), clipper.size())));
-    };
-    std::vector<std::vector<std::array<double, 4>>> weights(settings.maxSubdivision + 1),
-        slopes(settings.maxSubdivision + 1);
-    auto weightsFor = [&](int K) -> const std::vector<std::array<double, 4>>& {
-        auto& cr = weights[K];
+        out_.add(poly_.data(), clipper_.size(), e * share,
+                 gradientOf(P, Q, R, centroid(poly_.data(), clipper_.size())));
+    }
+
+    const std::vector<std::array<double, 4>>& weightsFor(int K) {
+        auto& cr = weights_[K];
         if (cr.empty())
             for (int a = 0; a <= K; ++a) {
                 cr.push_back(catmullRom(double(a) / K));
-                slopes[K].push_back(catmullRomSlope(double(a) / K));
+                slopes_[K].push_back(catmullRomSlope(double(a) / K));
             }
         return cr;
-    };
-    std::vector<double> sub;
-    std::array<const double*, 16> nb{};
-    auto bicubic = [&](const std::array<double, 4>& wx, const std::array<double, 4>& wy, std::size_t z) {
+    }
+
+    // Attribute z of the bicubic surface over the current cell's 4 x 4 neighbourhood nb_.
+    double bicubic(const std::array<double, 4>& wx, const std::array<double, 4>& wy, std::size_t z) const {
         double acc = 0.0;
         for (int q = 0; q < 4; ++q)
-            acc += wy[q] * (wx[0] * nb[q * 4][z] + wx[1] * nb[q * 4 + 1][z] + wx[2] * nb[q * 4 + 2][z] +
-                            wx[3] * nb[q * 4 + 3][z]);
+            acc += wy[q] * (wx[0] * nb_[q * 4][z] + wx[1] * nb_[q * 4 + 1][z] + wx[2] * nb_[q * 4 + 2][z] +
+                            wx[3] * nb_[q * 4 + 3][z]);
         return acc;
-    };
-    const auto half = catmullRom(0.5), halfSlope = catmullRomSlope(0.5);
-    // The instance's brightest pixel, estimated (weight per pixel^2): the largest mean irradiance of a
-    // cell the apertures leave whole, over at least a pixel (a smaller cell's flux lands in about one);
-    // of any cell where none is whole.
-    double peakWhole = 0.0, peakAny = 0.0;
-    for (int j = 0; j < n && std::isfinite(in.irradianceError); ++j)
-        for (int i = 0; i < n; ++i) {
-            const std::size_t v00 = static_cast<std::size_t>(j) * (n + 1) + i, v10 = v00 + 1, v01 = v00 + n + 1,
-                              v11 = v01 + 1;
-            if (!(ok[v00] && ok[v10] && ok[v01] && ok[v11])) continue;
-            const double *a = &attr[v00 * S], *b = &attr[v10 * S], *d = &attr[v01 * S], *e = &attr[v11 * S];
-            const double areaPx = 0.5 * std::abs((e[0] - a[0]) * (d[1] - b[1]) - (d[0] - b[0]) * (e[1] - a[1]));
-            const double mean = 0.25 * (a[2] + b[2] + d[2] + e[2]) / std::max(areaPx, 1.0);
-            if (!std::isfinite(mean)) continue;
-            bool whole = true;
-            for (std::size_t k = 0; k < C && whole; ++k)
-                whole = a[3 + k] >= 0.0 && b[3 + k] >= 0.0 && d[3 + k] >= 0.0 && e[3 + k] >= 0.0;
-            peakAny = std::max(peakAny, mean);
-            if (whole) peakWhole = std::max(peakWhole, mean);
-        }
-    const double tolerance = in.irradianceError * (peakWhole > 0.0 ? peakWhole : peakAny);
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            const std::size_t v00 = static_cast<std::size_t>(j) * (n + 1) + i, v10 = v00 + 1, v01 = v00 + n + 1,
-                              v11 = v01 + 1;
-            const bool all = ok[v00] && ok[v10] && ok[v01] && ok[v11];
-            // The 4 x 4 neighbourhood; bilinear where it leaves the grid or meets a lost ray.
-            bool cubic = all;
-            for (int q = -1; q <= 2 && cubic; ++q)
-                for (int r = -1; r <= 2 && cubic; ++r) {
-                    const int x = i + r, y = j + q;
-                    if (x < 0 || y < 0 || x > n || y > n || !ok[static_cast<std::size_t>(y) * (n + 1) + x])
-                        cubic = false;
-                    else
-                        nb[(q + 1) * 4 + (r + 1)] = &attr[(static_cast<std::size_t>(y) * (n + 1) + x) * S];
-                }
-            // A cell with its four corners outside one aperture is dark (the margins are smooth at
-            // the grid's scale; a curved edge bulging into it from outside would carry a sliver).
-            bool dark = false;
-            for (std::size_t k = 0; k < C && all && !dark; ++k)
-                dark = attr[v00 * S + 3 + k] < 0.0 && attr[v10 * S + 3 + k] < 0.0 && attr[v01 * S + 3 + k] < 0.0 &&
-                       attr[v11 * S + 3 + k] < 0.0;
-            if (dark) continue;
-            int K = 1;
-            // A cell that lies a cell's size beyond the frame (its bicubic surface cannot bulge
-            // further) stays flat: its light only counts as leaving the frame.
-            const double* c00 = &attr[v00 * S];
-            const double* c10 = &attr[v10 * S];
-            const double* c01 = &attr[v01 * S];
-            const double* c11 = &attr[v11 * S];
-            const double cx0 = std::min({c00[0], c10[0], c01[0], c11[0]}),
-                         cx1 = std::max({c00[0], c10[0], c01[0], c11[0]}),
-                         cy0 = std::min({c00[1], c10[1], c01[1], c11[1]}),
-                         cy1 = std::max({c00[1], c10[1], c01[1], c11[1]});
-            const double reach = 1.0 + std::max(cx1 - cx0, cy1 - cy0);
-            const bool beyond =
-                all && (cx1 < -reach || cy1 < -reach || cx0 > frame.width + reach || cy0 > frame.height + reach);
-            if (all && !beyond) {
-                // Deviation of the bicubic surface from the flat cell at its centre, in pixels: of
-                // the landing point, and of where a cutting aperture's edge (a constraint's zero)
-                // crosses the cell (the constraint's deviation over its gradient across the cell).
-                auto deviation = [&](std::size_t z) {
-                    const double flat =
-                        0.25 * (attr[v00 * S + z] + attr[v10 * S + z] + attr[v01 * S + z] + attr[v11 * S + z]);
-                    return std::abs(bicubic(half, half, z) - flat);
-                };
-                bool edge = false;
-                const double landing = cubic ? std::max(deviation(0), deviation(1)) : 0.0;
-                double edgeDev = 0.0;
-                const double sizePx = std::max(
-                    {std::abs(attr[v11 * S] - attr[v00 * S]), std::abs(attr[v10 * S] - attr[v01 * S]),
-                     std::abs(attr[v11 * S + 1] - attr[v00 * S + 1]), std::abs(attr[v10 * S + 1] - attr[v01 * S + 1])});
-                for (std::size_t k = 0; k < C; ++k) {
-                    const double a = attr[v00 * S + 3 + k], b = attr[v10 * S + 3 + k], d = attr[v01 * S + 3 + k],
-                                 e = attr[v11 * S + 3 + k];
-                    const double lo = std::min({a, b, d, e}), hi = std::max({a, b, d, e});
-                    if (!(lo < 0.0 && hi >= 0.0)) continue;
-                    edge = true;
-                    if (cubic) edgeDev = std::max(edgeDev, deviation(3 + k) * sizePx / (hi - lo));
-                }
-                const double edgeFlatness = in.edgeFlatnessPx > 0.0 ? in.edgeFlatnessPx : in.flatnessPx;
-                if (edge && !cubic)
-                    K = kEdge;
-                else
-                    K = std::clamp(static_cast<int>(
-                                       std::ceil(std::sqrt(std::max(landing / in.flatnessPx, edgeDev / edgeFlatness)))),
-                                   1, settings.maxSubdivision);
-                // Then the error the elements' density leaves in the pixels (irradianceSplit): the
-                // irradiance at the corners (their Jacobians) and at the centre (the bicubic's own).
-                if (cubic && sizePx > 0.0 && tolerance > 0.0 && std::isfinite(tolerance)) {
-                    CellIrradiance ci;
-                    ci.sizePx = sizePx;
-                    ci.areaPx =
-                        0.5 * std::abs((c11[0] - c00[0]) * (c01[1] - c10[1]) - (c01[0] - c10[0]) * (c11[1] - c00[1]));
-                    const double jc = bicubic(halfSlope, half, 0) * bicubic(half, halfSlope, 1) -
-                                      bicubic(half, halfSlope, 0) * bicubic(halfSlope, half, 1);
-                    ci.centre = std::max(0.0, bicubic(half, half, 2)) / std::abs(jc);
-                    const std::array<const double*, 4> corners4{c00, c10, c01, c11};
-                    bool positive = jc > 0.0, negative = jc < 0.0;
-                    for (int q = 0; q < 4; ++q) {
-                        ci.corner[q] = std::max(0.0, corners4[q][2]) / std::abs(corners4[q][J]);
-                        positive = positive && corners4[q][J] > 0.0;
-                        negative = negative && corners4[q][J] < 0.0;
-                    }
-                    ci.fold = !(positive || negative);
-                    K = std::max(K, irradianceSplit(ci, tolerance, linear, settings.maxSubdivision));
-                }
-            }
-            if (K == 1) {
-                const std::array<std::size_t, 4> corners{v00, v10, v01, v11};
-                for (const auto& tri : cellTriangles(ok[v00], ok[v10], ok[v01], ok[v11]))
-                    if (tri[0] < 4)
-                        triangle(&attr[corners[tri[0]] * S], &attr[corners[tri[1]] * S], &attr[corners[tri[2]] * S],
-                                 0.5);
-                continue;
-            }
-            const auto& cr = weightsFor(K);
-            sub.resize(static_cast<std::size_t>(K + 1) * (K + 1) * S);
-            for (int b = 0; b <= K; ++b)
-                for (int a = 0; a <= K; ++a) {
-                    double* o = &sub[(static_cast<std::size_t>(b) * (K + 1) + a) * S];
-                    // The Jacobian is the interpolating surface's own, so that each sub-triangle's
-                    // density agrees with its flux to second order in its size.
-                    if (cubic) {
-                        for (std::size_t z = 0; z < J; ++z) o[z] = bicubic(cr[a], cr[b], z);
-                        const auto &su = slopes[K][a], &sv = slopes[K][b];
-                        o[J] = bicubic(su, cr[b], 0) * bicubic(cr[a], sv, 1) -
-                               bicubic(cr[a], sv, 0) * bicubic(su, cr[b], 1);
-                    } else {
-                        const double u = double(a) / K, v = double(b) / K;
-                        for (std::size_t z = 0; z < J; ++z)
-                            o[z] = (1 - v) * ((1 - u) * attr[v00 * S + z] + u * attr[v10 * S + z]) +
-                                   v * ((1 - u) * attr[v01 * S + z] + u * attr[v11 * S + z]);
-                        auto du = [&](std::size_t z) {
-                            return (1 - v) * (attr[v10 * S + z] - attr[v00 * S + z]) +
-                                   v * (attr[v11 * S + z] - attr[v01 * S + z]);
-                        };
-                        auto dv = [&](std::size_t z) {
-                            return (1 - u) * (attr[v01 * S + z] - attr[v00 * S + z]) +
-                                   u * (attr[v11 * S + z] - attr[v10 * S + z]);
-                        };
-                        o[J] = du(0) * dv(1) - dv(0) * du(1);
-                    }
-                }
-            const double subArea = 0.5 / (double(K) * K);
-            for (int b = 0; b < K; ++b)
-                for (int a = 0; a < K; ++a) {
-                    const double* s00 = &sub[(static_cast<std::size_t>(b) * (K + 1) + a) * S];
-                    const double* s10 = s00 + S;
-                    const double* s01 = s00 + (K + 1) * S;
-                    const double* s11 = s01 + S;
-                    triangle(s00, s10, s11, subArea);
-                    triangle(s00, s11, s01, subArea);
-                }
-        }
+    }
+
+    const MeshVertices& m_;
+    const MeshInstance& in_;
+    const ShapedRenderSettings& settings_;
+    const trace::ImageFrame& frame_;
+    const double flux_;
+    ShapedPolygons& out_;
+    const double tolerance_; ///< irradianceSplit's, weight per pixel^2
+    const int kEdge_;        ///< sub-cells per side of a bilinear cell an edge crosses
+    const std::array<double, 4> half_ = catmullRom(0.5), halfSlope_ = catmullRomSlope(0.5);
+    std::vector<std::vector<std::array<double, 4>>> weights_, slopes_; ///< Catmull-Rom at a / K, per K
+    std::array<const double*, 16> nb_{};
+    std::vector<double> sub_;
+    TriangleClipper clipper_;
+    std::array<std::array<double, 3>, kMaxConstraints> c_{};
+    std::array<glm::dvec2, kMaxPolygon> poly_{};
+};
+
+} // namespace
+
+void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t w, double azimuthRad, double flux,
+                  const trace::ImageFrame& frame, const ShapedRenderSettings& settings, ShapedPolygons& out) {
+    MeshVertices m = interpolateVertices(table, in, w, azimuthRad, frame);
+    if (!m.lit()) return;
+    addJacobians(m);
+    CellCutter cutter(m, in, settings, frame, flux, out);
+    for (int j = 0; j < m.n; ++j)
+        for (int i = 0; i < m.n; ++i) cutter.cell(i, j);
 }
 
 void ShapedPolygons::add(const glm::dvec2* p, std::size_t n, double e, const glm::dvec2& gradient) {
