@@ -183,14 +183,13 @@ std::vector<char> chooseGridded(const std::vector<std::array<double, 3>>& error2
     return onGrid;
 }
 
-ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLight>& lights,
-                          const trace::ImageFrame& frame, const ShapedRenderSettings& settings, PolygonRaster* raster) {
-    ShapedRender out;
+// Per light: the interpolation between table angles and its ghosts kept after culling (the culled
+// counted in out).
+std::vector<Instance> keptInstances(const ShapedTable& table, const std::vector<ShapedLight>& lights,
+                                    const ShapedRenderSettings& settings, ShapedRender& out) {
+    std::vector<Instance> instances;
     const std::size_t W = std::min<std::size_t>(3, table.wavelengthsNm.size()), G = table.ghosts.size();
     const int A = table.angles();
-
-    // Per light: the interpolation between table angles and the ghosts kept after culling.
-    std::vector<Instance> instances;
     for (std::size_t l = 0; l < lights.size(); ++l) {
         const double deg = std::clamp(radToDeg(lights[l].field.angleRad), 0.0, table.maxAngleDeg);
         const double x = A > 1 ? deg / table.angleStep() : 0.0;
@@ -219,13 +218,24 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
                 continue;
             }
             Instance in{l, {g, a0, t, 0.0, 0.0}, f};
+            in.mesh.irradianceError = settings.irradianceError;
             in.channelFlux = perChannel[g];
             instances.push_back(in);
         }
         if (total > 0.0) out.culledShare = std::max(out.culledShare, dropped / total);
     }
-    out.drawn = instances.size();
+    return instances;
+}
 
+// What the split and the tolerances need of each instance (renderShaped).
+struct Estimates {
+    std::vector<double> irradiance; ///< mean over its mesh, flux per pixel (middle channel)
+    std::vector<std::array<double, 3>> norm2, jump2, perimeterPx;
+};
+
+Estimates estimateInstances(const ShapedTable& table, const std::vector<ShapedLight>& lights,
+                            const std::vector<Instance>& instances, const trace::ImageFrame& frame, std::size_t W,
+                            const ShapedRenderSettings& settings) {
     // Per instance and channel, from its mesh at the lower table angle: the cells' irradiance I
     // (flux per pixel, a cell carrying light where a corner passes every aperture), its squared norm
     // sum I^2 a (a lower bound of the ghost's: Cauchy-Schwarz within each cell), its jumps sum over
@@ -234,8 +244,12 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
     // gives I^2 times its perimeter; the norm counts the cells in the frame), and the perimeter of
     // its outline's box. At the middle wavelength, its mean irradiance over the whole mesh sets its
     // drawing tolerance.
-    std::vector<double> irradiance(instances.size(), 0.0);
-    std::vector<std::array<double, 3>> norm2(instances.size()), jump2(instances.size()), perimeterPx(instances.size());
+    Estimates out;
+    out.irradiance.assign(instances.size(), 0.0);
+    out.norm2.resize(instances.size());
+    out.jump2.resize(instances.size());
+    out.perimeterPx.resize(instances.size());
+    auto& [irradiance, norm2, jump2, perimeterPx] = out;
     tbb::parallel_for(std::size_t(0), instances.size() * W, [&](std::size_t k) {
         const std::size_t i = k / W, w = k % W;
         const ShapedGhost& gh = table.ghosts[instances[i].mesh.ghost];
@@ -321,6 +335,19 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
         jump2[i][w] = j2;
         perimeterPx[i][w] = x1 >= x0 ? 2.0 * (x1 - x0 + y1 - y0) / frame.pitchMm : 0.0;
     });
+    return out;
+}
+
+ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLight>& lights,
+                          const trace::ImageFrame& frame, const ShapedRenderSettings& settings, PolygonRaster* raster) {
+    ShapedRender out;
+    const std::size_t W = std::min<std::size_t>(3, table.wavelengthsNm.size());
+
+    std::vector<Instance> instances = keptInstances(table, lights, settings, out);
+    out.drawn = instances.size();
+
+    const Estimates estimates = estimateInstances(table, lights, instances, frame, W, settings);
+    const auto& [irradiance, norm2, jump2, perimeterPx] = estimates;
     // Each instance's tolerance: settings.flatnessPx for the instance of highest mean irradiance,
     // growing in inverse proportion to the irradiance up to settings.maxFlatnessPx: a ghost's share
     // of the image's squared error is its irradiance squared times the area its misplaced edges sweep.
@@ -328,7 +355,6 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
     for (std::size_t i = 0; i < instances.size(); ++i) {
         const double dim = irradiance[i] > 0.0 ? top / irradiance[i] : std::numeric_limits<double>::infinity();
         instances[i].mesh.flatnessPx = std::min(settings.maxFlatnessPx, settings.flatnessPx * dim);
-        instances[i].mesh.irradianceError = settings.irradianceError;
     }
 
     // The split. Per channel c, instance i has ||g||^2 >= norm2 and, on the grid, the squared error
