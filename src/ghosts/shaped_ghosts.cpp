@@ -221,6 +221,85 @@ std::string shapedCacheKey(const optics::Lens& lens, const TableSettings& s) {
     return k;
 }
 
+// One ghost's meshes at every wavelength and angle, n cells per side over the pupil rectangle
+// rects[a] (the same at every angle), weights relative to the direct image's flux direct[w * A + a];
+// the apertures that cut it somewhere kept. Adds the rays traced to `rays` and the largest mesh flux
+// to `peak`.
+ShapedGhost traceGhost(const optics::Lens& lens, const std::vector<trace::LensAtWavelength>& Ls,
+                       const trace::GhostPair& pair, int n, const std::vector<Rect>& rects,
+                       const trace::PupilFrame& pupil, double maxAngleDeg, const std::vector<double>& direct,
+                       std::size_t& rays, double& peak) {
+    using trace::Field;
+    const std::size_t W = Ls.size(), A = rects.size();
+    ShapedGhost out;
+    out.pair = pair;
+    if (n == 0) return out;
+    out.grid = n;
+    out.pupilX0 = rects[0].x0, out.pupilY0 = rects[0].y0;
+    out.pupilX1 = rects[0].x1, out.pupilY1 = rects[0].y1;
+    const auto steps = trace::pathSteps(lens, pair);
+    std::vector<std::size_t> stopSteps;
+    for (std::size_t k = 0; k < steps.size(); ++k)
+        if (steps[k].surface == Ls[0].stop) stopSteps.push_back(k);
+    out.stopCrossings = stopSteps.size();
+    // Every vertex as x, y, weight, every step's margin (NaN: none), then the stop hits.
+    const std::size_t K = steps.size(), full = 3 + K + 2 * stopSteps.size();
+    std::vector<char> cuts(K, 0);
+    out.meshes.assign(W, std::vector<ShapedMesh>(A));
+    for (std::size_t w = 0; w < W; ++w)
+        for (std::size_t a = 0; a < A; ++a) {
+            const Rect& r = rects[a];
+            OpenMesh m = traceMesh(
+                Ls[w], steps, RayMaker(pupil, Field{degToRad(maxAngleDeg * double(a) / double(A - 1)), 0.0}), r, n);
+            rays += m.ok.size();
+            const double cellArea = (r.x1 - r.x0) * (r.y1 - r.y0) / (double(n) * n);
+            const double scale = direct[w * A + a] > 0.0 ? cellArea / direct[w * A + a] : 0.0;
+            for (double& x : m.weight) x *= scale;
+            out.meshes[w][a].flux = meshFlux(n, m.ok, m.weight, m.steps, marginsOf(m));
+            peak = std::max(peak, out.meshes[w][a].flux);
+            std::vector<float>& d = out.meshes[w][a].data;
+            d.assign(m.ok.size() * full, 0.0f);
+            for (std::size_t v = 0; v < m.ok.size(); ++v) {
+                float* p = &d[v * full];
+                if (!m.ok[v]) {
+                    p[0] = std::numeric_limits<float>::quiet_NaN();
+                    continue;
+                }
+                p[0] = static_cast<float>(m.land[v].x);
+                p[1] = static_cast<float>(m.land[v].y);
+                p[2] = static_cast<float>(m.weight[v]);
+                for (std::size_t k = 0; k < K; ++k) {
+                    const double x = m.margins[v * K + k];
+                    p[3 + k] = static_cast<float>(std::clamp(x, -1e30, 1e30));
+                    if (x < 0.0 && steps[k].surface != Ls[0].stop) cuts[k] = 1;
+                }
+                std::size_t q = 3 + K;
+                for (std::size_t k : stopSteps) {
+                    p[q++] = static_cast<float>(m.points[v * K + k].x);
+                    p[q++] = static_cast<float>(m.points[v * K + k].y);
+                }
+            }
+        }
+    for (std::size_t k = 0; k < K; ++k)
+        if (cuts[k]) out.apertureSteps.push_back(k);
+    // Keep x, y, weight, the cutting apertures' margins and the stop hits.
+    const std::size_t stride = out.stride();
+    for (auto& byAngle : out.meshes)
+        for (ShapedMesh& mesh : byAngle) {
+            std::vector<float> d(mesh.data.size() / full * stride);
+            for (std::size_t v = 0; v < mesh.data.size() / full; ++v) {
+                const float* p = &mesh.data[v * full];
+                float* q = &d[v * stride];
+                q[0] = p[0], q[1] = p[1], q[2] = p[2];
+                std::size_t c = 3;
+                for (std::size_t k : out.apertureSteps) q[c++] = p[3 + k];
+                for (std::size_t k = 0; k < 2 * stopSteps.size(); ++k) q[c++] = p[3 + K + k];
+            }
+            mesh.data = std::move(d);
+        }
+    return out;
+}
+
 ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s, const Progress& progress) {
     const auto start = std::chrono::steady_clock::now();
     if (!lensIn.rotationallySymmetric())
@@ -312,72 +391,8 @@ ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s,
     std::vector<double> peak(G, 0.0);
     std::atomic<std::size_t> done = 0;
     tbb::parallel_for(std::size_t(0), G, [&](std::size_t g) {
-        ShapedGhost& out = ghosts[g];
-        out.pair = pairs[g];
-        const int n = grids[g];
-        if (n == 0) return;
-        out.grid = n;
-        out.pupilX0 = rects[g][0].x0, out.pupilY0 = rects[g][0].y0;
-        out.pupilX1 = rects[g][0].x1, out.pupilY1 = rects[g][0].y1;
-        const auto steps = trace::pathSteps(lens, pairs[g]);
-        std::vector<std::size_t> stopSteps;
-        for (std::size_t k = 0; k < steps.size(); ++k)
-            if (steps[k].surface == Ls[0].stop) stopSteps.push_back(k);
-        out.stopCrossings = stopSteps.size();
-        // Every vertex as x, y, weight, every step's margin (NaN: none), then the stop hits.
-        const std::size_t K = steps.size(), full = 3 + K + 2 * stopSteps.size();
-        std::vector<char> cuts(K, 0);
-        out.meshes.assign(W, std::vector<ShapedMesh>(A));
-        for (std::size_t w = 0; w < W; ++w)
-            for (std::size_t a = 0; a < A; ++a) {
-                const Rect& r = rects[g][a];
-                OpenMesh m = traceMesh(Ls[w], steps, RayMaker(pupil, fieldAt(a)), r, n);
-                rays[g] += m.ok.size();
-                const double cellArea = (r.x1 - r.x0) * (r.y1 - r.y0) / (double(n) * n);
-                const double scale = direct[w * A + a] > 0.0 ? cellArea / direct[w * A + a] : 0.0;
-                for (double& x : m.weight) x *= scale;
-                out.meshes[w][a].flux = meshFlux(n, m.ok, m.weight, m.steps, marginsOf(m));
-                peak[g] = std::max(peak[g], out.meshes[w][a].flux);
-                std::vector<float>& d = out.meshes[w][a].data;
-                d.assign(m.ok.size() * full, 0.0f);
-                for (std::size_t v = 0; v < m.ok.size(); ++v) {
-                    float* p = &d[v * full];
-                    if (!m.ok[v]) {
-                        p[0] = std::numeric_limits<float>::quiet_NaN();
-                        continue;
-                    }
-                    p[0] = static_cast<float>(m.land[v].x);
-                    p[1] = static_cast<float>(m.land[v].y);
-                    p[2] = static_cast<float>(m.weight[v]);
-                    for (std::size_t k = 0; k < K; ++k) {
-                        const double x = m.margins[v * K + k];
-                        p[3 + k] = static_cast<float>(std::clamp(x, -1e30, 1e30));
-                        if (x < 0.0 && steps[k].surface != Ls[0].stop) cuts[k] = 1;
-                    }
-                    std::size_t q = 3 + K;
-                    for (std::size_t k : stopSteps) {
-                        p[q++] = static_cast<float>(m.points[v * K + k].x);
-                        p[q++] = static_cast<float>(m.points[v * K + k].y);
-                    }
-                }
-            }
-        for (std::size_t k = 0; k < K; ++k)
-            if (cuts[k]) out.apertureSteps.push_back(k);
-        // Keep x, y, weight, the cutting apertures' margins and the stop hits.
-        const std::size_t stride = out.stride();
-        for (auto& byAngle : out.meshes)
-            for (ShapedMesh& mesh : byAngle) {
-                std::vector<float> d(mesh.data.size() / full * stride);
-                for (std::size_t v = 0; v < mesh.data.size() / full; ++v) {
-                    const float* p = &mesh.data[v * full];
-                    float* q = &d[v * stride];
-                    q[0] = p[0], q[1] = p[1], q[2] = p[2];
-                    std::size_t c = 3;
-                    for (std::size_t k : out.apertureSteps) q[c++] = p[3 + k];
-                    for (std::size_t k = 0; k < 2 * stopSteps.size(); ++k) q[c++] = p[3 + K + k];
-                }
-                mesh.data = std::move(d);
-            }
+        ghosts[g] =
+            traceGhost(lens, Ls, pairs[g], grids[g], rects[g], pupil, table.maxAngleDeg, direct, rays[g], peak[g]);
         if (progress) progress(++done, 2 * G);
     });
     const double strongest = G ? *std::max_element(peak.begin(), peak.end()) : 0.0;
