@@ -127,6 +127,90 @@ struct Traced {
 
 } // namespace
 
+// The least-squares fits over the pupil (u, v in iris radii, within `reach`) of the OPD ws, then of
+// each clipping surface's hit coordinate in hits.
+std::shared_ptr<PupilFit> fitPupil(double reach, const std::vector<double>& us, const std::vector<double>& vs,
+                                   const std::vector<double>& ws, const std::vector<std::vector<double>>& hits) {
+    auto fit = std::make_shared<PupilFit>(reach);
+    const std::size_t rows = ws.size(), cols = fit->terms();
+    if (rows < 2 * cols)
+        throw Error(ErrorKind::Input, "the wavefront: " + std::to_string(rows) + " traced rays are too few to fit it");
+    std::vector<double> A(rows * cols), row(cols);
+    for (std::size_t r = 0; r < rows; ++r) {
+        fit->basis(us[r], vs[r], row.data());
+        for (std::size_t c = 0; c < cols; ++c) A[c * rows + r] = row[c];
+    }
+    const LeastSquares solver(std::move(A), rows, cols);
+    fit->add(solver.solve(ws));
+    for (const auto& coordinate : hits) fit->add(solver.solve(coordinate));
+    return fit;
+}
+
+// The chief ray by Newton's method on its point in the stop (the Jacobian by differences of step h,
+// mm): sets p, its point in the entrance pupil's plane, and toPupil, the inverse of the Jacobian
+// there (stop to pupil). irisRadius scales the tolerance; angleRad names the field in the error.
+Traced chiefRay(const std::function<std::optional<Traced>(glm::dvec2)>& trace, double h, double irisRadius,
+                double angleRad, glm::dvec2& p, glm::dmat2& toPupil) {
+    std::optional<Traced> chief = trace(p);
+    glm::dmat2 J(1.0);
+    auto jacobian = [&](glm::dvec2 at, const Traced& t) -> bool {
+        const auto dx = trace(at + glm::dvec2(h, 0.0)), dy = trace(at + glm::dvec2(0.0, h));
+        if (!dx || !dy) return false;
+        J = glm::dmat2((dx->stop - t.stop) / h, (dy->stop - t.stop) / h);
+        return std::abs(glm::determinant(J)) > 0.0;
+    };
+    for (int it = 0; it < 50 && chief && glm::length(chief->stop) > 1e-10 * (1.0 + irisRadius); ++it) {
+        if (!jacobian(p, *chief))
+            chief.reset();
+        else
+            chief = trace(p -= glm::inverse(J) * chief->stop);
+    }
+    if (!chief || !(glm::length(chief->stop) <= 1e-6 * (1.0 + irisRadius)) || !jacobian(p, *chief))
+        throw Error(ErrorKind::Input, "the wavefront at field " + text::fixed(angleRad * 180.0 / 3.141592653589793, 2) +
+                                          " deg: no chief ray through the stop's centre");
+    toPupil = glm::inverse(J);
+    return *chief;
+}
+
+// The wavefront's statistics over the traced rays (OPD ws at pupil points us, vs) inside the iris
+// that the lens lets through, with the fitted opd's residual and largest slope, into out.
+void addStatistics(const std::vector<double>& ws, const std::vector<double>& us, const std::vector<double>& vs,
+                   const std::vector<char>& inIris, const std::vector<char>& openRay,
+                   const std::function<double(double, double)>& opd, TracedWavefront& out) {
+    const std::size_t rows = ws.size();
+    double mean = 0.0, lo = INFINITY, hi = -INFINITY, residual = 0.0, slope = 0.0;
+    std::size_t n = 0, blocked = 0;
+    const double e = 1e-5;
+    for (std::size_t r = 0; r < rows; ++r) {
+        if (!inIris[r]) continue;
+        if (!openRay[r]) {
+            ++blocked;
+            continue;
+        }
+        const double fitted = opd(us[r], vs[r]);
+        mean += ws[r];
+        lo = std::min(lo, ws[r]);
+        hi = std::max(hi, ws[r]);
+        residual += (ws[r] - fitted) * (ws[r] - fitted);
+        slope = std::max(slope, std::hypot(opd(us[r] + e, vs[r]) - opd(us[r] - e, vs[r]),
+                                           opd(us[r], vs[r] + e) - opd(us[r], vs[r] - e)) /
+                                    (2.0 * e));
+        ++n;
+    }
+    if (n == 0)
+        throw Error(ErrorKind::Input, "the wavefront: the lens blocks every ray through the iris at this field");
+    mean /= static_cast<double>(n);
+    double variance = 0.0;
+    for (std::size_t r = 0; r < rows; ++r)
+        if (inIris[r] && openRay[r]) variance += (ws[r] - mean) * (ws[r] - mean);
+    out.rays = n;
+    out.vignetted = static_cast<double>(blocked) / static_cast<double>(n + blocked);
+    out.rmsMm = std::sqrt(variance / static_cast<double>(n));
+    out.peakToValleyMm = hi - lo;
+    out.fitResidualMm = std::sqrt(residual / static_cast<double>(n));
+    out.pupil.maxSlopeMm = slope;
+}
+
 TracedWavefront tracedWavefront(const optics::Lens& lens, double angleRad, double azimuthRad, double lambdaNm,
                                 double sensorZ, const glm::dvec2* referenceMm, int grid) {
     const trace::LensAtWavelength L(lens, lambdaNm, sensorZ);
@@ -160,38 +244,21 @@ TracedWavefront tracedWavefront(const optics::Lens& lens, double angleRad, doubl
         return t;
     };
 
-    // The chief ray: Newton's method on its point in the stop, the Jacobian by differences.
-    const double h = 1e-4 * pupil.radius;
+    // The chief ray: its point in the entrance pupil's plane, and the map from the stop back there.
     glm::dvec2 p(0.0);
-    std::optional<Traced> chief = trace(p);
-    glm::dmat2 J(1.0);
-    auto jacobian = [&](glm::dvec2 at, const Traced& t) -> bool {
-        const auto dx = trace(at + glm::dvec2(h, 0.0)), dy = trace(at + glm::dvec2(0.0, h));
-        if (!dx || !dy) return false;
-        J = glm::dmat2((dx->stop - t.stop) / h, (dy->stop - t.stop) / h);
-        return std::abs(glm::determinant(J)) > 0.0;
-    };
-    for (int it = 0; it < 50 && chief && glm::length(chief->stop) > 1e-10 * (1.0 + L.iris.radius); ++it) {
-        if (!jacobian(p, *chief))
-            chief.reset();
-        else
-            chief = trace(p -= glm::inverse(J) * chief->stop);
-    }
-    if (!chief || !(glm::length(chief->stop) <= 1e-6 * (1.0 + L.iris.radius)) || !jacobian(p, *chief))
-        throw Error(ErrorKind::Input, "the wavefront at field " + text::fixed(angleRad * 180.0 / 3.141592653589793, 2) +
-                                          " deg: no chief ray through the stop's centre");
-    const glm::dmat2 toPupil = glm::inverse(J);
+    glm::dmat2 toPupil(1.0);
+    const Traced chief = chiefRay(trace, 1e-4 * pupil.radius, L.iris.radius, angleRad, p, toPupil);
 
     // The reference sphere: centred on the chief ray's point on the sensor (or the point given),
     // through the chief ray's point in the paraxial exit pupil's plane (or its last hit, for a lens
     // telecentric in image space).
     const double nImage = L.nAfter[steps.back().surface];
     auto onPlane = [](const optics::Ray& r, double z) { return r.origin + ((z - r.origin.z) / r.dir.z) * r.dir; };
-    const glm::dvec3 chiefImage = onPlane(chief->last, L.sensorZ);
+    const glm::dvec3 chiefImage = onPlane(chief.last, L.sensorZ);
     const glm::dvec3 image = referenceMm ? glm::dvec3(*referenceMm, L.sensorZ) : chiefImage;
     const optics::FirstOrder fo = optics::analyzeFirstOrder(lens, lambdaNm);
     const glm::dvec3 rim =
-        std::isfinite(fo.exitPupilZ) ? onPlane(chief->last, L.vertexZ.back() + fo.exitPupilZ) : chief->last.origin;
+        std::isfinite(fo.exitPupilZ) ? onPlane(chief.last, L.vertexZ.back() + fo.exitPupilZ) : chief.last.origin;
     const double radius = glm::length(rim - image);
     // OPL to the sphere: the ray's point where it crosses the sphere before reaching its centre.
     auto toSphere = [&](const Traced& t) -> std::optional<double> {
@@ -200,7 +267,7 @@ TracedWavefront tracedWavefront(const optics::Lens& lens, double angleRad, doubl
         if (!(disc >= 0.0)) return std::nullopt;
         return t.opl + nImage * (-b - std::sqrt(disc));
     };
-    const std::optional<double> chiefOpl = toSphere(*chief);
+    const std::optional<double> chiefOpl = toSphere(chief);
     if (!chiefOpl) throw Error(ErrorKind::Input, "the wavefront: the chief ray misses its own reference sphere");
 
     // Rays over the iris (its circumscribed circle, a little beyond), mapped through the chief
@@ -242,18 +309,7 @@ TracedWavefront tracedWavefront(const optics::Lens& lens, double angleRad, doubl
                                           std::to_string(inside) + " rays inside the iris reach the sensor");
 
     // The fits: W, then each clipping surface's hit point (x, y), all smooth over the pupil.
-    auto fit = std::make_shared<PupilFit>(reach);
-    const std::size_t rows = ws.size(), cols = fit->terms();
-    if (rows < 2 * cols)
-        throw Error(ErrorKind::Input, "the wavefront: " + std::to_string(rows) + " traced rays are too few to fit it");
-    std::vector<double> A(rows * cols), row(cols);
-    for (std::size_t r = 0; r < rows; ++r) {
-        fit->basis(us[r], vs[r], row.data());
-        for (std::size_t c = 0; c < cols; ++c) A[c * rows + r] = row[c];
-    }
-    const LeastSquares solver(std::move(A), rows, cols);
-    fit->add(solver.solve(ws));
-    for (const auto& coordinate : hits) fit->add(solver.solve(coordinate));
+    const auto fit = fitPupil(reach, us, vs, ws, hits);
     std::vector<double> clipRadius;
     for (std::size_t k : clipping) clipRadius.push_back(L.clipRadius[steps[k].surface]);
     auto opd = [fit](double u, double v) { return fit->first(u, v); };
@@ -267,42 +323,11 @@ TracedWavefront tracedWavefront(const optics::Lens& lens, double angleRad, doubl
         return true;
     };
 
-    // Statistics over the traced rays inside the iris that the lens lets through.
     TracedWavefront out;
     out.pupil.opd = opd;
     if (!clipping.empty()) out.pupil.open = open;
     out.imageMm = glm::dvec2(chiefImage);
-    double mean = 0.0, lo = INFINITY, hi = -INFINITY, residual = 0.0, slope = 0.0;
-    std::size_t n = 0, blocked = 0;
-    const double e = 1e-5;
-    for (std::size_t r = 0; r < rows; ++r) {
-        if (!inIris[r]) continue;
-        if (!openRay[r]) {
-            ++blocked;
-            continue;
-        }
-        const double fitted = opd(us[r], vs[r]);
-        mean += ws[r];
-        lo = std::min(lo, ws[r]);
-        hi = std::max(hi, ws[r]);
-        residual += (ws[r] - fitted) * (ws[r] - fitted);
-        slope = std::max(slope, std::hypot(opd(us[r] + e, vs[r]) - opd(us[r] - e, vs[r]),
-                                           opd(us[r], vs[r] + e) - opd(us[r], vs[r] - e)) /
-                                    (2.0 * e));
-        ++n;
-    }
-    if (n == 0)
-        throw Error(ErrorKind::Input, "the wavefront: the lens blocks every ray through the iris at this field");
-    mean /= static_cast<double>(n);
-    double variance = 0.0;
-    for (std::size_t r = 0; r < rows; ++r)
-        if (inIris[r] && openRay[r]) variance += (ws[r] - mean) * (ws[r] - mean);
-    out.rays = n;
-    out.vignetted = static_cast<double>(blocked) / static_cast<double>(n + blocked);
-    out.rmsMm = std::sqrt(variance / static_cast<double>(n));
-    out.peakToValleyMm = hi - lo;
-    out.fitResidualMm = std::sqrt(residual / static_cast<double>(n));
-    out.pupil.maxSlopeMm = slope;
+    addStatistics(ws, us, vs, inIris, openRay, opd, out);
     return out;
 }
 
