@@ -213,6 +213,12 @@ void addJacobians(MeshVertices& m) {
         }
 }
 
+// The area (pixels^2) of a cell whose corners 00, 10, 01, 11 land at c00 .. c11: half the cross
+// product of its diagonals.
+double cellAreaPx(const double* c00, const double* c10, const double* c01, const double* c11) {
+    return 0.5 * std::abs((c11[0] - c00[0]) * (c01[1] - c10[1]) - (c01[0] - c10[0]) * (c11[1] - c00[1]));
+}
+
 // The instance's brightest pixel, estimated (weight per pixel^2): the largest mean irradiance of a
 // cell the apertures leave whole, over at least a pixel (a smaller cell's flux lands in about one);
 // of any cell where none is whole.
@@ -223,7 +229,7 @@ double brightestPixel(const MeshVertices& m) {
             const std::size_t v00 = m.index(i, j), v10 = v00 + 1, v01 = m.index(i, j + 1), v11 = v01 + 1;
             if (!(m.ok[v00] && m.ok[v10] && m.ok[v01] && m.ok[v11])) continue;
             const double *a = m.at(v00), *b = m.at(v10), *d = m.at(v01), *e = m.at(v11);
-            const double areaPx = 0.5 * std::abs((e[0] - a[0]) * (d[1] - b[1]) - (d[0] - b[0]) * (e[1] - a[1]));
+            const double areaPx = cellAreaPx(a, b, d, e);
             const double mean = 0.25 * (a[2] + b[2] + d[2] + e[2]) / std::max(areaPx, 1.0);
             if (!std::isfinite(mean)) continue;
             bool inside = true;
@@ -322,8 +328,7 @@ class CellCutter {
         if (cubic && sizePx > 0.0 && tolerance_ > 0.0 && std::isfinite(tolerance_)) {
             CellIrradiance ci;
             ci.sizePx = sizePx;
-            ci.areaPx =
-                0.5 * std::abs((c[3][0] - c[0][0]) * (c[2][1] - c[1][1]) - (c[2][0] - c[1][0]) * (c[3][1] - c[0][1]));
+            ci.areaPx = cellAreaPx(c[0], c[1], c[2], c[3]);
             const double jc = bicubic(halfSlope_, half_, 0) * bicubic(half_, halfSlope_, 1) -
                               bicubic(half_, halfSlope_, 0) * bicubic(halfSlope_, half_, 1);
             ci.centre = std::max(0.0, bicubic(half_, half_, 2)) / std::abs(jc);
