@@ -249,7 +249,6 @@ Estimates estimateInstances(const ShapedTable& table, const std::vector<ShapedLi
     out.norm2.resize(instances.size());
     out.jump2.resize(instances.size());
     out.perimeterPx.resize(instances.size());
-    auto& [irradiance, norm2, jump2, perimeterPx] = out;
     tbb::parallel_for(std::size_t(0), instances.size() * W, [&](std::size_t k) {
         const std::size_t i = k / W, w = k % W;
         const ShapedGhost& gh = table.ghosts[instances[i].mesh.ghost];
@@ -307,7 +306,7 @@ Estimates estimateInstances(const ShapedTable& table, const std::vector<ShapedLi
                     x0 = std::min(x0, double(v[0])), x1 = std::max(x1, double(v[0])), y0 = std::min(y0, double(v[1])),
                     y1 = std::max(y1, double(v[1]));
             }
-        if (w == W / 2 && meshArea > 0.0) irradiance[i] = instances[i].flux / (meshArea / px2);
+        if (w == W / 2 && meshArea > 0.0) out.irradiance[i] = instances[i].flux / (meshArea / px2);
         if (!(weights > 0.0)) return;
         const double scale = instances[i].channelFlux[w] / weights; // flux per unit of weight
         double n2 = 0.0, j2 = 0.0;
@@ -331,9 +330,9 @@ Estimates estimateInstances(const ShapedTable& table, const std::vector<ShapedLi
                 if (x == 0 && here > 0.0) j2 += here * here * side(at(0, y), at(0, y + 1), fallback);
                 if (y == 0 && here > 0.0) j2 += here * here * side(at(x, 0), at(x + 1, 0), fallback);
             }
-        norm2[i][w] = n2;
-        jump2[i][w] = j2;
-        perimeterPx[i][w] = x1 >= x0 ? 2.0 * (x1 - x0 + y1 - y0) / frame.pitchMm : 0.0;
+        out.norm2[i][w] = n2;
+        out.jump2[i][w] = j2;
+        out.perimeterPx[i][w] = x1 >= x0 ? 2.0 * (x1 - x0 + y1 - y0) / frame.pitchMm : 0.0;
     });
     return out;
 }
