@@ -9,7 +9,8 @@ cd "$(dirname "$0")/.."
 seconds="${1:-60}"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-scripts/fuzz.sh build >/dev/null
+# A build that fails says why on stdout (the compiler's errors), not only on stderr.
+scripts/fuzz.sh build >"$work/build.log" 2>&1 || { echo "fuzz-ci: the fuzz build failed:"; grep -E "error|Error" "$work/build.log" | head -40; exit 1; }
 export work seconds
 scripts/fuzz.sh list | xargs -P "$(nproc 2>/dev/null || echo 2)" -I{} bash -c '
   code=0
