@@ -98,7 +98,13 @@ void CoverageRaster::polygon(std::span<const Vec2> poly, double e, const Vec2& g
     const double s = -e / area;
     const Density d{s * (1.0 - g.x * c.x - g.y * c.y), s * g.x, s * g.y};
     const bool linear = g.x != 0.0 || g.y != 0.0;
-    if (linear && slope_.empty()) slope_.assign(acc_.size(), 0.0);
+    if (linear && lanes_ == 1) {
+        // Interleave a slope beside every entry: a linear segment writes both in one cache line.
+        std::vector<double> both(2 * acc_.size(), 0.0);
+        for (std::size_t k = 0; k < acc_.size(); ++k) both[2 * k] = acc_[k];
+        acc_ = std::move(both);
+        lanes_ = 2;
+    }
     for (std::size_t i = 0; i < poly.size(); ++i) edge(poly[i], poly[(i + 1) % poly.size()], linear ? d : Density{s});
     const bool inFrame = lo.x >= 0.0 && lo.y >= 0.0 && hi.x <= frame_.width && hi.y <= frame_.height;
     double drawn = e;
@@ -116,9 +122,9 @@ void CoverageRaster::pixel(int px, int py, double e, RasterStats& stats) {
         stats.offImage += e;
         return;
     }
-    double* row = &acc_[static_cast<std::size_t>(py) * stride_];
-    row[px] += e; // the prefix sum carries it to px only
-    row[px + 1] -= e;
+    double* row = &acc_[static_cast<std::size_t>(py) * stride_ * lanes_];
+    row[px * lanes_] += e; // the prefix sum carries it to px only
+    row[(px + 1) * lanes_] -= e;
     stats.deposited += e;
 }
 
@@ -187,15 +193,16 @@ void CoverageRaster::segment(const Vec2& p0, const Vec2& p1, double d) {
         const double dy = std::min(y + 1.0, p1.y) - std::max(static_cast<double>(y), p0.y);
         const double xNext = y + 1.0 >= p1.y ? p1.x : x + dxdy * dy;
         const double h = dy * d;
-        double* row = &acc_[static_cast<std::size_t>(y) * stride_];
+        double* row = &acc_[static_cast<std::size_t>(y) * stride_ * lanes_];
+        const std::size_t L = lanes_;
         const double x0 = std::min(x, xNext), x1 = std::max(x, xNext);
         const double x0Floor = std::floor(x0), x1Ceil = std::ceil(x1);
         const int i0 = static_cast<int>(x0Floor), i1 = static_cast<int>(x1Ceil);
         if (i1 <= i0 + 1) {
             // Within one column: the trapezoid right of the segment covers 1 - (mean x - column).
             const double f = 0.5 * (x + xNext) - x0Floor;
-            row[i0] += h * (1.0 - f);
-            row[i0 + 1] += h * f;
+            row[i0 * L] += h * (1.0 - f);
+            row[(i0 + 1) * L] += h * f;
         } else {
             // Across columns: the fraction of the row's height left of column line X is
             // (X - x0) / (x1 - x0), integrated over each column.
@@ -204,17 +211,17 @@ void CoverageRaster::segment(const Vec2& p0, const Vec2& p1, double d) {
             const double a0 = 0.5 * s * (1.0 - f0) * (1.0 - f0); // first column
             const double f1 = x1 - x1Ceil + 1.0;
             const double am = 0.5 * s * f1 * f1; // beyond the last column's left part
-            row[i0] += h * a0;
+            row[i0 * L] += h * a0;
             if (i1 == i0 + 2) {
-                row[i0 + 1] += h * (1.0 - a0 - am);
+                row[(i0 + 1) * L] += h * (1.0 - a0 - am);
             } else {
                 const double a1 = s * (1.5 - f0);
-                row[i0 + 1] += h * (a1 - a0);
-                for (int i = i0 + 2; i < i1 - 1; ++i) row[i] += h * s;
+                row[(i0 + 1) * L] += h * (a1 - a0);
+                for (int i = i0 + 2; i < i1 - 1; ++i) row[i * L] += h * s;
                 const double a2 = a1 + (i1 - i0 - 3) * s;
-                row[i1 - 1] += h * (1.0 - a2 - am);
+                row[(i1 - 1) * L] += h * (1.0 - a2 - am);
             }
-            row[i1] += h * am;
+            row[i1 * L] += h * am;
         }
         x = xNext;
     }
@@ -223,9 +230,9 @@ void CoverageRaster::segment(const Vec2& p0, const Vec2& p1, double d) {
 void CoverageRaster::linearSegment(const Vec2& p0, const Vec2& p1, const Density& d) {
     // p0.y < p1.y, both inside [0, W] x [0, H]. In each row the segment crosses, between ya and yb,
     // column j receives the integral of the density over the part of [j, j + 1] x [ya, yb] right of
-    // the segment: its exact value in the columns the segment spans (through acc_), and
+    // the segment: its exact value in the columns the segment spans (the entries), and
     // (yb - ya) (d0 + dy ymean + dx (j + 1/2)) in those wholly right of it, from column i1 on: that
-    // value at i1 through acc_, and the slope (yb - ya) dx through slope_, which the release sums
+    // value at i1 through the entries, and the slope (yb - ya) dx beside them, which the release sums
     // twice (the slope's sum times the distance from i1). Only additions: exact as integers too.
     const double dxdy = (p1.x - p0.x) / (p1.y - p0.y);
     double x = p0.x;
@@ -234,8 +241,7 @@ void CoverageRaster::linearSegment(const Vec2& p0, const Vec2& p1, const Density
         const double ya = std::max(static_cast<double>(y), p0.y), yb = std::min(y + 1.0, p1.y);
         const double h = yb - ya;
         const double xNext = y + 1.0 >= p1.y ? p1.x : x + dxdy * h;
-        double* row = &acc_[static_cast<std::size_t>(y) * stride_];
-        double* slope = &slope_[static_cast<std::size_t>(y) * stride_];
+        double* row = &acc_[static_cast<std::size_t>(y) * stride_ * 2]; // lanes_ == 2: entry, slope
         const int i0 = static_cast<int>(std::floor(std::min(x, xNext))),
                   i1 = static_cast<int>(std::ceil(std::max(x, xNext)));
         // Column j's value is P(j + 1) - P(j), P(c) the integral of the density over the row's part
@@ -248,57 +254,74 @@ void CoverageRaster::linearSegment(const Vec2& p0, const Vec2& p1, const Density
         const double e0 = d.d0 + d.dx * i0 + d.dy * ya;
         const double q0 = e0 * xl + 0.5 * d.dx * xl * xl, q1 = e0 * s + d.dy * xl + d.dx * xl * s,
                      q2 = d.dy * s + 0.5 * d.dx * s * s;
-        auto R = [&](double t) { return t * (q0 + t * (0.5 * q1 + t * q2 / 3.0)); };
-        auto P = [&](double c) {
-            double a = 0.0, b = h;
-            if (s > 0.0)
-                b = std::clamp((c - xl) / s, 0.0, h);
-            else if (s < 0.0)
-                a = std::clamp((c - xl) / s, 0.0, h);
-            else if (!(xl < c))
-                return 0.0;
-            return (e0 * c + 0.5 * d.dx * c * c) * (b - a) + 0.5 * d.dy * c * (b * b - a * a) - (R(b) - R(a));
-        };
-        double before = 0.0, below = 0.0;
-        for (int j = i0; j < i1; ++j) {
-            const double next = P(j + 1.0 - i0), v = next - below;
-            row[j] += v - before;
-            before = v;
-            below = next;
+        const double r1 = 0.5 * q1, r2 = q2 / 3.0;
+        auto R = [&](double t) { return t * (q0 + t * (r1 + t * r2)); };
+        double before = 0.0;
+        if (i1 == i0 + 1) {
+            // Within one column: P(1) over the whole of [0, h].
+            before = (e0 + 0.5 * d.dx) * h + 0.5 * d.dy * h * h - R(h);
+            row[2 * i0] += before;
+        } else {
+            const double inv = s != 0.0 ? 1.0 / s : 0.0;
+            auto P = [&](double c) {
+                double a = 0.0, b = h;
+                if (s > 0.0)
+                    b = std::clamp((c - xl) * inv, 0.0, h);
+                else if (s < 0.0)
+                    a = std::clamp((c - xl) * inv, 0.0, h);
+                else if (!(xl < c))
+                    return 0.0;
+                return (e0 * c + 0.5 * d.dx * c * c) * (b - a) + 0.5 * d.dy * c * (b * b - a * a) - (R(b) - R(a));
+            };
+            double below = 0.0;
+            for (int j = i0; j < i1; ++j) {
+                const double next = P(j + 1.0 - i0), v = next - below;
+                row[2 * j] += v - before;
+                before = v;
+                below = next;
+            }
         }
-        row[i1] += h * (d.d0 + d.dy * 0.5 * (ya + yb) + d.dx * (i1 + 0.5)) - before;
-        slope[i1] += h * d.dx;
+        row[2 * i1] += h * (d.d0 + d.dy * 0.5 * (ya + yb) + d.dx * (i1 + 0.5)) - before;
+        row[2 * i1 + 1] += h * d.dx;
         x = xNext;
     }
 }
 
 void CoverageRaster::addTo(std::vector<double>& image) const {
     const std::size_t W = static_cast<std::size_t>(std::max(frame_.width, 0));
-    for (std::size_t y = 0; y < acc_.size() / stride_; ++y) {
+    for (std::size_t y = 0; y < acc_.size() / (stride_ * lanes_); ++y) {
         double sum = 0.0, slope = 0.0, ramp = 0.0;
-        const double* row = &acc_[y * stride_];
-        const double* rowSlope = slope_.empty() ? nullptr : &slope_[y * stride_];
+        const double* row = &acc_[y * stride_ * lanes_];
         double* out = &image[y * W];
-        for (std::size_t x = 0; x < W; ++x) {
-            sum += row[x];
-            if (rowSlope) ramp += slope, slope += rowSlope[x];
-            out[x] += std::max(sum + ramp, 0.0);
-        }
+        if (lanes_ == 1)
+            for (std::size_t x = 0; x < W; ++x) {
+                sum += row[x];
+                out[x] += std::max(sum, 0.0);
+            }
+        else
+            for (std::size_t x = 0; x < W; ++x) {
+                sum += row[2 * x];
+                ramp += slope, slope += row[2 * x + 1];
+                out[x] += std::max(sum + ramp, 0.0);
+            }
     }
 }
 
 std::vector<double> CoverageRaster::release() && {
     // The rows' prefix sums in place, then the rows packed to the frame's width (each moves left).
     const std::size_t W = static_cast<std::size_t>(std::max(frame_.width, 0));
-    for (std::size_t y = 0; y < acc_.size() / stride_; ++y) {
+    // Reads stay at or ahead of writes: (y stride + x) lanes >= y W + x.
+    const std::size_t rows = acc_.size() / (stride_ * lanes_);
+    for (std::size_t y = 0; y < rows; ++y) {
         double sum = 0.0, slope = 0.0, ramp = 0.0;
         for (std::size_t x = 0; x < W; ++x) {
-            sum += acc_[y * stride_ + x];
-            if (!slope_.empty()) ramp += slope, slope += slope_[y * stride_ + x];
+            const std::size_t k = (y * stride_ + x) * lanes_;
+            sum += acc_[k];
+            if (lanes_ == 2) ramp += slope, slope += acc_[k + 1];
             acc_[y * W + x] = std::max(sum + ramp, 0.0);
         }
     }
-    acc_.resize(W * (acc_.size() / stride_));
+    acc_.resize(W * rows);
     return std::move(acc_);
 }
 

@@ -80,10 +80,11 @@ class CoverageRaster {
 
     ImageFrame frame_;
     std::size_t stride_; ///< width + 2: the columns a row's last edge spills into
-    /// Per row, the entries whose prefix sum is each pixel's value: acc_ alone for uniform
-    /// densities; a linear one adds slope_, whose prefix sum, summed again, is the ramp a slope
-    /// adds from its column on (allocated by the first polygon that needs it).
-    std::vector<double> acc_, slope_;
+    /// Per row, the entries whose prefix sum is each pixel's value (lanes_ 1); once a linear
+    /// density is drawn, each entry has a slope beside it (lanes_ 2), whose prefix sum, summed
+    /// again, is the ramp a slope adds from its column on.
+    std::vector<double> acc_;
+    std::size_t lanes_ = 1;
 };
 
 } // namespace ff::trace
