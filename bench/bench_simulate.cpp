@@ -139,6 +139,11 @@ void shapedFrames(benchmark::State& state, ghosts::PolygonRaster* raster) {
     });
     state.counters["instances"] = double(stats.drawn);
     state.counters["triangles"] = double(stats.triangles);
+    // The subdivision's cost against what it draws: triangles per pixel covered (the mean over the
+    // direct instances and channels, the largest), and the gridded instances' triangles.
+    state.counters["tri_per_px"] = stats.trianglesPerPixel;
+    state.counters["tri_per_px_max"] = stats.mostTrianglesPerPixel;
+    state.counters["grid_triangles"] = double(stats.gridTriangles);
 }
 
 void BM_SimulateShaped(benchmark::State& state) {
