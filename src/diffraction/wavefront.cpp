@@ -125,8 +125,6 @@ struct Traced {
     double opl = 0.0;     // from the object-space plane through the first vertex, normal to the field
 };
 
-} // namespace
-
 // The least-squares fits over the pupil (u, v in iris radii, within `reach`) of the OPD ws, then of
 // each clipping surface's hit coordinate in hits.
 std::shared_ptr<PupilFit> fitPupil(double reach, const std::vector<double>& us, const std::vector<double>& vs,
@@ -210,6 +208,8 @@ void addStatistics(const std::vector<double>& ws, const std::vector<double>& us,
     out.fitResidualMm = std::sqrt(residual / static_cast<double>(n));
     out.pupil.maxSlopeMm = slope;
 }
+
+} // namespace
 
 TracedWavefront tracedWavefront(const optics::Lens& lens, double angleRad, double azimuthRad, double lambdaNm,
                                 double sensorZ, const glm::dvec2* referenceMm, int grid) {

@@ -221,6 +221,13 @@ std::string shapedCacheKey(const optics::Lens& lens, const TableSettings& s) {
     return k;
 }
 
+namespace {
+
+// The field of the table's angle a of A, uniform from 0 to maxAngleDeg.
+trace::Field tableField(double maxAngleDeg, std::size_t a, std::size_t A) {
+    return trace::Field{degToRad(maxAngleDeg * double(a) / double(A - 1)), 0.0};
+}
+
 // One ghost's meshes at every wavelength and angle, n cells per side over the pupil rectangle
 // rects[a] (the same at every angle), weights relative to the direct image's flux direct[w * A + a];
 // the apertures that cut it somewhere kept. Adds the rays traced to `rays` and the largest mesh flux
@@ -229,7 +236,6 @@ ShapedGhost traceGhost(const optics::Lens& lens, const std::vector<trace::LensAt
                        const trace::GhostPair& pair, int n, const std::vector<Rect>& rects,
                        const trace::PupilFrame& pupil, double maxAngleDeg, const std::vector<double>& direct,
                        std::size_t& rays, double& peak) {
-    using trace::Field;
     const std::size_t W = Ls.size(), A = rects.size();
     ShapedGhost out;
     out.pair = pair;
@@ -249,8 +255,7 @@ ShapedGhost traceGhost(const optics::Lens& lens, const std::vector<trace::LensAt
     for (std::size_t w = 0; w < W; ++w)
         for (std::size_t a = 0; a < A; ++a) {
             const Rect& r = rects[a];
-            OpenMesh m = traceMesh(
-                Ls[w], steps, RayMaker(pupil, Field{degToRad(maxAngleDeg * double(a) / double(A - 1)), 0.0}), r, n);
+            OpenMesh m = traceMesh(Ls[w], steps, RayMaker(pupil, tableField(maxAngleDeg, a, A)), r, n);
             rays += m.ok.size();
             const double cellArea = (r.x1 - r.x0) * (r.y1 - r.y0) / (double(n) * n);
             const double scale = direct[w * A + a] > 0.0 ? cellArea / direct[w * A + a] : 0.0;
@@ -300,6 +305,8 @@ ShapedGhost traceGhost(const optics::Lens& lens, const std::vector<trace::LensAt
     return out;
 }
 
+} // namespace
+
 ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s, const Progress& progress) {
     const auto start = std::chrono::steady_clock::now();
     if (!lensIn.rotationallySymmetric())
@@ -326,9 +333,7 @@ ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s,
     std::vector<trace::LensAtWavelength> Ls;
     for (double l : s.wavelengthsNm) Ls.emplace_back(lens, l, sensorZ);
     const std::size_t W = Ls.size(), A = static_cast<std::size_t>(s.angles), G = pairs.size();
-    auto fieldAt = [&](std::size_t a) {
-        return trace::Field{degToRad(table.maxAngleDeg * double(a) / double(A - 1)), 0.0};
-    };
+    auto fieldAt = [&](std::size_t a) { return tableField(table.maxAngleDeg, a, A); };
 
     // The direct image's flux and centroid per wavelength and angle.
     const auto directSteps = trace::pathSteps(lens, std::nullopt);

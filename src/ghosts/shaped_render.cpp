@@ -183,6 +183,8 @@ std::vector<char> chooseGridded(const std::vector<std::array<double, 3>>& error2
     return onGrid;
 }
 
+namespace {
+
 // Per light: the interpolation between table angles and its ghosts kept after culling (the culled
 // counted in out).
 std::vector<Instance> keptInstances(const ShapedTable& table, const std::vector<ShapedLight>& lights,
@@ -336,6 +338,8 @@ Estimates estimateInstances(const ShapedTable& table, const std::vector<ShapedLi
     });
     return out;
 }
+
+} // namespace
 
 ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLight>& lights,
                           const trace::ImageFrame& frame, const ShapedRenderSettings& settings, PolygonRaster* raster) {
