@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -156,6 +157,44 @@ TEST(ShapedGhosts, LinearElementsKeepTheFluxOfEveryTriangle) {
         EXPECT_GT(moved, 1e-4) << "channel " << c; // the densities are not uniform
         EXPECT_LT(moved, 0.05) << "channel " << c;
     }
+}
+
+// The subdivision for the irradiance is stated in pixels (docs/ghost-table.md, "Subdivision in
+// pixels"): on the Cooke triplet's ghosts it splits cells that span pixels, and never a cell whose
+// sub-cells would be narrower than a quarter pixel — on a frame whose pixels are 8 times the widest
+// cell of any ghost at any table angle (the span of its diagonals along x and y, which the
+// interpolation between angles does not double), it splits none (the other rules held off: their
+// tolerances at 1e9 pixels).
+TEST(ShapedGhosts, TheIrradianceSplitsCellsThatSpanPixelsAndNoneBelowAQuarterPixel) {
+    const ShapedTable table = cookeTable(5);
+    ShapedLight light;
+    light.field = {0.55 * table.maxAngleDeg * std::numbers::pi / 180, 0.8};
+    ShapedRenderSettings none;
+    none.flatnessPx = none.maxFlatnessPx = 1e9;
+    none.subcellPx = 1e9;
+    none.irradianceError = std::numeric_limits<double>::infinity();
+    ShapedRenderSettings split = none;
+    split.irradianceError = 0.002;
+    double widest = 0.0; // mm
+    for (const ShapedGhost& gh : table.ghosts)
+        for (const auto& byAngle : gh.meshes)
+            for (const ShapedMesh& m : byAngle) {
+                if (m.data.empty()) continue;
+                auto at = [&](int i, int j) { return &m.data[(std::size_t(j) * (gh.grid + 1) + i) * gh.stride()]; };
+                for (int j = 0; j < gh.grid; ++j)
+                    for (int i = 0; i < gh.grid; ++i) {
+                        const float *p = at(i, j), *q = at(i + 1, j), *r = at(i, j + 1), *u = at(i + 1, j + 1);
+                        const double span = std::max({std::abs(u[0] - p[0]), std::abs(q[0] - r[0]),
+                                                      std::abs(u[1] - p[1]), std::abs(q[1] - r[1])});
+                        if (std::isfinite(span)) widest = std::max(widest, span);
+                    }
+            }
+    ASSERT_GT(widest, 0.0);
+    const trace::ImageFrame fine{240, 160, 36.0 / 240}, coarse{2, 2, 8.0 * widest};
+    EXPECT_GT(renderShaped(table, {light}, fine, split).triangles, renderShaped(table, {light}, fine, none).triangles);
+    const ShapedRender a = renderShaped(table, {light}, coarse, split), b = renderShaped(table, {light}, coarse, none);
+    EXPECT_GT(b.triangles, 0u);
+    EXPECT_EQ(a.triangles, b.triangles);
 }
 
 // The same plate with a 6-blade iris turned by 10 degrees and a light off the axis at azimuth 40
