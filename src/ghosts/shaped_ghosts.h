@@ -110,8 +110,10 @@ struct ShapedRenderSettings {
     /// irradiance squared times the area its misplaced edges sweep); where the bicubic stencil is
     /// incomplete (the grid's border, lost rays) cells cut by an edge get sub-cells of about
     /// subcellPx pixels. How it is spread: the error the elements' density leaves in a pixel is at
-    /// most irradianceError times the instance's brightest pixel — second order in the sub-cell's
-    /// size for linear elements, first order for uniform ones, and no sub-cell below a quarter pixel.
+    /// most irradianceError times the instance's brightest pixel for the instance of highest mean
+    /// irradiance, growing with a dimmer one's as its flatness does (the same absolute error) —
+    /// second order in the sub-cell's size for linear elements, first order for uniform ones, and no
+    /// sub-cell below a quarter pixel. The hybrid's gridded instances are drawn uniform.
     /// Each triangle's density is linear over it (linearDensity), the plane through its vertices'
     /// irradiances (the mesh's weight over the Jacobian of its interpolating surface) with its flux
     /// kept, where it covers at least a pixel; below that, and with linearDensity false, uniform.
