@@ -2,12 +2,19 @@
 """Soak: a long `simulate --frames` sequence of a moving light and many Python `render` calls in one
 process, watching peak memory, open file descriptors and files left behind (docs/reliability.md).
 
-    scripts/soak.py [--frames 1000] [--calls 1000] [--build build/release] [--max-growth 0.01]
+    scripts/soak.py [--frames 1000] [--calls 1000] [--build build/release] [--max-growth 0.01] [--leak-kb 0]
 
-The light's path repeats every 100 steps. Peak RSS (VmHWM) is taken once the first tenth of the
-work is done (caches built, pools started, every position of the light seen) and at the end; the growth between them must stay under --max-growth, the descriptors open at the
-end no more than after the first tenth, and no temporary file may be left in the output folder, the
-cache or $TMPDIR. Prints the figures as JSON; exits 1 when a bound is broken.
+The light's path repeats every 100 steps. For `simulate`, peak RSS (VmHWM) is taken once the first
+tenth of the work is done (caches built, pools started, every position of the light seen) and at the
+end. The Python calls run in this script's child, which reads its own peak after each call and resets
+it (/proc/self/clear_refs), so each call's peak is compared with the peak of the call at the same step
+of the path and in the same mode in the first period (the median of those growths: a leak
+raises every call's peak, two threads' buffers meeting by chance in one call raise one), and its RSS
+and the bytes malloc holds (mallinfo2: a leak taken from freed memory still resident does not raise
+RSS) at the end with those after the first tenth, at the same step. Each growth must stay under
+--max-growth, the descriptors open at the end no more than after the first tenth, and no temporary
+file may be left in the output folder, the cache or $TMPDIR. Prints the figures as JSON; exits 1 when
+a bound is broken.
 """
 
 import argparse
@@ -99,16 +106,37 @@ def soak_simulate(cli, frames, work):
 PY_CHILD = r"""
 import json, os, resource, sys
 import fourierflare as ff
-calls, lens_path = int(sys.argv[1]), sys.argv[2]
+calls, lens_path, leak_kb = int(sys.argv[1]), sys.argv[2], int(sys.argv[3])
+kept = []  # --leak-kb: memory kept on purpose, to see the check fail
 width, height = %d, %d
 lens = ff.Lens.load(lens_path)
 table = ff.GhostTable.build(lens)
 modes = ["fourier", "shaped", "fitted", "diffraction"]
+import ctypes
+class MallInfo2(ctypes.Structure):
+    _fields_ = [(n, ctypes.c_size_t) for n in "arena ordblks smblks hblks hblkhd usmblks fsmblks uordblks fordblks keepcost".split()]
+libc = ctypes.CDLL(None)
+libc.mallinfo2.restype = MallInfo2
 def sample(done):
+    # malloc_kb: the bytes glibc's malloc has handed out and not had back (mallinfo2), which RSS hides
+    # while a leak is carved from memory freed earlier and still resident.
     fields = dict(l.split(":", 1) for l in open("/proc/self/status") if ":" in l)
+    m = libc.mallinfo2()
     return {"calls_done": done, "rss_kb": int(fields["VmRSS"].split()[0]), "hwm_kb": int(fields["VmHWM"].split()[0]),
-            "fds": len(os.listdir("/proc/self/fd"))}
+            "malloc_kb": (m.uordblks + m.hblkhd) // 1024, "fds": len(os.listdir("/proc/self/fd"))}
 samples = {}
+def call_peak():
+    # This call's peak resident size, then the peak reset to the current size (Linux >= 4.0); None
+    # where the kernel does not allow the reset.
+    peak = sample(0)["hwm_kb"]
+    try:
+        with open("/proc/self/clear_refs", "w") as f:
+            f.write("5")
+    except OSError:
+        return None
+    return peak
+call_peak()
+peaks = []
 for i in range(1, calls + 1):
     t = i %% %d
     k = 2 * t if t < %d // 2 else 2 * (%d - t)
@@ -117,7 +145,10 @@ for i in range(1, calls + 1):
     image = ff.render(lens if mode in ("shaped", "diffraction") else table, [(float(x), float(y))], (width, height), mode)
     assert image.shape == (height, width, 3) and image.sum() > 0, (mode, image.shape)
     if i == max(%d, calls // 10): samples["warm"] = sample(i)
+    kept.append(b"\1" * (1024 * leak_kb))
+    peaks.append(call_peak())
 samples["end"] = sample(calls)
+samples["call_peaks_kb"] = peaks if None not in peaks else None
 print(json.dumps(samples))
 """ % (WIDTH, HEIGHT, PERIOD, PERIOD, PERIOD, PERIOD, PERIOD, PERIOD)
 
@@ -134,13 +165,13 @@ def module_python(build):
     return sys.executable
 
 
-def soak_python(build, calls, work):
+def soak_python(build, calls, work, leak_kb=0):
     cache, tmp = os.path.join(work, "pycache"), os.path.join(work, "pytmp")
     os.makedirs(cache)
     os.makedirs(tmp)
     env = dict(os.environ, FF_CACHE_DIR=cache, TMPDIR=tmp, PYTHONPATH=os.path.join(build, "python"))
     start = time.monotonic()
-    r = subprocess.run([module_python(build), "-c", PY_CHILD, str(calls), LENS], env=env, capture_output=True, text=True)
+    r = subprocess.run([module_python(build), "-c", PY_CHILD, str(calls), LENS, str(leak_kb)], env=env, capture_output=True, text=True)
     seconds = time.monotonic() - start
     result = {"calls": calls, "exit": r.returncode, "seconds": round(seconds, 1), "stderr": r.stderr[-2000:]}
     if r.returncode == 0:
@@ -149,8 +180,17 @@ def soak_python(build, calls, work):
     return result
 
 
-def growth(part):
-    return (part["end"]["hwm_kb"] - part["warm"]["hwm_kb"]) / part["warm"]["hwm_kb"]
+def growth(part, key="hwm_kb"):
+    return (part["end"][key] - part["warm"][key]) / part["warm"][key]
+
+
+def call_peak_growth(peaks):
+    """The median over the last period's calls of each one's peak against the peak of the call at the
+    same step of the path in the first period (PERIOD is a multiple of the four modes, so the mode is
+    the same too). The first period holds the cold calls: their peaks include building the caches."""
+    first, last = peaks[:PERIOD], peaks[-PERIOD:]
+    rel = sorted((b - a) / a for a, b in zip(first, last))
+    return (rel[(PERIOD - 1) // 2] + rel[PERIOD // 2]) / 2
 
 
 def main():
@@ -159,6 +199,7 @@ def main():
     p.add_argument("--calls", type=int, default=1000)
     p.add_argument("--build", default=os.path.join(ROOT, "build", "release"))
     p.add_argument("--max-growth", type=float, default=0.01)
+    p.add_argument("--leak-kb", type=int, default=0, help="keep this much memory per Python call (a check of the check)")
     a = p.parse_args()
     if a.frames < 2 * PERIOD or a.calls < 2 * PERIOD:
         p.error(f"--frames and --calls must be at least {2 * PERIOD} (the light's path repeats every {PERIOD})")
@@ -166,7 +207,7 @@ def main():
     report, problems = {}, []
     with tempfile.TemporaryDirectory(prefix="ff-soak-") as work:
         report["simulate"] = sim = soak_simulate(cli, a.frames, work)
-        report["python"] = py = soak_python(a.build, a.calls, work)
+        report["python"] = py = soak_python(a.build, a.calls, work, a.leak_kb)
     for name, part, count in (("simulate", sim, "written"), ("python", py, None)):
         if part["exit"] != 0:
             problems.append(f"{name} exited {part['exit']}")
@@ -176,9 +217,21 @@ def main():
         if not part.get("warm") or not part.get("end"):
             problems.append(f"{name}: no samples")
             continue
-        part["peak_rss_growth"] = round(growth(part), 5)
-        if part["peak_rss_growth"] >= a.max_growth:
-            problems.append(f"{name}: peak RSS grew by {100 * part['peak_rss_growth']:.2f} % after the first tenth")
+        peaks = part.pop("call_peaks_kb", None)
+        if name == "python" and peaks:
+            # Each call's own peak (see the module's docstring): VmHWM is reset after every call.
+            part["call_peak_growth"] = round(call_peak_growth(peaks), 5)
+            part["call_peak_kb"] = {"first_period_max": max(peaks[:PERIOD]), "last_period_max": max(peaks[-PERIOD:])}
+            part["rss_growth"] = round(growth(part, "rss_kb"), 5)
+            part["malloc_growth"] = round(growth(part, "malloc_kb"), 5)
+            for what, key in (("each call's peak RSS (median)", "call_peak_growth"), ("RSS", "rss_growth"),
+                              ("memory in use by malloc", "malloc_growth")):
+                if part[key] >= a.max_growth:
+                    problems.append(f"{name}: {what} grew by {100 * part[key]:.2f} % after the first tenth")
+        else:
+            part["peak_rss_growth"] = round(growth(part), 5)
+            if part["peak_rss_growth"] >= a.max_growth:
+                problems.append(f"{name}: peak RSS grew by {100 * part['peak_rss_growth']:.2f} % after the first tenth")
         if part["end"]["fds"] > part["warm"]["fds"]:
             problems.append(f"{name}: {part['end']['fds'] - part['warm']['fds']} more descriptors open at the end")
         if part["left_behind"]:
