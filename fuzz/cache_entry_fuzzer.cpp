@@ -1,5 +1,5 @@
 // libFuzzer target for the cache entries (docs/farm.md): a shaped table (.shaped: header JSON,
-// deflated per-ghost meshes with CRC-32) and a PSF (.psf). Each input is read as both; a reader may
+// per-ghost meshes in Zstandard frames with their checksums) and a PSF (.psf). Each input is read as both; a reader may
 // only return an entry or throw ff::Error. The cache reads whatever is in its folder, so a damaged
 // or hostile entry must be refused, never crash, hang or exhaust memory.
 

@@ -8,7 +8,7 @@ packages=(
   libembree-dev libglm-dev libtbb-dev
   libopenimageio-dev openimageio-tools libopenexr-dev
   libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
-  libopenblas-dev libfftw3-dev zlib1g-dev
+  libopenblas-dev libfftw3-dev zlib1g-dev libzstd-dev
   libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev libyaml-cpp-dev
   pybind11-dev python3-dev python3-numpy python3-pytest python3-openimageio

@@ -8,7 +8,7 @@
 // Format (docs/ghost-table.md, "The table on disk"): the magic "FFSHAPED", a format version, a JSON
 // header (the key, the table's scalars, the direct image's centroids, the fitted table as
 // tableToJson's text, every ghost's layout and flux) with its CRC-32, then per ghost its meshes,
-// deflated (zlib) with a CRC-32: per wavelength the lost vertices, then each attribute quantised to
+// one Zstandard frame with its content checksum: per wavelength the lost vertices, then each attribute quantised to
 // 16 bits over its range across the angles (step (hi - lo) / 65534; 65535 marks a non-finite value),
 // stored as residuals from a prediction by the previous angle and the vertices before it. Loading
 // gives back every value within half a step, and NaN for every attribute of a lost ray.
