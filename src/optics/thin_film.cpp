@@ -100,6 +100,48 @@ double filmReflectance(double n0, const std::vector<FilmLayer>& layers, double n
                   stackReflectanceComplex(n0, layers, nSub, cosI, lambdaNm, true));
 }
 
+FilmReflectanceTable::FilmReflectanceTable(double n0, std::vector<FilmLayer> layers, double nSub, double lambdaNm)
+    : n0_(n0), nSub_(nSub), lambdaNm_(lambdaNm), layers_(std::move(layers)) {
+    double nMin = nSub;
+    for (const FilmLayer& l : layers_) nMin = std::min(nMin, l.n);
+    uStar2_ = nMin < n0 ? 1.0 - (nMin / n0) * (nMin / n0) : 0.0;
+    const double sMax = std::sqrt(1.0 - uStar2_);
+    // The first knot one interval above the branch point when there is one: at s = 0 itself the
+    // p-polarised admittance n / cos of the least-index medium is infinite (its limit is finite).
+    const int first = uStar2_ > 0.0 ? 1 : 0;
+    sStep_ = sMax / (kIntervals + first);
+    sLo_ = first * sStep_;
+    auto R = [&](double s) { return filmReflectance(n0_, layers_, nSub_, std::sqrt(s * s + uStar2_), lambdaNm_); };
+    knots_.resize(2 * (kIntervals + 1));
+    const double d = 1e-4 * sStep_; // central differences for the slopes: O(d^2) and 1e-16 / d
+    for (int k = 0; k <= kIntervals; ++k) {
+        const double s = sLo_ + k * sStep_;
+        knots_[2 * k] = R(s);
+        // One-sided (second order) where the other side leaves the range: at s = 0 and s_max.
+        double slope = 0.0;
+        if (s - d < 0.0)
+            slope = (-3.0 * R(s) + 4.0 * R(s + d) - R(s + 2 * d)) / (2 * d);
+        else if (s + d > sMax)
+            slope = (3.0 * R(s) - 4.0 * R(s - d) + R(s - 2 * d)) / (2 * d);
+        else
+            slope = (R(s + d) - R(s - d)) / (2 * d);
+        knots_[2 * k + 1] = sStep_ * slope;
+    }
+}
+
+double FilmReflectanceTable::operator()(double cosI) const {
+    const double s2 = cosI * cosI - uStar2_;
+    const double x = (s2 > 0.0 ? std::sqrt(s2) - sLo_ : -1.0) / sStep_;
+    if (!(x >= 0.0) || knots_.empty()) return filmReflectance(n0_, layers_, nSub_, cosI, lambdaNm_);
+    const int k = std::min(static_cast<int>(x), kIntervals - 1);
+    const double t = x - k;
+    const double* p = &knots_[2 * static_cast<std::size_t>(k)];
+    // Hermite basis on [0, 1]: values p[0], p[2], slopes (per interval) p[1], p[3].
+    const double t2 = t * t, t3 = t2 * t;
+    return std::min(1.0, (2 * t3 - 3 * t2 + 1) * p[0] + (t3 - 2 * t2 + t) * p[1] + (-2 * t3 + 3 * t2) * p[2] +
+                             (t3 - t2) * p[3]);
+}
+
 std::vector<FilmLayer> filmLayers(const CoatingSpec& spec, double lambdaNm) {
     std::vector<FilmLayer> out;
     out.reserve(spec.layers.size());

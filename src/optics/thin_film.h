@@ -27,6 +27,28 @@ double fresnelReflectance(double n1, double n2, double cosI);
 /// layers listed from the incident side. An empty stack gives fresnelReflectance.
 double filmReflectance(double n0, const std::vector<FilmLayer>& layers, double nSub, double cosI, double lambdaNm);
 
+/// filmReflectance of one stack at one wavelength from one side, tabulated over the incidence for a
+/// tracer's inner loop. Where every angle in the stack is real (cos_i above u* = sqrt(1 - n_min^2 /
+/// n_0^2), n_min the least index of the layers and the substrate; u* = 0 when n_min >= n_0), R is an
+/// analytic function of s = sqrt(cos_i^2 - u*^2) — the square-root branch point at the critical angle
+/// is taken out, every layer's cosine is smooth in s — and is interpolated by cubic Hermite pieces
+/// over 1024 equal intervals of s, from the exact values and slopes at their ends (error O(h^4):
+/// below 1e-9 absolute for the bundled lenses' coatings, tests/optics/test_thin_film.cpp). Below the
+/// table's first interval (at and beyond the critical angle) it calls filmReflectance.
+class FilmReflectanceTable {
+  public:
+    FilmReflectanceTable() = default;
+    FilmReflectanceTable(double n0, std::vector<FilmLayer> layers, double nSub, double lambdaNm);
+    double operator()(double cosI) const;
+
+  private:
+    static constexpr int kIntervals = 1024;
+    double n0_ = 1.0, nSub_ = 1.0, lambdaNm_ = 550.0;
+    std::vector<FilmLayer> layers_;
+    double uStar2_ = 0.0, sLo_ = 0.0, sStep_ = 1.0; // u*^2, the table's first knot in s, the interval
+    std::vector<double> knots_;                     // per knot: R, then h dR/ds
+};
+
 /// The layers of a coating spec at lambdaNm: indices from the coating-material catalogue, physical
 /// thickness d = waves * lambda0 / n(lambda0). Listed from the outer (air) side to the substrate.
 std::vector<FilmLayer> filmLayers(const CoatingSpec& spec, double lambdaNm);

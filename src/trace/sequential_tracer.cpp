@@ -30,6 +30,15 @@ LensAtWavelength::LensAtWavelength(const optics::Lens& l, double lambda, double 
     }
     sensorZ = std::isnan(sensor) ? z : sensor;
     for (std::size_t s = 0; s < n; ++s) {
+        const bool homogeneous = !l.surfaces[s].medium.gradient && !(s > 0 && l.surfaces[s - 1].medium.gradient);
+        const bool tabulate = homogeneous && !layersFromLow[s].empty() && nBefore[s] != nAfter[s];
+        const double lo = std::min(nBefore[s], nAfter[s]), hi = std::max(nBefore[s], nAfter[s]);
+        filmFromLow.push_back(tabulate ? std::optional(optics::FilmReflectanceTable(lo, layersFromLow[s], hi, lambda))
+                                       : std::nullopt);
+        filmFromHigh.push_back(tabulate ? std::optional(optics::FilmReflectanceTable(hi, layersFromHigh[s], lo, lambda))
+                                        : std::nullopt);
+    }
+    for (std::size_t s = 0; s < n; ++s) {
         const optics::Medium& m = l.surfaces[s].medium;
         gradient.push_back(m.gradient && s + 1 < n
                                ? std::optional(optics::GradientField(m.index(lambda), *m.gradient, lambda, vertexZ[s]))
@@ -110,8 +119,11 @@ RayStatus applyStep(const LensAtWavelength& L, const PathStep& step, const optic
     if (weighting == Weighting::Fresnel && n1 != n2) {
         const double cosI = std::min(1.0, std::abs(glm::dot(ray.dir, hit.normal)));
         // The coating sits on the glass (higher-index) side: met in spec order from the other side.
-        const auto& layers = n1 < n2 ? L.layersFromLow[s] : L.layersFromHigh[s];
-        R = optics::filmReflectance(n1, layers, n2, cosI, L.lambdaNm);
+        const auto& table = n1 < n2 ? L.filmFromLow[s] : L.filmFromHigh[s];
+        if (table)
+            R = (*table)(cosI);
+        else
+            R = optics::filmReflectance(n1, n1 < n2 ? L.layersFromLow[s] : L.layersFromHigh[s], n2, cosI, L.lambdaNm);
     }
     if (step.reflect) {
         if (weighting == Weighting::Fresnel) weight *= R;

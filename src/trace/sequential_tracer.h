@@ -36,6 +36,10 @@ struct LensAtWavelength {
     /// Per surface: the coating's layers at this wavelength, met from the low-index side (spec order)
     /// and from the high-index side (reversed); empty for a bare surface.
     std::vector<std::vector<optics::FilmLayer>> layersFromLow, layersFromHigh;
+    /// Per surface with a coating between two homogeneous media of different index: its reflectance
+    /// tabulated from the low- and the high-index side (optics::FilmReflectanceTable); empty
+    /// elsewhere (applyStep computes it exactly there).
+    std::vector<std::optional<optics::FilmReflectanceTable>> filmFromLow, filmFromHigh;
     std::size_t stop = 0;
     Iris iris;            ///< the stop's opening (its blades, at the working radius)
     double sensorZ = 0.0; ///< z of the sensor plane (the last thickness unless overridden)
