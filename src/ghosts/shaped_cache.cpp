@@ -333,6 +333,7 @@ ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file
     ShapedTable t;
     std::vector<std::string_view> chunks;
     std::vector<std::uint64_t> rawSize;
+    std::vector<std::vector<char>> presentMeshes; // per ghost, [wavelength][angle]
     try {
         const nlohmann::json h = nlohmann::json::parse(header);
         key = h.at("key").get<std::string>();
@@ -399,9 +400,11 @@ ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file
             // beyond that is not this data's, and nothing is allocated for it.
             if (rawSize.back() != expected || expected > 32768 * chunks.back().size())
                 throw Error(ErrorKind::Input, SourceLocation{file}, "shaped-ghost size does not match its layout");
+            // The present meshes are sized as each ghost decodes: the 100s of MB in parallel.
+            std::vector<char>& p = presentMeshes.emplace_back(W * static_cast<std::size_t>(A), 0);
             for (std::size_t w = 0; w < W; ++w)
                 for (std::size_t a = 0; a < static_cast<std::size_t>(A); ++a)
-                    if (present[w][a].get<bool>()) g.meshes[w][a].data.resize(vertices(g) * g.stride());
+                    p[w * static_cast<std::size_t>(A) + a] = present[w][a].get<bool>() ? 1 : 0;
             t.ghosts.push_back(std::move(g));
         }
     } catch (const nlohmann::json::exception& e) {
@@ -414,12 +417,16 @@ ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file
     std::vector<std::string> errors(t.ghosts.size());
     tbb::parallel_for(std::size_t(0), t.ghosts.size(), [&](std::size_t g) {
         try {
+            ShapedGhost& gh = t.ghosts[g];
+            for (std::size_t w = 0, k = 0; w < gh.meshes.size(); ++w)
+                for (ShapedMesh& m : gh.meshes[w])
+                    if (presentMeshes[g][k++]) m.data.resize(vertices(gh) * gh.stride());
             const auto n = static_cast<std::size_t>(rawSize[g]);
             const std::unique_ptr<char[]> raw(new char[n]); // not zeroed: decompress() fills it or fails
             if (!decompress(chunks[g], raw.get(), n))
                 throw Error(ErrorKind::Input, SourceLocation{file},
                             "shaped ghost " + std::to_string(g) + " does not decompress or fails its checksum");
-            decodeGhost(t.ghosts[g], std::string_view(raw.get(), n), file);
+            decodeGhost(gh, std::string_view(raw.get(), n), file);
         } catch (const Error& e) {
             errors[g] = e.message();
         }
