@@ -217,7 +217,7 @@ void decodeGhost(ShapedGhost& g, std::string_view raw, const std::string& file) 
 
 // Zstandard at level 3, each frame with its content's checksum (XXH64, checked as it decompresses):
 // against zlib's level 1 and a CRC-32 of each chunk on the double Gauss's meshes, 12 % smaller and
-// read 4 times faster (docs/performance.md, "The table").
+// decompressed 4 times faster (docs/performance.md, "The table").
 std::string compress(const std::string& raw) {
     std::string out(ZSTD_compressBound(raw.size()), '\0');
     ZSTD_CCtx* cctx = ZSTD_createCCtx();

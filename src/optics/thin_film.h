@@ -33,7 +33,7 @@ double filmReflectance(double n0, const std::vector<FilmLayer>& layers, double n
 /// analytic function of s = sqrt(cos_i^2 - u*^2) — the square-root branch point at the critical angle
 /// is taken out, every layer's cosine is smooth in s — and is interpolated by cubic Hermite pieces
 /// over 1024 equal intervals of s, from the exact values and slopes at their ends (error O(h^4):
-/// below 1e-9 absolute for the bundled lenses' coatings, tests/optics/test_thin_film.cpp). Below the
+/// within 2.2e-9 absolute for the bundled lenses' coatings, tests/optics/test_thin_film.cpp). Below the
 /// table's first interval (at and beyond the critical angle) it calls filmReflectance.
 class FilmReflectanceTable {
   public:
