@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <map>
 #include <random>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
@@ -89,13 +90,16 @@ Reference referenceRun(const ff::test::TempDir& root) {
     return r;
 }
 
-// One busy process per core for as long as it lives: the load of a node running other work.
+// One busy process per core for as long as it lives: the load of a node running other work. The
+// loops die with the test's process too (a killed test must not leave them spinning).
 class BusyMachine {
   public:
     BusyMachine() {
+        const pid_t parent = getpid();
         for (unsigned i = 0; i < std::max(1u, std::thread::hardware_concurrency()); ++i) {
             const pid_t pid = fork();
             if (pid == 0) {
+                if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || getppid() != parent) _exit(0);
                 execl("/bin/sh", "sh", "-c", "while :; do :; done", static_cast<char*>(nullptr));
                 _exit(127);
             }
