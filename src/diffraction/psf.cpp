@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fftw3.h>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <numbers>
@@ -22,7 +23,9 @@ namespace ff::diffraction {
 
 Aperture apertureOf(const optics::Lens& lens) {
     const optics::FirstOrder fo = optics::analyzeFirstOrder(lens, lines::d);
-    const trace::Iris iris = trace::LensAtWavelength(lens, lines::d).iris;
+    const trace::Iris iris = trace::LensAtWavelength(lens, lines::d, std::numeric_limits<double>::quiet_NaN(),
+                                                     trace::LensAtWavelength::Films::Exact)
+                                 .iris;
     Aperture a;
     a.blades = iris.blades;
     a.rotationRad = iris.rotationRad;

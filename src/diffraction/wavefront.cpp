@@ -213,7 +213,7 @@ void addStatistics(const std::vector<double>& ws, const std::vector<double>& us,
 
 TracedWavefront tracedWavefront(const optics::Lens& lens, double angleRad, double azimuthRad, double lambdaNm,
                                 double sensorZ, const glm::dvec2* referenceMm, int grid) {
-    const trace::LensAtWavelength L(lens, lambdaNm, sensorZ);
+    const trace::LensAtWavelength L(lens, lambdaNm, sensorZ, trace::LensAtWavelength::Films::Exact); // unweighted
     const trace::PupilFrame pupil = trace::pupilFrame(lens);
     const std::vector<trace::PathStep> steps = trace::pathSteps(lens, std::nullopt);
     const glm::dvec3 d = trace::fieldDirection({angleRad, azimuthRad}, pupil.eflSign);
@@ -332,7 +332,7 @@ TracedWavefront tracedWavefront(const optics::Lens& lens, double angleRad, doubl
 }
 
 std::function<PupilFunction(double)> tracedPupil(const optics::Lens& lens, double xMm, double yMm, double sensorZ) {
-    const trace::LensAtWavelength L(lens, lines::d, sensorZ);
+    const trace::LensAtWavelength L(lens, lines::d, sensorZ, trace::LensAtWavelength::Films::Exact); // geometry
     const trace::Field field = trace::fieldForSensorPoint(lens, L.sensorZ, xMm, yMm);
     const glm::dvec2 reference = tracedWavefront(lens, field.angleRad, field.azimuthRad, lines::d, L.sensorZ).imageMm;
     const optics::Lens* l = &lens;

@@ -325,7 +325,7 @@ ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s,
     table.sensorSizeMm = s.sensorSizeMm.value_or(lens.sensorMm.value_or(std::make_pair(36.0, 24.0)));
     table.maxAngleDeg =
         s.maxAngleDeg > 0.0 ? s.maxAngleDeg : trace::sensorCornerFieldDeg(lens, sensorZ, table.sensorSizeMm);
-    table.iris = trace::LensAtWavelength(lens, lines::d, sensorZ).iris;
+    table.iris = trace::LensAtWavelength(lens, lines::d, sensorZ, trace::LensAtWavelength::Films::Exact).iris;
     const trace::PupilFrame pupil = trace::pupilFrame(lens);
     table.pupilRadiusMm = pupil.radius;
     const auto pairs = trace::enumerateGhosts(lens);

@@ -96,7 +96,7 @@ GhostReport analyzeGhosts(const optics::Lens& lensIn, const GhostAnalysisOptions
     const auto ghosts = enumerateGhosts(lens);
 
     // The scene depends on geometry only; build it once.
-    const LensAtWavelength geometry(lens, lines::d, report.sensorZ);
+    const LensAtWavelength geometry(lens, lines::d, report.sensorZ, LensAtWavelength::Films::Exact);
     const EmbreeTracer tracer(geometry);
 
     // Each path's pupil region, found once for all wavelengths (over the regions at the shortest and

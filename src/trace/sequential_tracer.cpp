@@ -13,7 +13,8 @@ namespace ff::trace {
 
 using optics::RayStatus;
 
-LensAtWavelength::LensAtWavelength(const optics::Lens& l, double lambda, double sensor) : lens(&l), lambdaNm(lambda) {
+LensAtWavelength::LensAtWavelength(const optics::Lens& l, double lambda, double sensor, Films films)
+    : lens(&l), lambdaNm(lambda) {
     const std::size_t n = l.surfaces.size();
     stop = l.stopIndex();
     const double stopRadius = optics::workingStopSemiAperture(l);
@@ -31,7 +32,8 @@ LensAtWavelength::LensAtWavelength(const optics::Lens& l, double lambda, double 
     sensorZ = std::isnan(sensor) ? z : sensor;
     for (std::size_t s = 0; s < n; ++s) {
         const bool homogeneous = !l.surfaces[s].medium.gradient && !(s > 0 && l.surfaces[s - 1].medium.gradient);
-        const bool tabulate = homogeneous && !layersFromLow[s].empty() && nBefore[s] != nAfter[s];
+        const bool tabulate =
+            films == Films::Tabulated && homogeneous && !layersFromLow[s].empty() && nBefore[s] != nAfter[s];
         const double lo = std::min(nBefore[s], nAfter[s]), hi = std::max(nBefore[s], nAfter[s]);
         filmFromLow.push_back(tabulate ? std::optional(optics::FilmReflectanceTable(lo, layersFromLow[s], hi, lambda))
                                        : std::nullopt);

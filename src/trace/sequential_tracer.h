@@ -54,8 +54,13 @@ struct LensAtWavelength {
     std::vector<double> gradientStep;
     optics::GradientSettings gradientSettings;
 
+    /// Whether the constructor tabulates the coatings' reflectance (filmFromLow / filmFromHigh; about
+    /// 3 000 exact evaluations per coated surface): only traces weighted by it need them.
+    enum class Films { Tabulated, Exact };
+
     /// sensorZ: the sensor plane; NaN = the lens's own (the last thickness).
-    LensAtWavelength(const optics::Lens& l, double lambda, double sensorZ = std::numeric_limits<double>::quiet_NaN());
+    LensAtWavelength(const optics::Lens& l, double lambda, double sensorZ = std::numeric_limits<double>::quiet_NaN(),
+                     Films films = Films::Tabulated);
 
     /// True when a hit point at surface s lies inside its clear aperture (the iris for the stop).
     bool insideAperture(std::size_t s, const glm::dvec3& p) const;

@@ -124,7 +124,7 @@ TracedFlare renderTracedFlare(const optics::Lens& lensIn, const TracedFlareOptio
     const PupilFrame pupil = pupilFrame(lens);
     const auto ghosts = enumerateGhosts(lens);
     out.ghostCount = ghosts.size();
-    const LensAtWavelength geometry(lens, lines::d, sensorZ);
+    const LensAtWavelength geometry(lens, lines::d, sensorZ, LensAtWavelength::Films::Exact);
     const EmbreeTracer tracer(geometry);
     const std::size_t pixels = static_cast<std::size_t>(o.frame.width) * o.frame.height;
     const std::size_t W = out.wavelengthsNm.size(), G = ghosts.size();
