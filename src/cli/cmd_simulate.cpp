@@ -51,7 +51,7 @@ struct SimulateOptions {
     TableOptions table;
     double maxPixels = 8192.0 * 8192.0;
     std::string frames;
-    std::string layers = "ghosts,diffraction";
+    std::string layers = "ghosts,diffraction,lights";
     DirtOptions dirt;
     bool half = false;
     bool skipExisting = false;
@@ -61,9 +61,10 @@ struct SimulateOptions {
 // The layers simulate can write, in the order they are written, with what each holds.
 constexpr std::pair<const char*, const char*> kLayers[] = {
     {"ghosts", "the ghosts"},
-    {"diffraction", "the starburst (the lights' flux spread by the iris, taken from their pixels: sums to 0)"},
+    {"diffraction", "the lights as the iris draws them (their pixels' flux spread into the starburst, cores included)"},
+    {"lights", "the lights' pixels the diffraction spreads"},
     {"flare", "ghosts + diffraction"},
-    {"composite", "plate + flare"}};
+    {"composite", "plate + flare - lights"}};
 
 // --layers: names from kLayers, comma-separated, or "all"; returned in kLayers' order.
 std::vector<std::string> parseLayers(const std::string& list) {
@@ -76,7 +77,7 @@ std::vector<std::string> parseLayers(const std::string& list) {
         for (const auto& l : kLayers) known = known || g == l.first;
         if (!known)
             throw Error(ErrorKind::Usage, "--layers: " + text::quoted(g) +
-                                              " is not a layer (ghosts, diffraction, flare, composite or all)");
+                                              " is not a layer (ghosts, diffraction, lights, flare, composite or all)");
         if (std::count(given.begin(), given.end(), g) > 1)
             throw Error(ErrorKind::Usage, "--layers names " + text::quoted(g) + " twice");
     }
@@ -186,6 +187,7 @@ class Simulation {
             const std::string n = name;
             layers.push_back({n, n == "ghosts"        ? &r.ghosts
                                  : n == "diffraction" ? &r.diffraction
+                                 : n == "lights"      ? &r.lightPixels
                                  : n == "flare"       ? &r.flare
                                                       : &r.composite});
         }
@@ -402,9 +404,11 @@ void addSimulateCommand(CLI::App& app, GlobalOptions& global) {
     cmd->add_option("-o,--output", o->output,
                     "EXR to write: the plate's channels unchanged + the --layers (name.R/G/B each)")
         ->required();
-    cmd->add_option("--layers", o->layers,
-                    "Layers added to the EXR, comma-separated: ghosts, diffraction, flare (= ghosts + diffraction), "
-                    "composite (= plate + flare), or all");
+    cmd->add_option(
+        "--layers", o->layers,
+        "Layers added to the EXR, comma-separated: ghosts, diffraction (the lights as the iris draws them), "
+        "lights (the lights' pixels it spreads), flare (= ghosts + diffraction), composite (= plate + flare "
+        "- lights), or all");
     cmd->add_flag("--half", o->half, "Write the layers as half floats (the plate's channels keep their own format)");
     cmd->add_option("--preview", o->preview, "Also write the composite as a tonemapped PNG");
     cmd->add_option("--preview-flare", o->previewFlare, "Also write the flare alone as a PNG (automatic exposure)");

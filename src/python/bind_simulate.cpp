@@ -109,6 +109,7 @@ py::dict simulate(const FloatArray& plateArray, const optics::Lens& lens, const 
     py::dict out;
     out["ghosts"] = ownedArray(std::move(r.ghosts), {H, W, 3});
     out["diffraction"] = ownedArray(std::move(r.diffraction), {H, W, 3});
+    out["light_pixels"] = ownedArray(std::move(r.lightPixels), {H, W, 3});
     out["flare"] = ownedArray(std::move(r.flare), {H, W, 3});
     out["composite"] = ownedArray(std::move(r.composite), {H, W, 3});
     out["lights"] = lightsOut(r, given);
@@ -135,8 +136,9 @@ gives them ((x, y), (x, y, r, g, b) or dicts, in pixels).
 ghost_model: shaped, gaussian or cos2; diffraction: physical, traced or off; flare_gain and
 diffraction_gain scale the layers (1 = physical). The plate spans the sensor's width: sensor_size
 (w, h) in mm, or fov (horizontal degrees), else the lens file's, else 36 mm.
-Returns a dict: ghosts, diffraction, flare (= ghosts + diffraction) and composite (= plate + flare)
-as float32 arrays (height, width, 3); lights (x, y, flux, and pixels and peak when found); threshold
+Returns a dict: ghosts, diffraction (the lights as the iris draws them, cores included),
+light_pixels (the lights' pixels the diffraction spreads: the EXR's `lights` layer), flare (= ghosts
++ diffraction) and composite (= plate + flare - light_pixels) as float32 arrays (height, width, 3); lights (x, y, flux, and pixels and peak when found); threshold
 (the absolute luminance used, None when lights were given); flare_summary, diffraction_summary.
 backend: 'cpu', 'gl' or 'auto', as the CLI's --backend (render's docstring). Runs without the GIL;
 progress(done, total) follows a ghost table's build.)");

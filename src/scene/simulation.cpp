@@ -90,13 +90,19 @@ SimulatedPlate Simulation::run(const image::Plate& plate) {
         drawFitted(plate, out);
     t = Clock::now();
     out.diffraction.assign(out.flare.size(), 0.0f);
+    out.lightPixels.assign(out.flare.size(), 0.0f);
     out.diffractionText = "off";
+    out.ghosts = out.flare;
     if (aperture_) {
+        // diffract leaves d = gain (L * PSF - L) >= -L in out.diffraction; the composite is the plate
+        // plus ghosts + d, the layers the lights as the iris draws them, L + d >= 0, and L.
         diffract(plate, out);
-        out.ghosts = out.flare;
         for (std::size_t i = 0; i < out.flare.size(); ++i) out.flare[i] += out.diffraction[i];
-    } else {
-        out.ghosts = out.flare;
+        out.composite = image::composite(plate.rgb(), out.flare);
+        for (std::size_t i = 0; i < out.flare.size(); ++i) {
+            out.diffraction[i] += out.lightPixels[i];
+            out.flare[i] = out.ghosts[i] + out.diffraction[i];
+        }
     }
     if (out.composite.empty()) out.composite = image::composite(plate.rgb(), out.flare);
     out.diffractionSeconds = lap(t);
@@ -201,10 +207,10 @@ void Simulation::diffract(const image::Plate& plate, SimulatedPlate& out) {
     const double pitch = s_.sensorWidthMm / plate.displayWidth;
     std::string psfText;
     std::vector<std::string> zones;
-    std::vector<float> lightRgb = std::move(out.found.lightRgb);
-    if (!s_.lights.empty())
-        lightRgb = splatLights(out.lights, plate.width, plate.height, plate.originX - plate.displayX,
-                               plate.originY - plate.displayY);
+    std::vector<float>& lightRgb = out.lightPixels;
+    lightRgb = s_.lights.empty() ? std::move(out.found.lightRgb)
+                                 : splatLights(out.lights, plate.width, plate.height, plate.originX - plate.displayX,
+                                               plate.originY - plate.displayY);
     double offFrame = 0.0;
     diffraction::Convolver* convolver = s_.convolver ? s_.convolver : &cpuConvolver_;
     if (s_.diffraction == "traced") {

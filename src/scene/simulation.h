@@ -54,7 +54,11 @@ struct SimulationSettings {
 struct SimulatedPlate {
     std::vector<ghosts::Light> lights; ///< display-window pixels
     image::DetectionReport found;      ///< where the lights were found (empty when given)
-    std::vector<float> ghosts, diffraction, flare, composite;
+    /// ghosts: the ghosts; diffraction: the lights as the iris draws them (their pixels' flux spread
+    /// into the starburst, the cores included, >= 0); lightPixels: the lights' pixels the diffraction
+    /// spreads (>= 0; zero without diffraction); flare = ghosts + diffraction; composite = plate +
+    /// flare - lightPixels (energy-conserving: the diffraction only moves the lights' flux).
+    std::vector<float> ghosts, diffraction, lightPixels, flare, composite;
     std::string flareText;       ///< what was drawn (ghost instances, triangles or terms, culled)
     std::string diffractionText; ///< the PSFs and where the convolution ran ("off" without)
     std::string fourierText;     ///< gaussian, cos2: the aggregator's plan and its stage times

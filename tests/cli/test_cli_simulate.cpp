@@ -110,7 +110,7 @@ TEST(CliSimulate, KeepsEveryChannelAndAddsFlareLayers) {
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("1 lights above luminance"), std::string::npos) << r.err;
     const Exr e = readExr(dir / "out.exr");
-    ASSERT_EQ(e.spec.nchannels, 17); // R G B A Z + ghosts, diffraction, flare, composite
+    ASSERT_EQ(e.spec.nchannels, 20); // R G B A Z + ghosts, diffraction, lights, flare, composite
     EXPECT_EQ(e.spec.x, 3);
     EXPECT_EQ(e.spec.y, 2);
     EXPECT_EQ(e.spec.full_width, kW + 6);
@@ -121,27 +121,38 @@ TEST(CliSimulate, KeepsEveryChannelAndAddsFlareLayers) {
     EXPECT_NE(e.spec.get_string_attribute("fourierflare:culled").find("of a light's ghost flux"), std::string::npos);
     // Input channels bit for bit (half values read back as float are exact) and in their formats.
     const int R = e.channel("R"), A = e.channel("A"), Z = e.channel("Z"), fR = e.channel("flare.R"),
-              cR = e.channel("composite.R"), gR = e.channel("ghosts.R"), dR = e.channel("diffraction.R");
-    ASSERT_TRUE(R >= 0 && A >= 0 && Z >= 0 && fR >= 0 && cR >= 0 && gR >= 0 && dR >= 0);
+              cR = e.channel("composite.R"), gR = e.channel("ghosts.R"), dR = e.channel("diffraction.R"),
+              lR = e.channel("lights.R");
+    ASSERT_TRUE(R >= 0 && A >= 0 && Z >= 0 && fR >= 0 && cR >= 0 && gR >= 0 && dR >= 0 && lR >= 0);
     EXPECT_EQ(e.spec.channelformat(R), OIIO::TypeDesc::HALF);
     EXPECT_EQ(e.spec.channelformat(Z), OIIO::TypeDesc::FLOAT);
     auto asHalf = [](float v) { return static_cast<float>(static_cast<Imath::half>(v)); };
-    double ghosts = 0.0, diffraction = 0.0, spread = 0.0;
+    double ghosts = 0.0, diffraction = 0.0, lit = 0.0, spread = 0.0, cores = 0.0;
     for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) {
         ASSERT_EQ(e.at(p, R), asHalf(plate.rgba[p * 4]));
         ASSERT_EQ(e.at(p, A), asHalf(plate.rgba[p * 4 + 3]));
         ASSERT_EQ(e.at(p, Z), plate.z[p]);
         ASSERT_EQ(e.at(p, fR), e.at(p, gR) + e.at(p, dR)); // flare = ghosts + diffraction
-        ASSERT_EQ(e.at(p, cR), e.at(p, R) + e.at(p, fR));  // composite = plate + flare
+        // composite = plate + flare - lights, to float rounding.
+        const double c = e.at(p, R) + e.at(p, fR) - e.at(p, lR);
+        ASSERT_NEAR(e.at(p, cR), c, 1e-6 * (std::abs(e.at(p, R)) + e.at(p, fR) + e.at(p, lR)) + 1e-30);
+        // Every layer but the composite is >= 0; the lights layer is the light's pixels of the plate.
+        ASSERT_GE(e.at(p, gR), 0.0f);
+        ASSERT_GE(e.at(p, dR), 0.0f);
+        ASSERT_TRUE(e.at(p, lR) == 0.0f || e.at(p, lR) == e.at(p, R)) << p;
         ghosts += e.at(p, gR);
         diffraction += e.at(p, dR);
-        spread += std::max(0.0f, e.at(p, dR));
+        lit += e.at(p, lR);
+        (e.at(p, lR) > 0.0f ? cores : spread) += e.at(p, dR);
     }
     EXPECT_GT(ghosts, 0.0);
-    // The diffraction moves some of the light's flux (4 x 400 in R) from its pixels into the pattern
-    // (how much: tests/diffraction): it sums to zero, the pattern staying in the frame.
-    EXPECT_NEAR(diffraction, 0.0, 1e-4 * 1600.0);
+    // The diffraction draws the light's flux (4 x 400 in R) again, spread by the iris (how far:
+    // tests/diffraction): as much as the lights layer holds, the pattern staying in the frame; most
+    // of it stays in the light's own pixels, so the flare shows the light, not a hole.
+    EXPECT_NEAR(lit, 1600.0, 1e-3);
+    EXPECT_NEAR(diffraction, lit, 1e-4 * 1600.0);
     EXPECT_GT(spread, 0.0);
+    EXPECT_GT(cores, spread);
     EXPECT_NE(e.spec.get_string_attribute("fourierflare:diffraction").find("physical, gain 1"), std::string::npos);
     EXPECT_TRUE(fs::exists(dir / "out.png"));
     const auto lights = nlohmann::json::parse(ff::test::readFile(dir / "lights.json"));
@@ -161,9 +172,10 @@ TEST(CliSimulate, LayersAndHalf) {
     const std::string light = " --light 40.5,30.5,1e12,1e12,1e12"; // ghosts far beyond half's range
     ASSERT_EQ(run(simulate(dir / "plate.exr", dir / "default.exr", light), kEnv).code, 0);
     const Exr d = readExr(dir / "default.exr");
-    EXPECT_EQ(d.spec.nchannels, 11); // R G B A Z + ghosts, diffraction
+    EXPECT_EQ(d.spec.nchannels, 14); // R G B A Z + ghosts, diffraction, lights
     EXPECT_GE(d.channel("ghosts.R"), 0);
     EXPECT_GE(d.channel("diffraction.B"), 0);
+    EXPECT_GE(d.channel("lights.G"), 0);
     EXPECT_LT(d.channel("flare.R"), 0);
     EXPECT_LT(d.channel("composite.R"), 0);
     EXPECT_EQ(d.spec.channelformat(d.channel("ghosts.G")), OIIO::TypeDesc::FLOAT);
@@ -372,34 +384,39 @@ TEST(CliSimulate, RefusesBadInputsWithoutWritingAnything) {
     EXPECT_FALSE(fs::exists(out));
 }
 
-// --diffraction off leaves the ghosts alone; --diffraction-gain scales the layer (away from the
-// lights' own pixels, where a pixel never gives more than its light); lights given by hand are
-// diffracted where they are; bad values are refused.
+// --diffraction off leaves the ghosts alone; --diffraction-gain scales the light the iris spreads
+// (away from the lights' own pixels, where a pixel never gives more than its light); lights given by
+// hand are diffracted where they are; bad values are refused.
 TEST(CliSimulate, DiffractionOffGainAndLightsGivenByHand) {
     ff::test::TempDir dir;
     writePlate(dir / "plate.exr", -1, -1, 0.0f);
-    const std::string light = " --layers ghosts,diffraction,flare --light 40.5,30.5,5000,5000,5000";
+    const std::string light = " --layers ghosts,diffraction,lights,flare --light 40.5,30.5,5000,5000,5000";
     ASSERT_EQ(run(simulate(dir / "plate.exr", dir / "off.exr", "--diffraction off" + light), kEnv).code, 0);
     ASSERT_EQ(run(simulate(dir / "plate.exr", dir / "one.exr", light), kEnv).code, 0);
     ASSERT_EQ(run(simulate(dir / "plate.exr", dir / "two.exr", "--diffraction-gain 2" + light), kEnv).code, 0);
     const Exr off = readExr(dir / "off.exr"), one = readExr(dir / "one.exr"), two = readExr(dir / "two.exr");
     EXPECT_EQ(off.spec.get_string_attribute("fourierflare:diffraction"), "off");
-    const int d = one.channel("diffraction.G"), f = one.channel("flare.G"), g = one.channel("ghosts.G");
-    ASSERT_TRUE(d >= 0 && f >= 0 && g >= 0);
+    const int d = one.channel("diffraction.G"), f = one.channel("flare.G"), g = one.channel("ghosts.G"),
+              l = one.channel("lights.G");
+    ASSERT_TRUE(d >= 0 && f >= 0 && g >= 0 && l >= 0);
     const std::size_t lightPixel = static_cast<std::size_t>(30) * kW + 40;
     double sum = 0.0, spread = 0.0;
     for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) {
         ASSERT_EQ(off.at(p, d), 0.0f);
+        ASSERT_EQ(off.at(p, l), 0.0f);
         ASSERT_EQ(off.at(p, f), off.at(p, g));
-        ASSERT_EQ(one.at(p, g), off.at(p, g)); // the ghosts do not depend on the diffraction
+        ASSERT_EQ(one.at(p, g), off.at(p, g));                     // the ghosts do not depend on the diffraction
+        ASSERT_EQ(one.at(p, l), p == lightPixel ? 5000.0f : 0.0f); // the light given, in its pixel
         sum += one.at(p, d);
         if (p != lightPixel) {
             spread += one.at(p, d);
             EXPECT_NEAR(two.at(p, d), 2.0f * one.at(p, d), 1e-5f * 5000.0f) << p;
         }
     }
-    EXPECT_NEAR(one.at(lightPixel, d), -spread, 1e-4 * 5000.0); // what the pattern holds left the light's pixel
-    EXPECT_NEAR(sum, 0.0, 1e-4 * 5000.0);
+    // What the pattern holds left the light's pixel.
+    EXPECT_NEAR(one.at(lightPixel, d), 5000.0 - spread, 1e-4 * 5000.0);
+    EXPECT_NEAR(two.at(lightPixel, d), 5000.0 - 2.0 * spread, 1e-4 * 5000.0);
+    EXPECT_NEAR(sum, 5000.0, 1e-4 * 5000.0);
     EXPECT_GT(spread, 0.0);
     for (const std::string bad : {"--diffraction-gain -1", "--diffraction-gain nan", "--diffraction bogus"})
         EXPECT_EQ(run(simulate(dir / "plate.exr", dir / "bad.exr", bad + light), kEnv).code, 2) << bad;
@@ -407,7 +424,7 @@ TEST(CliSimulate, DiffractionOffGainAndLightsGivenByHand) {
 }
 
 // --diffraction traced: the PSF carries the lens's traced wavefront per tile holding light; the
-// layer still only moves the lights' flux (sums to 0), the ghosts do not change, and the f/5
+// layer still only moves the lights' flux (sums to theirs), the ghosts do not change, and the f/5
 // triplet's aberrations near the frame's corner spread more of it out of the light's pixel than
 // the aberration-free PSF does.
 TEST(CliSimulate, DiffractionTracedUsesTheLensWavefrontPerTile) {
@@ -429,7 +446,7 @@ TEST(CliSimulate, DiffractionTracedUsesTheLensWavefrontPerTile) {
         ASSERT_EQ(traced.at(p, g), ideal.at(p, g));
         sum += traced.at(p, d);
     }
-    EXPECT_NEAR(sum, 0.0, 1e-4 * 10000.0);
+    EXPECT_NEAR(sum, 10000.0, 1e-4 * 10000.0); // the two lights' flux
     const std::size_t corner = static_cast<std::size_t>(5) * kW + 90;
     EXPECT_LT(traced.at(corner, d), ideal.at(corner, d)); // more of the light leaves its pixel
 }
@@ -570,13 +587,15 @@ TEST(CliSimulate, GlBackendMatchesTheCpuBackend) {
             const int ca = a.channel(name), cb = b.channel(name);
             for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) ASSERT_EQ(a.at(p, ca), b.at(p, cb));
         }
-        // Composited on the GPU: one float addition of the plate and the GL flare, as on the CPU.
+        // The composite: the plate, plus the GL flare, less the lights the diffraction spread (to float
+        // rounding: the plate gets the ghosts and the light the iris moves in one addition).
         for (const char* c : {"R", "G", "B"}) {
             const int plate = a.channel(c), flare = a.channel(std::string("flare.") + c),
-                      comp = a.channel(std::string("composite.") + c);
+                      lights = a.channel(std::string("lights.") + c), comp = a.channel(std::string("composite.") + c);
             for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) {
-                const float f = a.at(p, flare);
-                ASSERT_EQ(a.at(p, comp), f == 0.0f ? a.at(p, plate) : a.at(p, plate) + f) << c << " pixel " << p;
+                const double v = double(a.at(p, plate)) + a.at(p, flare) - a.at(p, lights);
+                ASSERT_NEAR(a.at(p, comp), v, 1e-6 * (a.at(p, plate) + a.at(p, flare) + a.at(p, lights)))
+                    << c << " pixel " << p;
             }
         }
     }

@@ -32,8 +32,10 @@ def read_layers(path):
     buf = oiio.ImageBuf(str(path))
     names = list(buf.spec().channelnames)
     pixels = buf.get_pixels(oiio.FLOAT)
-    return {layer: pixels[:, :, [names.index(f"{layer}.{c}") for c in "RGB"]].copy()
-            for layer in ("ghosts", "diffraction", "flare", "composite")}
+    # The EXR's lights layer is the dict's light_pixels ("lights" there lists the lights found).
+    return {key: pixels[:, :, [names.index(f"{layer}.{c}") for c in "RGB"]].copy()
+            for key, layer in (("ghosts", "ghosts"), ("diffraction", "diffraction"), ("light_pixels", "lights"),
+                               ("flare", "flare"), ("composite", "composite"))}
 
 
 @pytest.mark.parametrize(
