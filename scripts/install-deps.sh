@@ -1,19 +1,31 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages FourierFlare needs, only those that are missing, without questions.
 # Works as root (or through sudo). Says what it installs.
+#   scripts/install-deps.sh           everything: the main job, tests, benchmarks, Python, packaging, farm
+#   scripts/install-deps.sh --main    only what building and running the fourierflare command needs
+#   scripts/install-deps.sh --fuzz    everything, and clang for the fuzzers
 set -euo pipefail
 
+# What the main job needs (scripts/run-main.sh): the compiler, the build tools and the libraries the
+# fourierflare command links.
 packages=(
-  g++ cmake ninja-build pkg-config git clang-format python3
+  g++ cmake ninja-build pkg-config python3
   libembree-dev libglm-dev libtbb-dev
-  libopenimageio-dev openimageio-tools libopenexr-dev
-  libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
+  libopenimageio-dev libopenexr-dev
+  libepoxy-dev libegl-dev
   libopenblas-dev libfftw3-dev zlib1g-dev libzstd-dev
   libcli11-dev nlohmann-json3-dev
-  libgtest-dev libgmock-dev libbenchmark-dev libyaml-cpp-dev
-  pybind11-dev python3-dev python3-numpy python3-pytest python3-openimageio
-  dpkg-dev slurmctld slurmd slurm-client munge
 )
+# The rest, for the tests, the benchmarks, the Python module, the Debian package and the farm
+# (scripts/run-tests.sh): all of it unless --main is given.
+if [ "${1:-}" != "--main" ]; then
+  packages+=(
+    git clang-format openimageio-tools libegl-mesa0 libgl1-mesa-dri
+    libgtest-dev libgmock-dev libbenchmark-dev libyaml-cpp-dev
+    pybind11-dev python3-dev python3-numpy python3-pytest python3-openimageio
+    dpkg-dev slurmctld slurmd slurm-client munge
+  )
+fi
 # Extra packages for the fuzzers (scripts/fuzz.sh): pass --fuzz.
 if [ "${1:-}" = "--fuzz" ]; then packages+=(clang libclang-rt-14-dev); fi
 

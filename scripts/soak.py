@@ -10,8 +10,9 @@ end. The Python calls run in this script's child, which reads its own peak after
 it (/proc/self/clear_refs), so each call's peak is compared with the peak of the call at the same step
 of the path and in the same mode in the first period (the median of those growths: a leak
 raises every call's peak, two threads' buffers meeting by chance in one call raise one), and its RSS
-and the bytes malloc holds (mallinfo2: a leak taken from freed memory still resident does not raise
-RSS) at the end with those after the first tenth, at the same step. Each growth must stay under
+once malloc has given its free pages back (malloc_trim) and the bytes malloc has handed out in all
+its arenas (malloc_info: a leak taken from freed memory still resident does not raise RSS) at the
+end with those after the first tenth, at the same step. Each growth must stay under
 --max-growth, the descriptors open at the end no more than after the first tenth, and no temporary
 file may be left in the output folder, the cache or $TMPDIR. Prints the figures as JSON; exits 1 when
 a bound is broken.
@@ -112,23 +113,42 @@ width, height = %d, %d
 lens = ff.Lens.load(lens_path)
 table = ff.GhostTable.build(lens)
 modes = ["fourier", "shaped", "fitted", "diffraction"]
-import ctypes
-class MallInfo2(ctypes.Structure):
-    _fields_ = [(n, ctypes.c_size_t) for n in "arena ordblks smblks hblks hblkhd usmblks fsmblks uordblks fordblks keepcost".split()]
+import ctypes, re, tempfile
 libc = ctypes.CDLL(None)
-libc.mallinfo2.restype = MallInfo2
+libc.fopen.restype = ctypes.c_void_p
+libc.fopen.argtypes = [ctypes.c_char_p, ctypes.c_char_p]
+libc.malloc_info.argtypes = [ctypes.c_int, ctypes.c_void_p]
+libc.fclose.argtypes = [ctypes.c_void_p]
+def malloc_in_use():
+    # The bytes glibc's malloc has handed out and not had back, over every arena (each thread of a
+    # pool allocates from its own; mallinfo2 sees the main arena only): malloc_info's totals, the
+    # memory the arenas hold from the system less their free chunks, plus the mmapped blocks.
+    fd, path = tempfile.mkstemp()
+    os.close(fd)
+    f = libc.fopen(path.encode(), b"w")
+    libc.malloc_info(0, f)
+    libc.fclose(f)
+    with open(path) as x:
+        xml = x.read()
+    os.unlink(path)
+    totals = xml[xml.rfind("</heap>"):]
+    size = lambda what: int(re.search(what + r' size="(\d+)"', totals).group(1))
+    return (size(r'<system type="current"') - size(r'<total type="fast" count="\d+"') -
+            size(r'<total type="rest" count="\d+"') + size(r'<total type="mmap" count="\d+"'))
 def sample(done):
-    # malloc_kb: the bytes glibc's malloc has handed out and not had back (mallinfo2), which RSS hides
-    # while a leak is carved from memory freed earlier and still resident.
+    # rss_kb is read after malloc_trim(0) has given the arenas' free pages back: what glibc keeps of
+    # freed memory depends on which pool thread freed it, and is no leak; malloc_kb (see above) is what
+    # RSS hides while a leak is carved from memory freed earlier and still resident.
+    libc.malloc_trim(0)
     fields = dict(l.split(":", 1) for l in open("/proc/self/status") if ":" in l)
-    m = libc.mallinfo2()
     return {"calls_done": done, "rss_kb": int(fields["VmRSS"].split()[0]), "hwm_kb": int(fields["VmHWM"].split()[0]),
-            "malloc_kb": (m.uordblks + m.hblkhd) // 1024, "fds": len(os.listdir("/proc/self/fd"))}
+            "malloc_kb": malloc_in_use() // 1024, "fds": len(os.listdir("/proc/self/fd"))}
 samples = {}
 def call_peak():
     # This call's peak resident size, then the peak reset to the current size (Linux >= 4.0); None
     # where the kernel does not allow the reset.
-    peak = sample(0)["hwm_kb"]
+    fields = dict(l.split(":", 1) for l in open("/proc/self/status") if ":" in l)
+    peak = int(fields["VmHWM"].split()[0])
     try:
         with open("/proc/self/clear_refs", "w") as f:
             f.write("5")
