@@ -24,6 +24,7 @@ if [ "${1:-}" != "--main" ]; then
     libgtest-dev libgmock-dev libbenchmark-dev libyaml-cpp-dev
     pybind11-dev python3-dev python3-numpy python3-pytest python3-openimageio
     dpkg-dev slurmctld slurmd slurm-client munge
+    godot3 xvfb xauth
   )
 fi
 # Extra packages for the fuzzers (scripts/fuzz.sh): pass --fuzz.

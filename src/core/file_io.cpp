@@ -64,6 +64,51 @@ void writeFileAtomic(const fs::path& path, std::string_view content) {
     if (ec) fail(ec.message());
 }
 
+bool replaceableFolder(const fs::path& folder, const std::string& marker) {
+    std::error_code ec;
+    const fs::file_status st = fs::symlink_status(folder, ec);
+    if (!fs::exists(st)) return true;
+    if (!fs::is_directory(st)) return false;
+    return fs::is_empty(folder, ec) || fs::is_regular_file(fs::symlink_status(folder / marker, ec));
+}
+
+void writeFolderAtomic(const fs::path& folder, const std::vector<std::pair<std::string, std::string>>& files) {
+    const fs::path parent = folder.has_parent_path() ? folder.parent_path() : fs::path(".");
+    std::random_device rd;
+    const std::string tag = std::to_string(getpid()) + "-" + std::to_string(rd() % 1000000);
+    const fs::path name = folder.filename().empty() ? folder.parent_path().filename() : folder.filename();
+    const fs::path tmp = parent / ("." + name.string() + ".tmp" + tag),
+                   old = parent / ("." + name.string() + ".old" + tag);
+    auto fail = [&](const std::string& why) {
+        std::error_code ignored;
+        fs::remove_all(tmp, ignored);
+        throwRuntimeError("cannot write '" + folder.string() + "': " + why);
+    };
+    std::error_code ec;
+    if (!fs::create_directory(tmp, ec)) fail("cannot create a folder in '" + parent.string() + "': " + ec.message());
+    try {
+        for (const auto& [path, content] : files) {
+            fs::create_directories((tmp / path).parent_path());
+            writeFileAtomic(tmp / path, content);
+        }
+    } catch (const std::exception& e) {
+        fail(e.what());
+    }
+    const fs::path target = folder.filename().empty() ? folder.parent_path() : folder;
+    const bool existed = fs::exists(fs::symlink_status(target, ec));
+    if (existed) {
+        fs::rename(target, old, ec);
+        if (ec) fail(ec.message());
+    }
+    fs::rename(tmp, target, ec);
+    if (ec) {
+        std::error_code ignored;
+        if (existed) fs::rename(old, target, ignored);
+        fail(ec.message());
+    }
+    if (existed) fs::remove_all(old, ec);
+}
+
 void storeCacheEntry(const fs::path& file, std::string_view bytes, const std::string& what, Reporter& reporter) {
     const fs::path dir = file.parent_path();
     std::error_code ec;

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace ff {
 
@@ -18,6 +20,17 @@ std::string readFileBytes(const std::filesystem::path& path, std::uintmax_t maxB
 /// rename, so readers never see a partial file. Throws ff::Error (Runtime) with the system's reason
 /// on failure; the temporary is removed (a process killed meanwhile leaves it, hidden).
 void writeFileAtomic(const std::filesystem::path& path, std::string_view content);
+
+/// Whether `folder` may be replaced by writeFolderAtomic: it does not exist, or it is an empty folder,
+/// or a folder holding the file `marker` (an earlier output of the same kind).
+bool replaceableFolder(const std::filesystem::path& folder, const std::string& marker);
+
+/// Writes files (paths relative to `folder`, their parent folders created) into a hidden folder
+/// beside `folder` (.NAME.tmpPID-N), then puts it in place with renames, so readers see the whole
+/// old folder or the whole new one. The caller checks replaceableFolder first. Throws ff::Error
+/// (Runtime) with the system's reason on failure, after removing what it wrote.
+void writeFolderAtomic(const std::filesystem::path& folder,
+                       const std::vector<std::pair<std::string, std::string>>& files);
 
 /// Stores a cache entry with writeFileAtomic, creating its folder: readers never see a partial
 /// entry, and processes storing the same entry at once leave one whole entry (the last rename).

@@ -1,5 +1,7 @@
 // `fourierflare ghosts` and `fourierflare render` as a user runs them.
 
+#include "core/file_io.h"
+
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -169,4 +171,25 @@ TEST(CliTable, BuildsCachesAndExports) {
     EXPECT_NE(text.find("m_Name: cooke"), std::string::npos);
     EXPECT_EQ(run("export lenses/cooke-triplet-50mm-f5.lens --format gif -o '" + asset + "'", env).code, 2);
     EXPECT_TRUE(std::filesystem::is_directory(dir / "cache")); // the table went to the given cache
+
+    // godot: a project folder, the whole table in it; exported again over itself, replaced; a folder
+    // of other files is refused before any work, and left as it was.
+    const std::string godot = "export lenses/cooke-triplet-50mm-f5.lens --format godot --table-grid 8 --max-angle 10 ";
+    const auto project = dir / "project";
+    for (int i = 0; i < 2; ++i) {
+        const auto g = run(godot + "-o '" + project.string() + "'", env);
+        ASSERT_EQ(g.code, 0) << g.err;
+    }
+    for (const char* f : {"project.godot", "flare_frame.tscn", "flare_frame.gd", "addons/fourierflare/lens_flare.gd",
+                          "addons/fourierflare/lens_flare.shader"})
+        EXPECT_GT(std::filesystem::file_size(project / f), 0u) << f;
+    EXPECT_EQ(nlohmann::json::parse(ff::test::readFile(project / "addons/fourierflare/ghost_table.json")),
+              nlohmann::json::parse(ff::test::readFile(table)));
+    std::filesystem::create_directory(dir / "theirs");
+    ff::writeFileAtomic(dir / "theirs/notes.txt", "mine");
+    const auto refused = run(godot + "-o '" + (dir / "theirs").string() + "'", env);
+    EXPECT_EQ(refused.code, 2);
+    EXPECT_NE(refused.err.find("not an empty folder or an earlier Godot export"), std::string::npos) << refused.err;
+    EXPECT_EQ(ff::test::readFile(dir / "theirs/notes.txt"), "mine");
+    EXPECT_FALSE(std::filesystem::exists(dir / "theirs/project.godot"));
 }

@@ -28,6 +28,30 @@ TEST(FileIo, AtomicWriteIntoMissingFolderIsARuntimeError) {
     }
 }
 
+// A folder written whole: its files and subfolders, an earlier one (marked) replaced, nothing of it
+// left beside; a folder of other files, or a file, is not replaceable.
+TEST(FileIo, FolderWrittenWholeReplacesOnlyAMarkedOrEmptyFolder) {
+    test::TempDir dir;
+    const auto out = dir / "project";
+    EXPECT_TRUE(replaceableFolder(out, ".mark"));
+    writeFolderAtomic(out, {{".mark", ""}, {"a.txt", "one"}, {"sub/deeper/b.txt", "two"}});
+    EXPECT_EQ(test::readFile(out / "sub/deeper/b.txt"), "two");
+    EXPECT_TRUE(replaceableFolder(out, ".mark"));
+    writeFolderAtomic(out, {{".mark", ""}, {"c.txt", "three"}});
+    EXPECT_FALSE(std::filesystem::exists(out / "a.txt")); // replaced whole, not merged
+    EXPECT_EQ(test::readFile(out / "c.txt"), "three");
+    std::size_t entries = 0;
+    for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir.path())) ++entries;
+    EXPECT_EQ(entries, 1u); // no temporary or old folder left beside it
+    std::filesystem::create_directory(dir / "empty");
+    EXPECT_TRUE(replaceableFolder(dir / "empty", ".mark"));
+    std::filesystem::create_directory(dir / "theirs");
+    writeFileAtomic(dir / "theirs/notes.txt", "mine");
+    EXPECT_FALSE(replaceableFolder(dir / "theirs", ".mark"));
+    writeFileAtomic(dir / "file", "x");
+    EXPECT_FALSE(replaceableFolder(dir / "file", ".mark"));
+}
+
 TEST(FileIo, ReadChecksExistenceKindAndSizeBeforeReading) {
     test::TempDir dir;
     test::writeFile(dir / "a.txt", "12345");
