@@ -159,10 +159,7 @@ void Simulation::drawShaped(const image::Plate& plate, SimulatedPlate& out) {
 
 void Simulation::drawFitted(const image::Plate& plate, SimulatedPlate& out) {
     auto t = Clock::now();
-    if (!table_) {
-        table_ = std::make_unique<ghosts::GhostTable>(s_.loadTable(lens_, s_.table));
-        tableKey_ = table_->settingsKey;
-    }
+    if (!table_) table_ = std::make_unique<ghosts::GhostTable>(s_.loadTable(lens_, s_.table));
     out.tableSeconds = lap(t);
     const ghosts::Camera cam{plate.displayWidth, plate.displayHeight, s_.sensorWidthMm};
     const auto profile = s_.ghostModel == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;

@@ -79,8 +79,6 @@ class Simulation {
 
     const optics::Lens& lens() const { return lens_; }
     double sensorWidthMm() const { return s_.sensorWidthMm; }
-    bool diffracts() const { return aperture_.has_value(); }
-    const std::string& tableKey() const { return tableKey_; }
 
   private:
     void drawShaped(const image::Plate& plate, SimulatedPlate& out);
@@ -99,7 +97,6 @@ class Simulation {
     /// The CPU's convolution where no device is given, kept from frame to frame (its kernel's spectra).
     diffraction::FftwConvolver cpuConvolver_;
     double psfPitch_ = 0.0; ///< the pixel pitch psf_ was made for
-    std::string tableKey_;
 };
 
 } // namespace ff::scene

@@ -8,10 +8,6 @@
 
 namespace ff::trace {
 
-std::size_t Bundle::launchedCount() const {
-    return static_cast<std::size_t>(std::count(launched.begin(), launched.end(), 1));
-}
-
 glm::dvec3 fieldDirection(const Field& f, double eflSign) {
     // The image lies on the continuation of the chief ray through the nodal point: to image at
     // +r e (positive EFL), rays travel along +e transversally.

@@ -28,7 +28,6 @@ struct Bundle {
     double cellArea = 0.0;
     std::vector<optics::Ray> rays; ///< n*n rays, row-major (row = y index)
     std::vector<char> launched;    ///< 0 for grid points outside the sampled region
-    std::size_t launchedCount() const;
 };
 
 /// Unit direction of the rays of a field (see the convention above); eflSign = sign of the EFL

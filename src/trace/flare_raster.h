@@ -3,9 +3,6 @@
 // traced renderer's adaptive grids (adaptive_grid.h) and the shaped ghosts draw with, and the frame
 // that maps sensor millimetres to its pixels.
 
-#include "trace/embree_tracer.h"
-#include "trace/pupil_sampling.h"
-
 #include <glm/vec2.hpp>
 
 #include <span>

@@ -39,9 +39,6 @@ class LensScene {
     LensScene& operator=(const LensScene&) = delete;
 
     RTCScene get() const { return scene_; }
-    std::size_t surfaceCount() const { return surfaceCount_; }
-    /// True when geomID names optical surface `surface`.
-    bool isSurface(unsigned geomID, std::size_t surface) const { return geomID == surface; }
 
     struct SurfacePrim;
     struct IrisPrim;

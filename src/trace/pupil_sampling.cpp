@@ -42,9 +42,4 @@ PupilRegion bandRegion(const PupilFrame& frame, const Field& field, Sampling sam
             std::move(lit)};
 }
 
-Bundle makeBundle(const PupilFrame& frame, const Field& field, Sampling sampling, int n, const LensAtWavelength& L,
-                  const std::vector<PathStep>& steps) {
-    return regionBundle(frame, field, pupilRegion(frame, field, sampling, L, steps), n);
-}
-
 } // namespace ff::trace

@@ -45,8 +45,4 @@ PupilRegion bandRegion(const PupilFrame& frame, const Field& field, Sampling sam
                        std::span<const LensAtWavelength> ends, const std::vector<PathStep>& steps,
                        double maxRadiusMm = 0.0);
 
-/// The bundle for one path at one field and wavelength, by the chosen sampling.
-Bundle makeBundle(const PupilFrame& frame, const Field& field, Sampling sampling, int n, const LensAtWavelength& L,
-                  const std::vector<PathStep>& steps);
-
 } // namespace ff::trace
