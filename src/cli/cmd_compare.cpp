@@ -113,7 +113,7 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     cs.grid = o.grid;
     cs.table = o.table.settings();
     cs.sampling = samplingFrom(o.table.sampling);
-    cs.diffraction = o.diffraction;
+    cs.diffraction = scene::diffractionNamed(o.diffraction, "the diffraction (--diffraction)");
     cs.commandLine = g.commandLine;
     cs.loadTable = [&](const optics::Lens& l, const ghosts::TableSettings&) {
         return loadTable(l, o.table, g, reporter);

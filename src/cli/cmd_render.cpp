@@ -191,8 +191,8 @@ fourier::FlareImage renderLensFlare(const RenderOptions& o, const GlobalOptions&
     std::vector<ghosts::Light> lights =
         o.lightsFile.empty() ? std::vector<ghosts::Light>{} : scene::readLightsJson(o.lightsFile);
     for (const std::string& l : o.lights) lights.push_back(scene::parseLight(l));
-    if (o.mode == "shaped") s.raster = gpu::polygonRaster(s.fourier);
-    if (o.mode == "diffraction") {
+    if (s.mode == scene::RenderMode::Shaped) s.raster = gpu::polygonRaster(s.fourier);
+    if (s.mode == scene::RenderMode::Diffraction) {
         s.convolver = gpu::diffractionDevice(s.fourier);
         s.dirt = o.dirt.mask(image::kThisProgram);
     }
@@ -203,11 +203,11 @@ fourier::FlareImage renderLensFlare(const RenderOptions& o, const GlobalOptions&
         return loadShapedTable(l, ss, g, reporter);
     };
     scene::RenderedFlare r = scene::renderFlare(lens, lights, s);
-    if (o.mode == "traced")
+    if (s.mode == scene::RenderMode::Traced)
         job.traced(r, lights.size());
-    else if (o.mode == "diffraction")
+    else if (s.mode == scene::RenderMode::Diffraction)
         job.diffraction(r, lights.size());
-    else if (o.mode == "shaped")
+    else if (s.mode == scene::RenderMode::Shaped)
         job.shaped(r);
     else {
         job.meta.push_back({"fourierflare:ghostModel", o.ghostModel});
@@ -228,9 +228,9 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
                             {"fourierflare:mode", o.mode}};
     RenderJob job{o, g, meta, {}};
     scene::FlareSettings s;
-    s.mode = o.mode;
-    s.ghostModel = o.ghostModel;
-    s.diffraction = o.diffraction;
+    s.mode = scene::renderModeNamed(o.mode, "the mode (--mode)");
+    s.profile = o.ghostModel == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
+    s.diffraction = scene::diffractionNamed(o.diffraction, "the diffraction (--diffraction)");
     s.fourier = o.fourier.settings(g);
     s.traced.frame = {W, H, 0.0};
     fourier::FlareImage image;

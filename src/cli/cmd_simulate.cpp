@@ -241,8 +241,8 @@ class Simulation {
     // the lens at its zoom position.
     scene::SimulationSettings settings(const SimulateOptions& o, const GlobalOptions& g, optics::Lens& lens) {
         scene::SimulationSettings s;
-        s.ghostModel = o.ghostModel;
-        s.diffraction = o.diffraction;
+        s.ghostModel = scene::ghostModelNamed(o.ghostModel, "the ghost model (--ghost-model)");
+        s.diffraction = scene::diffractionNamed(o.diffraction, "the diffraction (--diffraction)");
         s.gain = o.gain;
         s.diffractionGain = o.diffractionGain;
         if (o.diffraction != "off") s.dirt = o.dirt.mask(checker_);

@@ -60,7 +60,7 @@ py::object compare(const optics::Lens& lens, const py::object& lights, const py:
     if (grid < 2 || grid > 1024) throw Error(ErrorKind::Usage, "grid must be 2..1024 rays per side");
     s.grid = grid;
     s.ns = std::move(ns);
-    s.diffraction = diffraction;
+    s.diffraction = scene::diffractionNamed(diffraction, "the diffraction (diffraction)");
     s.sampling = trace::samplingNamed(sampling);
     s.table = ghosts::TableSettings::named(tableGrid, tableAngles, sensor, coating, maxAngle);
     if (!(fourierError >= 1e-7 && fourierError <= 0.5))
@@ -71,7 +71,8 @@ py::object compare(const optics::Lens& lens, const py::object& lights, const py:
     DeferredReporter reporter;
     loadTablesThrough(s, watch, reporter);
     optics::requireTraceable(lens);
-    drawOn(backend, s, reporter, true, s.diffraction != "off"); // last, after every argument was checked
+    drawOn(backend, s, reporter, true,
+           s.diffraction != scene::DiffractionRule::Off); // last, after every argument was checked
     const ReportFolder folder(output);
     nlohmann::json report;
     try {

@@ -101,9 +101,9 @@ py::array_t<float> render(const py::object& source, const py::object& lightsIn, 
     check(a, table != nullptr, !lights.empty());
 
     scene::FlareSettings s;
-    s.mode = a.mode;
-    s.ghostModel = a.ghostModel;
-    s.diffraction = a.diffraction;
+    s.mode = scene::renderModeNamed(a.mode, "the mode (mode)");
+    s.profile = a.ghostModel == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
+    s.diffraction = scene::diffractionNamed(a.diffraction, "the diffraction (diffraction)");
     s.sensorMm =
         a.sensorSizeMm.value_or(table ? table->sensorSizeMm : lens->sensorMm.value_or(std::make_pair(36.0, 24.0)));
     trace::TracedFlareOptions& t = s.traced;

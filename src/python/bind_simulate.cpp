@@ -62,8 +62,8 @@ py::dict simulate(const FloatArray& plateArray, const optics::Lens& lens, const 
                   const std::string& backend, const py::object& progress) {
     const image::Plate plate = plateFrom(plateArray, channels);
     scene::SimulationSettings s;
-    s.ghostModel = ghostModel;
-    s.diffraction = diffraction;
+    s.ghostModel = scene::ghostModelNamed(ghostModel, "the ghost model (ghost_model)");
+    s.diffraction = scene::diffractionNamed(diffraction, "the diffraction (diffraction)");
     s.gain = flareGain;
     s.diffractionGain = diffractionGain;
     if (!sensorSize.is_none()) {
@@ -89,7 +89,8 @@ py::dict simulate(const FloatArray& plateArray, const optics::Lens& lens, const 
     optics::requireTraceable(lens);
     // The backend last, after every argument has been checked. As the CLI: the GL backend draws the
     // shaped polygons, or aggregates the fitted models and composites on the device.
-    drawOn(backend, s, reporter, ghostModel == "shaped", diffraction != "off");
+    drawOn(backend, s, reporter, s.ghostModel == scene::GhostModel::Shaped,
+           s.diffraction != scene::DiffractionRule::Off);
     if (gpu::GlBackend* gl = gpu::glBackendOf(s.fourier); gl && ghostModel != "shaped")
         s.deviceComposite = [gl](const image::Plate& p) {
             return gpu::compositeOnDevice(*gl, p.width, p.height, p.rgb());

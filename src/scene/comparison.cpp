@@ -99,14 +99,15 @@ std::string compareDiffraction(const ComparisonSettings& s, const optics::Lens& 
         "the model: docs/diffraction.md):\n\n| PSF | flux in the frame / the lights' | seconds |\n|---|---|---|\n";
     double lightsFlux = 0.0;
     for (const auto& l : lights) lightsFlux += l.flux[0] + l.flux[1] + l.flux[2];
-    std::vector<std::string> modes = {"physical"};
-    if (s.diffraction == "traced") modes.push_back("traced");
+    std::vector<DiffractionRule> rules = {DiffractionRule::Physical};
+    if (s.diffraction == DiffractionRule::Traced) rules.push_back(DiffractionRule::Traced);
     std::vector<std::vector<float>> images;
-    for (const std::string& mode : modes) {
+    for (const DiffractionRule rule : rules) {
+        const std::string mode = toString(rule);
         const auto t0 = Clock::now();
         double off = 0.0;
         std::string text;
-        images.push_back(renderDiffraction(lens, lights, to.frame, z, mode, s.convolver, &off, &text));
+        images.push_back(renderDiffraction(lens, lights, to.frame, z, rule, s.convolver, &off, &text));
         const double sec = secondsSince(t0);
         double flux = 0.0;
         for (float v : images.back()) flux += v;
@@ -379,8 +380,6 @@ nlohmann::json compareFlares(const optics::Lens& lens, const ComparisonSettings&
     if (s.ns.empty()) throw Error(ErrorKind::Usage, "give at least one N for the error against N");
     for (int n : s.ns)
         if (n < 1 || n > 2048) throw Error(ErrorKind::Usage, "each N of the sweep must be 1..2048");
-    if (s.diffraction != "off" && s.diffraction != "physical" && s.diffraction != "traced")
-        throw Error(ErrorKind::Usage, "the diffraction is off, physical or traced, got " + text::quoted(s.diffraction));
     Comparison c(lens, s);
     c.W = s.width;
     c.H = s.height;
@@ -464,7 +463,7 @@ nlohmann::json compareFlares(const optics::Lens& lens, const ComparisonSettings&
     if (c.base.basis == fourier::Basis::Separable) profiles.push_back(ghosts::Profile::Cos2);
     for (const auto profile : profiles) c.compareProfile(profile, tab, ns);
     c.md += "\nPSNR uses the reference's peak. Flux ratio = total flux of the image / total flux of the reference.\n\n";
-    if (s.diffraction != "off") c.md += compareDiffraction(s, c.lens, c.to, c.dir, c.meta, c.report);
+    if (s.diffraction != DiffractionRule::Off) c.md += compareDiffraction(s, c.lens, c.to, c.dir, c.meta, c.report);
     c.finish(ns);
     return c.report;
 }

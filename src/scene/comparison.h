@@ -31,12 +31,12 @@ struct ComparisonSettings {
     /// The table's settings (the shaped ghosts and their fits); their sensor plane and coatings serve
     /// the traced reference too.
     ghosts::TableSettings table;
-    fourier::FourierSettings fourier;             ///< the aggregator (its error is the budget)
-    std::vector<int> ns = {16, 32, 64, 128, 256}; ///< the error against N (each 1..2048)
-    std::string diffraction = "off";              ///< off, physical or traced (then the aberration-free one too)
-    ghosts::PolygonRaster* raster = nullptr;      ///< where the shaped polygons are drawn (null: the CPU)
-    double shapedError = kShapedError;            ///< the shaped hybrid's budget (0: no hybrid)
-    diffraction::Convolver* convolver = nullptr;  ///< the diffraction's convolution (null: FFTW)
+    fourier::FourierSettings fourier;                   ///< the aggregator (its error is the budget)
+    std::vector<int> ns = {16, 32, 64, 128, 256};       ///< the error against N (each 1..2048)
+    DiffractionRule diffraction = DiffractionRule::Off; ///< traced: the aberration-free PSF too
+    ghosts::PolygonRaster* raster = nullptr;            ///< where the shaped polygons are drawn (null: the CPU)
+    double shapedError = kShapedError;                  ///< the shaped hybrid's budget (0: no hybrid)
+    diffraction::Convolver* convolver = nullptr;        ///< the diffraction's convolution (null: FFTW)
     /// The tables (default: from the cache, or built and cached).
     std::function<ghosts::GhostTable(const optics::Lens&, const ghosts::TableSettings&)> loadTable;
     std::function<ghosts::ShapedTable(const optics::Lens&, const ghosts::TableSettings&)> loadShaped;

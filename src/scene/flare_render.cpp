@@ -12,7 +12,7 @@ RenderedFlare renderGhosts(const std::vector<fourier::Ghost>& ghosts, const Flar
     const int W = s.traced.frame.width, H = s.traced.frame.height;
     RenderedFlare r;
     r.ghosts = ghosts.size();
-    if (s.mode == "fitted") {
+    if (s.mode == RenderMode::Fitted) {
         r.image = fourier::renderDirect(ghosts, W, H);
         return r;
     }
@@ -24,22 +24,22 @@ RenderedFlare renderGhosts(const std::vector<fourier::Ghost>& ghosts, const Flar
 
 RenderedFlare renderFromTable(const ghosts::GhostTable& table, const std::vector<ghosts::Light>& lights,
                               const FlareSettings& s) {
-    if (s.mode != "fitted" && s.mode != "fourier")
-        throw Error(ErrorKind::Usage, "a ghost table renders its fits (fitted or fourier), not " + s.mode);
+    if (s.mode != RenderMode::Fitted && s.mode != RenderMode::Fourier)
+        throw Error(ErrorKind::Usage,
+                    std::string("a ghost table renders its fits (fitted or fourier), not ") + toString(s.mode));
     const ghosts::Camera cam{s.traced.frame.width, s.traced.frame.height, s.sensorMm.first};
-    const auto profile = s.ghostModel == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
-    return renderGhosts(fourierGhosts(ghosts::instantiate(table, lights, cam, profile)), s);
+    return renderGhosts(fourierGhosts(ghosts::instantiate(table, lights, cam, s.profile)), s);
 }
 
 RenderedFlare renderFlare(const optics::Lens& lens, const std::vector<ghosts::Light>& lights, const FlareSettings& s) {
     const trace::TracedFlareOptions& t = s.traced;
-    if (s.mode == "fitted" || s.mode == "fourier") {
+    if (s.mode == RenderMode::Fitted || s.mode == RenderMode::Fourier) {
         const ghosts::GhostTable table =
             s.loadTable ? s.loadTable(lens, s.table) : ghosts::tableFor(lens, s.table, true, {}, orNull(nullptr));
         return renderFromTable(table, lights, s);
     }
     RenderedFlare r;
-    if (s.mode == "traced") {
+    if (s.mode == RenderMode::Traced) {
         if (s.field) {
             trace::TracedFlareOptions one = t;
             one.field = *s.field;
@@ -49,14 +49,14 @@ RenderedFlare renderFlare(const optics::Lens& lens, const std::vector<ghosts::Li
         }
         r.image = std::move(r.traced.image);
         r.traced.image = {};
-    } else if (s.mode == "diffraction") {
+    } else if (s.mode == RenderMode::Diffraction) {
         const std::vector<float> spread =
             renderDiffraction(lens, lights, t.frame, trace::sensorPlaneZ(lens, t.sensor), s.diffraction, s.convolver,
                               &r.offFrame, &r.diffractionText, s.dirt);
         r.image = fourier::FlareImage(t.frame.width, t.frame.height);
         for (std::size_t p = 0; p < r.image.pixels(); ++p)
             for (int c = 0; c < 3; ++c) r.image.channel[c][p] = spread[p * 3 + c];
-    } else if (s.mode == "shaped") {
+    } else {
         ghosts::TableSettings ss = s.table;
         ss.sensorSizeMm = s.sensorMm;
         const ghosts::ShapedTable tab =
@@ -70,9 +70,6 @@ RenderedFlare renderFlare(const optics::Lens& lens, const std::vector<ghosts::Li
         r.shapedStored = tab.ghosts.size();
         r.shapedGhosts = tab.ghostCount;
         r.shapedBytes = tab.bytes();
-    } else {
-        throw Error(ErrorKind::Usage,
-                    "the render mode is traced, shaped, fitted, fourier or diffraction, got '" + s.mode + "'");
     }
     return r;
 }

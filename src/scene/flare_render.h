@@ -8,6 +8,7 @@
 #include "ghosts/instancing.h"
 #include "ghosts/shaped_ghosts.h"
 #include "optics/lens.h"
+#include "scene/choices.h"
 #include "scene/scene.h"
 #include "trace/traced_flare.h"
 
@@ -19,9 +20,9 @@
 namespace ff::scene {
 
 struct FlareSettings {
-    std::string mode = "traced";          ///< traced | shaped | fitted | fourier | diffraction
-    std::string ghostModel = "gaussian";  ///< fitted, fourier: the table's gaussian or cos2 fits
-    std::string diffraction = "physical"; ///< diffraction: physical or traced (each light its own PSF)
+    RenderMode mode = RenderMode::Traced;
+    ghosts::Profile profile = ghosts::Profile::Gaussian;     ///< fitted, fourier: the table's fits drawn
+    DiffractionRule diffraction = DiffractionRule::Physical; ///< diffraction: physical or traced (never off)
     /// The frame (its pitch the sensor's width over its width), and for traced its grid, refinement
     /// and spectral samples; the sampling, sensor plane and coatings serve every mode.
     trace::TracedFlareOptions traced;

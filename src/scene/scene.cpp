@@ -368,7 +368,7 @@ std::string describePsf(const diffraction::Aperture& aperture, const diffraction
 }
 
 std::vector<float> renderDiffraction(const optics::Lens& lens, const std::vector<ghosts::Light>& lights,
-                                     const trace::ImageFrame& frame, double sensorZ, const std::string& mode,
+                                     const trace::ImageFrame& frame, double sensorZ, DiffractionRule rule,
                                      diffraction::Convolver* device, double* offFrame, std::string* summary,
                                      std::shared_ptr<const diffraction::PupilMask> dirt) {
     const int W = frame.width, H = frame.height;
@@ -391,7 +391,8 @@ std::vector<float> renderDiffraction(const optics::Lens& lens, const std::vector
             });
         return out;
     };
-    if (mode != "traced") {
+    const std::string mode = toString(rule);
+    if (rule != DiffractionRule::Traced) {
         const diffraction::Psf psf = diffraction::pixelPsf(aperture, ps);
         if (summary) *summary = mode + "; " + describePsf(aperture, psf, ps.mask.get());
         return convolve(lights, psf);

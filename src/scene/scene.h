@@ -10,6 +10,7 @@
 #include "ghosts/instancing.h"
 #include "ghosts/shaped_ghosts.h"
 #include "optics/lens.h"
+#include "scene/choices.h"
 #include "trace/traced_flare.h"
 
 #include <string>
@@ -70,13 +71,13 @@ std::string describePsf(const diffraction::Aperture& aperture, const diffraction
                         const diffraction::PupilMask* dirt = nullptr);
 
 /// The lights through the lens's PSF (render --mode diffraction, compare): the aberration-free PSF
-/// ("physical"), or each light through the PSF with the lens's traced wavefront at its field
-/// ("traced"; sensor plane sensorZ). Lights outside the frame reach into it (their PSF added over the
+/// (Physical), or each light through the PSF with the lens's traced wavefront at its field (Traced;
+/// sensor plane sensorZ). Lights outside the frame reach into it (their PSF added over the
 /// frame, on the CPU: a pass over the frame each). The convolution runs on `device` when given. `offFrame` (summed
 /// over the channels) and `summary` receive what left the frame and a description of the PSFs. `dirt`
 /// multiplies the iris (diffraction::PsfSettings::mask).
 std::vector<float> renderDiffraction(const optics::Lens& lens, const std::vector<ghosts::Light>& lights,
-                                     const trace::ImageFrame& frame, double sensorZ, const std::string& mode,
+                                     const trace::ImageFrame& frame, double sensorZ, DiffractionRule rule,
                                      diffraction::Convolver* device, double* offFrame, std::string* summary,
                                      std::shared_ptr<const diffraction::PupilMask> dirt = nullptr);
 

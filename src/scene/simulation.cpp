@@ -31,12 +31,6 @@ Simulation::Simulation(optics::Lens lens, SimulationSettings settings, Reporter&
         throw Error(ErrorKind::Usage, "the flare gain must be a finite number >= 0");
     if (s_.diffractionGain < 0.0 || !std::isfinite(s_.diffractionGain))
         throw Error(ErrorKind::Usage, "the diffraction gain must be a finite number >= 0");
-    if (s_.ghostModel != "shaped" && s_.ghostModel != "gaussian" && s_.ghostModel != "cos2")
-        throw Error(ErrorKind::Usage,
-                    "the ghost model is shaped, gaussian or cos2, got " + text::quoted(s_.ghostModel));
-    if (s_.diffraction != "off" && s_.diffraction != "physical" && s_.diffraction != "traced")
-        throw Error(ErrorKind::Usage,
-                    "the diffraction is off, physical or traced, got " + text::quoted(s_.diffraction));
     if (!(s_.sensorWidthMm >= 0.0) || !std::isfinite(s_.sensorWidthMm))
         throw Error(ErrorKind::Usage, "the sensor width must be a finite number of mm > 0");
     if (!(s_.fovDeg >= 0.0 && s_.fovDeg < 180.0))
@@ -55,7 +49,7 @@ Simulation::Simulation(optics::Lens lens, SimulationSettings settings, Reporter&
         s_.loadShaped = [this](const optics::Lens& l, const ghosts::TableSettings& t) {
             return ghosts::shapedTableFor(l, t, true, reporter_);
         };
-    if (s_.diffraction != "off") {
+    if (s_.diffraction != DiffractionRule::Off) {
         try {
             aperture_ = diffraction::apertureOf(lens_);
         } catch (const Error& e) {
@@ -84,7 +78,7 @@ SimulatedPlate Simulation::run(const image::Plate& plate) {
                                              " bright pixels have alpha 0 (premultiplied emission): counted as light");
     }
     out.detectSeconds = lap(t);
-    if (s_.ghostModel == "shaped")
+    if (s_.ghostModel == GhostModel::Shaped)
         drawShaped(plate, out);
     else
         drawFitted(plate, out);
@@ -162,7 +156,7 @@ void Simulation::drawFitted(const image::Plate& plate, SimulatedPlate& out) {
     if (!table_) table_ = std::make_unique<ghosts::GhostTable>(s_.loadTable(lens_, s_.table));
     out.tableSeconds = lap(t);
     const ghosts::Camera cam{plate.displayWidth, plate.displayHeight, s_.sensorWidthMm};
-    const auto profile = s_.ghostModel == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
+    const auto profile = s_.ghostModel == GhostModel::Cos2 ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
     auto ghosts = fourierGhosts(ghosts::instantiate(*table_, out.lights, cam, profile));
     // Display-window pixels to the data window's, and the gain (1 = physical).
     for (auto& k : ghosts) {
@@ -182,7 +176,7 @@ void Simulation::drawFitted(const image::Plate& plate, SimulatedPlate& out) {
                   ghosts.size(), flare.plan.n, flare.plan.m, flare.fourierCount(), flare.directCount(),
                   flare.culledCount());
     out.flareText = buf;
-    out.modelMeta = {{"fourierflare:ghostModel", s_.ghostModel},
+    out.modelMeta = {{"fourierflare:ghostModel", toString(s_.ghostModel)},
                      {"fourierflare:fourier", flare.describe()},
                      {"fourierflare:backend", s_.fourier.backend ? s_.fourier.backend->describe() : std::string("cpu")},
                      {"fourierflare:table", table_->settingsKey}};
@@ -210,7 +204,7 @@ void Simulation::diffract(const image::Plate& plate, SimulatedPlate& out) {
                                                plate.originY - plate.displayY);
     double offFrame = 0.0;
     diffraction::Convolver* convolver = s_.convolver ? s_.convolver : &cpuConvolver_;
-    if (s_.diffraction == "traced") {
+    if (s_.diffraction == DiffractionRule::Traced) {
         // The lens's own wavefront at the lights' fields: one PSF per tile of the frame that holds
         // light, at its lights' centre (pixels of the data window; the axis at the display window's
         // centre). The aberration-free PSF only where a tile's own cannot be made.
@@ -245,11 +239,11 @@ void Simulation::diffract(const image::Plate& plate, SimulatedPlate& out) {
     std::string zoneText;
     for (const std::string& z : zones) zoneText += (zoneText.empty() ? "" : "; ") + z;
     out.diffractionText =
-        s_.diffraction + ", gain " + text::roundTrip(s_.diffractionGain) + "; " +
+        std::string(toString(s_.diffraction)) + ", gain " + text::roundTrip(s_.diffractionGain) + "; " +
         (psfText.empty() ? std::string("no light to diffract") : psfText) +
-        (s_.diffraction == "traced" ? "; the lens's wavefront per " + std::to_string(kZones) + " x " +
-                                          std::to_string(kZones) + " tile, at (px) " + zoneText
-                                    : std::string()) +
+        (s_.diffraction == DiffractionRule::Traced ? "; the lens's wavefront per " + std::to_string(kZones) + " x " +
+                                                         std::to_string(kZones) + " tile, at (px) " + zoneText
+                                                   : std::string()) +
         (s_.convolver ? "; convolved on " + s_.fourier.backend->describe() : std::string("; convolved on the CPU"));
 }
 

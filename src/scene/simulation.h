@@ -13,6 +13,7 @@
 #include "image/light_detection.h"
 #include "image/plate.h"
 #include "optics/lens.h"
+#include "scene/choices.h"
 #include "scene/scene.h"
 
 #include <functional>
@@ -24,8 +25,8 @@
 namespace ff::scene {
 
 struct SimulationSettings {
-    std::string ghostModel = "shaped";                  ///< shaped | gaussian | cos2
-    std::string diffraction = "physical";               ///< off | physical | traced
+    GhostModel ghostModel = GhostModel::Shaped;
+    DiffractionRule diffraction = DiffractionRule::Physical;
     double gain = 1.0;                                  ///< the flare's gain (1 = physical)
     double diffractionGain = 1.0;                       ///< the diffraction layer's gain (1 = physical)
     std::shared_ptr<const diffraction::PupilMask> dirt; ///< on the front element, multiplying the iris (null: clean)
