@@ -17,50 +17,6 @@ namespace ff::trace {
 
 namespace {
 
-[[noreturn]] void unknownName(const char* what, const std::string& name, const char* names) {
-    throw Error(ErrorKind::Usage,
-                std::string("unknown ") + what + " " + text::quoted(name) + " (expected " + names + ")");
-}
-
-} // namespace
-
-Sampling samplingNamed(const std::string& name) {
-    if (name == "reaim") return Sampling::Reaim;
-    if (name == "paraxial-grid") return Sampling::ParaxialGrid;
-    unknownName("sampling", name, "reaim or paraxial-grid");
-}
-
-SensorPlane sensorPlaneNamed(const std::string& name) {
-    if (name == "file") return SensorPlane::File;
-    if (name == "paraxial") return SensorPlane::Paraxial;
-    unknownName("sensor plane", name, "file or paraxial");
-}
-
-CoatingChoice coatingNamed(const std::string& name) {
-    if (name == "file") return CoatingChoice::File;
-    if (name == "none") return CoatingChoice::None;
-    if (name == "mgf2") return CoatingChoice::MgF2;
-    unknownName("coating", name, "file, none or mgf2");
-}
-
-double sensorPlaneZ(const optics::Lens& lens, SensorPlane plane) {
-    if (plane == SensorPlane::File) return lens.sensorZ();
-    return lens.vertexZ(lens.surfaces.size() - 1) + optics::paraxialBfd(lens, lines::d);
-}
-
-optics::Lens withCoating(const optics::Lens& lens, CoatingChoice choice) {
-    optics::Lens out = lens;
-    if (choice == CoatingChoice::File) return out;
-    for (std::size_t s = 0; s < out.surfaces.size(); ++s) {
-        const bool glassAir = out.mediumBefore(s).isAir() != out.surfaces[s].medium.isAir();
-        out.surfaces[s].coating = (choice == CoatingChoice::MgF2 && glassAir) ? optics::CoatingSpec::mgf2(550.0)
-                                                                              : optics::CoatingSpec::none();
-    }
-    return out;
-}
-
-namespace {
-
 PathStats statistics(const Bundle& b, const std::vector<RayResult>& results, double halfW, double halfH) {
     const BundleMoments m = measureBundle(b, results);
     PathStats st;

@@ -11,21 +11,13 @@
 #include "core/reporter.h"
 #include "optics/lens.h"
 #include "trace/pupil_sampling.h"
+#include "trace/sensor.h"
 
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace ff::trace {
-
-enum class SensorPlane { File, Paraxial };
-enum class CoatingChoice { File, None, MgF2 };
-
-/// The choices by the names the CLI and the Python module give them; any other name throws ff::Error
-/// (Usage) listing the names.
-Sampling samplingNamed(const std::string& name);       ///< reaim | paraxial-grid
-SensorPlane sensorPlaneNamed(const std::string& name); ///< file | paraxial
-CoatingChoice coatingNamed(const std::string& name);   ///< file | none | mgf2
 
 struct GhostAnalysisOptions {
     Field field;
@@ -63,14 +55,6 @@ struct GhostReport {
     std::size_t reflectingInterfaces = 0;
     std::vector<WavelengthReport> wavelengths;
 };
-
-/// z of the sensor plane from the first vertex: the lens's last thickness, or the paraxial focus at
-/// the d line.
-double sensorPlaneZ(const optics::Lens& lens, SensorPlane plane);
-
-/// Applies a coating choice to a copy of the lens (None: every surface bare; MgF2: a single MgF2
-/// quarter wave at 550 nm on every glass-air surface, cemented ones bare; File: as the lens says).
-optics::Lens withCoating(const optics::Lens& lens, CoatingChoice choice);
 
 GhostReport analyzeGhosts(const optics::Lens& lens, const GhostAnalysisOptions& options);
 

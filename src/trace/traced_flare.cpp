@@ -15,45 +15,6 @@
 
 namespace ff::trace {
 
-std::array<double, 3> cie1931(double l) {
-    // Wyman, Sloan & Shirley 2013, multi-lobe piecewise Gaussian fit (their equation 2).
-    auto g = [l](double mu, double s1, double s2) {
-        const double t = (l - mu) / (l < mu ? s1 : s2);
-        return std::exp(-0.5 * t * t);
-    };
-    const double x = 1.056 * g(599.8, 37.9, 31.0) + 0.362 * g(442.0, 16.0, 26.7) - 0.065 * g(501.1, 20.4, 26.2);
-    const double y = 0.821 * g(568.8, 46.9, 40.5) + 0.286 * g(530.9, 16.3, 31.1);
-    const double z = 1.217 * g(437.0, 11.8, 36.0) + 0.681 * g(459.0, 26.0, 13.8);
-    return {x, y, z};
-}
-
-std::array<double, 3> linearSrgb(double lambdaNm) {
-    const auto [X, Y, Z] = cie1931(lambdaNm);
-    // XYZ -> linear sRGB (IEC 61966-2-1).
-    return {3.2406 * X - 1.5372 * Y - 0.4986 * Z, -0.9689 * X + 1.8758 * Y + 0.0415 * Z,
-            0.0557 * X - 0.2040 * Y + 1.0570 * Z};
-}
-
-void colourWeights(int n, std::vector<double>& lambdas, std::vector<std::array<double, 3>>& weights) {
-    lambdas.clear();
-    weights.clear();
-    if (n == 0) {
-        lambdas = {650.0, 550.0, 450.0};
-        weights = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
-        return;
-    }
-    std::array<double, 3> white{};
-    for (int i = 0; i < n; ++i) {
-        const double l = 400.0 + 300.0 * (i + 0.5) / n;
-        const std::array<double, 3> rgb = linearSrgb(l);
-        lambdas.push_back(l);
-        weights.push_back(rgb);
-        for (int c = 0; c < 3; ++c) white[c] += rgb[c];
-    }
-    for (auto& w : weights)
-        for (int c = 0; c < 3; ++c) w[c] /= white[c];
-}
-
 namespace {
 
 // Ghosts whose flux (summed over the wavelengths) is under cullFraction of the strongest's: marked 1,
@@ -214,79 +175,6 @@ TracedFlare renderTracedFlare(const optics::Lens& lensIn, const TracedFlareOptio
 
     out.rgb = combineRgb(std::move(rasters), weights, pixels);
     return out;
-}
-
-Field fieldForSensorPoint(const optics::Lens& lens, double sensorZ, double xMm, double yMm) {
-    const double r = std::sqrt(xMm * xMm + yMm * yMm);
-    Field f;
-    f.azimuthRad = std::atan2(-xMm, yMm); // image at r (-sin az, cos az)
-    if (r == 0.0) return f;
-    const LensAtWavelength L(lens, lines::d, sensorZ);
-    const PupilFrame pupil = pupilFrame(lens);
-    const auto steps = pathSteps(lens, std::nullopt);
-    // Height of the chief ray on the sensor for a field angle (azimuth 0: image along +y): the ray
-    // of that field through the centre of the stop (aimed by the secant method from the paraxial
-    // entrance pupil's centre, where wide-angle lenses' pupils have moved), traced with the
-    // apertures open: where the lens vignettes its own chief ray, the rest of the beam still images
-    // the source there.
-    std::size_t stopStep = steps.size();
-    for (std::size_t k = 0; k < steps.size(); ++k)
-        if (steps[k].surface == L.stop) stopStep = k;
-    std::vector<double> margins(steps.size());
-    std::vector<glm::dvec3> points(steps.size());
-    auto trace = [&](double theta, double py) -> std::optional<std::pair<double, double>> {
-        const Bundle one = gridBundle(pupil, {theta, 0.0}, 1, 0.0, py, 1e-9, false);
-        const SequentialResult s =
-            traceSequential(L, steps, one.rays[0], Weighting::Fresnel, margins.data(), points.data());
-        if (s.status != optics::RayStatus::Ok) return std::nullopt;
-        return std::make_pair(stopStep < steps.size() ? points[stopStep].y : 0.0, s.ray.origin.y);
-    };
-    auto height = [&](double theta) -> std::optional<double> {
-        // Start from the paraxial pupil's centre, else from the traced point of the pupil nearest it.
-        const double h = searchHalfSize(pupil, {theta, 0.0});
-        double p0 = 0.0;
-        auto r0 = trace(theta, p0);
-        for (int k = 1; k <= 32 && !r0; ++k)
-            for (const double sign : {-1.0, 1.0})
-                if (!r0) r0 = trace(theta, p0 = sign * h * k / 32.0);
-        if (!r0) return std::nullopt;
-        double p1 = p0 + 1e-3 * h;
-        for (int it = 0; it < 40 && stopStep < steps.size(); ++it) {
-            if (std::abs(r0->first) < 1e-10) break;
-            const auto r1 = trace(theta, p1);
-            if (!r1 || r1->first == r0->first) return std::nullopt;
-            const double next = p1 - r1->first * (p1 - p0) / (r1->first - r0->first);
-            p0 = p1, r0 = r1, p1 = next;
-        }
-        if (stopStep < steps.size() && !(std::abs(r0->first) < 1e-6)) return std::nullopt;
-        return r0->second;
-    };
-    // Bisection on the angle; the image height grows monotonically with it for a photographic lens.
-    double lo = 0.0, hi = degToRad(89.0);
-    for (int it = 0; it < 100 && hi - lo > 1e-13; ++it) {
-        const double mid = 0.5 * (lo + hi);
-        const auto h = height(mid);
-        if (h && *h < r)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    const auto reached = height(lo);
-    if (!reached || std::abs(*reached - r) > 1e-6 * (1.0 + r))
-        throw Error(ErrorKind::Input,
-                    "no field angle images a source at " + text::fixed(r, 3) +
-                        " mm from the axis (the chief ray does not reach it); is the light outside the lens's field?");
-    f.angleRad = lo;
-    return f;
-}
-
-double sensorCornerFieldDeg(const optics::Lens& lens, double sensorZ, std::pair<double, double> sensorMm) {
-    const double reach = 0.5 * std::hypot(sensorMm.first, sensorMm.second) * 1.05;
-    try {
-        return radToDeg(fieldForSensorPoint(lens, sensorZ, 0.0, reach).angleRad);
-    } catch (const Error&) {
-        return std::min(80.0, radToDeg(std::atan(reach / std::abs(optics::paraxialEfl(lens, lines::d)))));
-    }
 }
 
 } // namespace ff::trace

@@ -10,8 +10,10 @@
 // source's direct image, is (1, 1, 1); out-of-gamut negatives are clipped to 0.
 
 #include "optics/lens.h"
+#include "trace/colour.h"
 #include "trace/flare_raster.h"
 #include "trace/ghost_analysis.h"
+#include "trace/sensor.h"
 
 #include <array>
 #include <utility>
@@ -49,27 +51,6 @@ struct TracedFlare {
     int maxDepth = 0;           ///< deepest refinement level reached
 };
 
-/// Wavelengths and their linear-sRGB weights (one row of 3 per wavelength) for a colour mode.
-void colourWeights(int spectralSamples, std::vector<double>& wavelengthsNm,
-                   std::vector<std::array<double, 3>>& weights);
-
-/// CIE 1931 2-degree colour matching functions (x, y, z) at lambdaNm, analytic fit.
-std::array<double, 3> cie1931(double lambdaNm);
-
-/// The colour of a unit of light at lambdaNm in linear sRGB (CIE 1931 through IEC 61966-2-1's matrix);
-/// out-of-gamut wavelengths have negative components.
-std::array<double, 3> linearSrgb(double lambdaNm);
-
 TracedFlare renderTracedFlare(const optics::Lens& lens, const TracedFlareOptions& options);
-
-/// The field whose direct image (its chief ray through the centre of the paraxial entrance pupil,
-/// traced exactly at the d line with the apertures open) lands at sensor point (x, y) mm. Throws
-/// ff::Error (Input) when no field angle below 89 deg reaches that far.
-Field fieldForSensorPoint(const optics::Lens& lens, double sensorZ, double xMm, double yMm);
-
-/// The field angle (deg) that a flare over a sensor of sensorMm (width, height) must reach: the field
-/// whose direct image lands 5 % beyond the half-diagonal (fieldForSensorPoint); where no field
-/// reaches that far, the paraxial one, atan(1.05 x half-diagonal / EFL), at most 80 deg.
-double sensorCornerFieldDeg(const optics::Lens& lens, double sensorZ, std::pair<double, double> sensorMm);
 
 } // namespace ff::trace
