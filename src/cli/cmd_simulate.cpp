@@ -245,11 +245,7 @@ class Simulation {
         s.diffraction = scene::diffractionNamed(o.diffraction, "the diffraction (--diffraction)");
         s.gain = o.gain;
         s.diffractionGain = o.diffractionGain;
-        if (o.diffraction != "off") s.dirt = o.dirt.mask(checker_);
-        if (o.gain < 0.0 || !std::isfinite(o.gain))
-            throw Error(ErrorKind::Usage, "--flare-gain must be a finite number >= 0");
-        if (o.diffractionGain < 0.0 || !std::isfinite(o.diffractionGain))
-            throw Error(ErrorKind::Usage, "--diffraction-gain must be a finite number >= 0");
+        if (s.diffraction != scene::DiffractionRule::Off) s.dirt = o.dirt.mask(checker_);
         // --sensor is the sensor plane, as in every command; a WxH size there is its old meaning
         // (now --sensor-size), accepted for one release.
         std::string sizeGiven = o.sensorSize;
@@ -270,8 +266,6 @@ class Simulation {
         } else {
             table.sensor = o.sensor;
         }
-        if (!sizeGiven.empty() && o.fov > 0.0)
-            throw Error(ErrorKind::Usage, "give either --sensor-size WxH or --fov DEG, not both");
         s.detection = image::parseThreshold(o.threshold);
         s.detection.blockSize = o.block;
         lens = loadTraceableLens(o.lens, o.table.zoom, reporter_);
@@ -284,13 +278,13 @@ class Simulation {
         if (!sizeGiven.empty()) {
             s.sensorWidthMm = parseSensorSize(sizeGiven, sizeGiven == o.sensor ? "--sensor" : "--sensor-size").first;
         }
-        s.fovDeg = sizeGiven.empty() ? o.fov : 0.0;
+        s.fovDeg = o.fov; // scene::Simulation checks the gains and that not both the size and the field are given
         s.table = table.settings();
         // Options checked first: the backend (EGL) is touched last. The GL backend draws the shaped
         // model's polygons, or aggregates the fitted models with the Fourier options.
         s.fourier = o.fourier.settings(g);
         s.convolver = gpu::diffractionDevice(s.fourier);
-        if (o.ghostModel == "shaped") {
+        if (s.ghostModel == scene::GhostModel::Shaped) {
             s.raster = gpu::polygonRaster(s.fourier);
             if (o.fourier.errorOption && o.fourier.errorOption->count() > 0) s.shapedError = o.fourier.error;
         } else if (s.fourier.basis == fourier::Basis::Separable) {
