@@ -278,7 +278,8 @@ class Simulation {
         if (!sizeGiven.empty()) {
             s.sensorWidthMm = parseSensorSize(sizeGiven, sizeGiven == o.sensor ? "--sensor" : "--sensor-size").first;
         }
-        s.fovDeg = o.fov; // scene::Simulation checks the gains and that not both the size and the field are given
+        s.fovDeg = o.fov;
+        scene::checkSettings(s);
         s.table = table.settings();
         // Options checked first: the backend (EGL) is touched last. The GL backend draws the shaped
         // model's polygons, or aggregates the fitted models with the Fourier options.

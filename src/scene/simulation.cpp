@@ -25,18 +25,22 @@ constexpr int kZones = 3; ///< --diffraction traced: tiles per side of the frame
 
 } // namespace
 
+void checkSettings(const SimulationSettings& s) {
+    if (s.gain < 0.0 || !std::isfinite(s.gain))
+        throw Error(ErrorKind::Usage, "the flare gain must be a finite number >= 0");
+    if (s.diffractionGain < 0.0 || !std::isfinite(s.diffractionGain))
+        throw Error(ErrorKind::Usage, "the diffraction gain must be a finite number >= 0");
+    if (!(s.sensorWidthMm >= 0.0) || !std::isfinite(s.sensorWidthMm))
+        throw Error(ErrorKind::Usage, "the sensor width must be a finite number of mm > 0");
+    if (!(s.fovDeg >= 0.0 && s.fovDeg < 180.0))
+        throw Error(ErrorKind::Usage, "the field of view must be 0..180 degrees (0: not given)");
+    if (s.sensorWidthMm > 0.0 && s.fovDeg > 0.0)
+        throw Error(ErrorKind::Usage, "give either the sensor's size or the field of view, not both");
+}
+
 Simulation::Simulation(optics::Lens lens, SimulationSettings settings, Reporter& reporter)
     : lens_(std::move(lens)), s_(std::move(settings)), reporter_(reporter) {
-    if (s_.gain < 0.0 || !std::isfinite(s_.gain))
-        throw Error(ErrorKind::Usage, "the flare gain must be a finite number >= 0");
-    if (s_.diffractionGain < 0.0 || !std::isfinite(s_.diffractionGain))
-        throw Error(ErrorKind::Usage, "the diffraction gain must be a finite number >= 0");
-    if (!(s_.sensorWidthMm >= 0.0) || !std::isfinite(s_.sensorWidthMm))
-        throw Error(ErrorKind::Usage, "the sensor width must be a finite number of mm > 0");
-    if (!(s_.fovDeg >= 0.0 && s_.fovDeg < 180.0))
-        throw Error(ErrorKind::Usage, "the field of view must be 0..180 degrees (0: not given)");
-    if (s_.sensorWidthMm > 0.0 && s_.fovDeg > 0.0)
-        throw Error(ErrorKind::Usage, "give either the sensor's size or the field of view, not both");
+    checkSettings(s_);
     if (s_.fovDeg > 0.0)
         s_.sensorWidthMm =
             2.0 * std::abs(optics::paraxialEfl(lens_, lines::d)) * std::tan(0.5 * s_.fovDeg * std::numbers::pi / 180.0);

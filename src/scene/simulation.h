@@ -68,6 +68,11 @@ struct SimulatedPlate {
     double detectSeconds = 0.0, tableSeconds = 0.0, flareSeconds = 0.0, diffractionSeconds = 0.0;
 };
 
+/// Checks the settings' numbers (the gains, the sensor's width or the field of view, not both):
+/// ff::Error (Usage). Simulation's constructor calls it; a caller may call it first, to refuse bad
+/// options before it opens a device.
+void checkSettings(const SimulationSettings& settings);
+
 class Simulation {
   public:
     /// Checks the settings (ff::Error, Usage) and finds the lens's aperture for the diffraction
