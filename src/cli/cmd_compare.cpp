@@ -115,8 +115,8 @@ void runCompare(const CompareOptions& o, const GlobalOptions& g) {
     cs.sampling = samplingFrom(o.table.sampling);
     cs.diffraction = scene::diffractionNamed(o.diffraction, "the diffraction (--diffraction)");
     cs.commandLine = g.commandLine;
-    cs.loadTable = [&](const optics::Lens& l, const ghosts::TableSettings&) {
-        return loadTable(l, o.table, g, reporter);
+    cs.loadTable = [&](const optics::Lens& l, const ghosts::TableSettings& ts) {
+        return loadTable(l, ts, g, reporter);
     };
     cs.loadShaped = [&](const optics::Lens& l, const ghosts::TableSettings& ss) {
         return loadShapedTable(l, ss, g, reporter);

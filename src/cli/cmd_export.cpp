@@ -38,7 +38,7 @@ void runExport(const ExportOptions& o, const GlobalOptions& g) {
     ConsoleReporter reporter(g);
     const optics::Lens lens = loadTraceableLens(o.lens, o.table.zoom, reporter);
     bool cached = false;
-    const ghosts::GhostTable t = loadTable(lens, o.table, g, reporter, true, &cached);
+    const ghosts::GhostTable t = loadTable(lens, o.table.settings(), g, reporter, true, &cached);
     const double angle = std::isnan(o.fieldAngle) ? exporting::defaultFieldAngle(t) : o.fieldAngle;
     if (angle < 0.0 || angle > t.anglesDeg.back())
         throw Error(ErrorKind::Usage, "--field-angle " + text::roundTrip(angle) + " is outside the table's 0.." +

@@ -196,9 +196,7 @@ fourier::FlareImage renderLensFlare(const RenderOptions& o, const GlobalOptions&
         s.convolver = gpu::diffractionDevice(s.fourier);
         s.dirt = o.dirt.mask(image::kThisProgram);
     }
-    s.loadTable = [&](const optics::Lens& l, const ghosts::TableSettings&) {
-        return loadTable(l, o.table, g, reporter);
-    };
+    s.loadTable = [&](const optics::Lens& l, const ghosts::TableSettings& ts) { return loadTable(l, ts, g, reporter); };
     s.loadShaped = [&](const optics::Lens& l, const ghosts::TableSettings& ss) {
         return loadShapedTable(l, ss, g, reporter);
     };

@@ -295,8 +295,8 @@ class Simulation {
                     return gpu::compositeOnDevice(*gl, plate.width, plate.height, plate.rgb());
                 };
         }
-        s.loadTable = [this, table](const optics::Lens& l, const ghosts::TableSettings&) {
-            return loadTable(l, table, g_, reporter_);
+        s.loadTable = [this](const optics::Lens& l, const ghosts::TableSettings& ts) {
+            return loadTable(l, ts, g_, reporter_);
         };
         s.loadShaped = [this](const optics::Lens& l, const ghosts::TableSettings& ss) {
             return loadShapedTable(l, ss, g_, reporter_);

@@ -31,7 +31,7 @@ void runTable(const TableCommandOptions& o, const GlobalOptions& g) {
     ConsoleReporter reporter(g);
     const optics::Lens lens = loadTraceableLens(o.lens, o.table.zoom, reporter);
     bool cached = false;
-    const ghosts::GhostTable t = loadTable(lens, o.table, g, reporter, !o.noCache, &cached);
+    const ghosts::GhostTable t = loadTable(lens, o.table.settings(), g, reporter, !o.noCache, &cached);
     writeFileAtomic(o.output, ghosts::tableToJson(t));
 
     if (g.quiet) return;

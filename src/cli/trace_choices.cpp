@@ -59,7 +59,7 @@ ghosts::TableSettings TableOptions::settings() const {
     return ghosts::TableSettings::named(grid, angles, sensor, coating, maxAngle);
 }
 
-ghosts::GhostTable loadTable(const optics::Lens& lens, const TableOptions& table, const GlobalOptions& g,
+ghosts::GhostTable loadTable(const optics::Lens& lens, const ghosts::TableSettings& settings, const GlobalOptions& g,
                              Reporter& reporter, bool useCache, bool* fromCache) {
     const bool bar = !g.quiet && isatty(STDERR_FILENO);
     ghosts::Progress progress;
@@ -71,7 +71,7 @@ ghosts::GhostTable loadTable(const optics::Lens& lens, const TableOptions& table
             std::fflush(stderr);
         };
     bool cached = false;
-    ghosts::GhostTable t = ghosts::tableFor(lens, table.settings(), useCache, progress, reporter, &cached);
+    ghosts::GhostTable t = ghosts::tableFor(lens, settings, useCache, progress, reporter, &cached);
     if (bar) std::fprintf(stderr, "\n");
     if (!g.quiet && !cached) {
         std::fprintf(stderr, "fourierflare: built the table (shaped ghosts and their fits) in %.1f s%s\n",

@@ -43,7 +43,7 @@ struct TableOptions {
 
 /// The ghost table of the lens: from the cache when a valid entry exists (and useCache), else built
 /// with a progress bar on a terminal, saying how long it took; `fromCache` tells which happened.
-ghosts::GhostTable loadTable(const optics::Lens& lens, const TableOptions& table, const GlobalOptions& g,
+ghosts::GhostTable loadTable(const optics::Lens& lens, const ghosts::TableSettings& settings, const GlobalOptions& g,
                              Reporter& reporter, bool useCache = true, bool* fromCache = nullptr);
 
 /// The lens's shaped ghosts from the cache, else built and stored, saying so with the time, size and
