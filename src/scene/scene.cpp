@@ -353,6 +353,17 @@ std::vector<float> splatLights(const std::vector<ghosts::Light>& lights, int wid
     return rgb;
 }
 
+void addOffFrameLights(const std::vector<ghosts::Light>& lights, int width, int height, double originX, double originY,
+                       const diffraction::Psf& psf, double gain, std::vector<float>& out, double* offFrame) {
+    for (const ghosts::Light& l : lights)
+        footprint(l, originX, originY, [&](double x, double y, double w) {
+            if ((x >= 0 && y >= 0 && x < width && y < height) || w == 0.0) return;
+            const double k = gain * w;
+            diffraction::addOutsideLight(psf, static_cast<long long>(x), static_cast<long long>(y),
+                                         {k * l.flux[0], k * l.flux[1], k * l.flux[2]}, width, height, out, offFrame);
+        });
+}
+
 std::string describePsf(const diffraction::Aperture& aperture, const diffraction::Psf& psf,
                         const diffraction::PupilMask* dirt) {
     return "working f/" + text::fixed(aperture.fNumber, 2) + ", " +
@@ -383,12 +394,7 @@ std::vector<float> renderDiffraction(const optics::Lens& lens, const std::vector
         const std::vector<float> in = splatLights(ls, W, H);
         std::vector<float> out =
             device ? device->convolve(in, W, H, p, offFrame) : diffraction::convolve(in, W, H, p, offFrame);
-        for (const ghosts::Light& l : ls)
-            footprint(l, 0.0, 0.0, [&](double x, double y, double w) {
-                if ((x >= 0 && y >= 0 && x < W && y < H) || w == 0.0) return;
-                diffraction::addOutsideLight(p, static_cast<long long>(x), static_cast<long long>(y),
-                                             {w * l.flux[0], w * l.flux[1], w * l.flux[2]}, W, H, out, offFrame);
-            });
+        addOffFrameLights(ls, W, H, 0.0, 0.0, p, 1.0, out, offFrame);
         return out;
     };
     const std::string mode = toString(rule);

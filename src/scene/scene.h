@@ -64,6 +64,13 @@ TracedScene renderTracedField(const optics::Lens& lens, const trace::TracedFlare
 std::vector<float> splatLights(const std::vector<ghosts::Light>& lights, int width, int height, double originX = 0.0,
                                double originY = 0.0);
 
+/// Adds to `out` (R, G, B interleaved, width x height) gain x the PSF of each part of the lights'
+/// footprints (splatLights's, less the origin) that falls outside the frame, reaching in: a sun just
+/// off the frame casts its spikes into it (diffraction::addOutsideLight; what leaves the frame again
+/// is added to *offFrame).
+void addOffFrameLights(const std::vector<ghosts::Light>& lights, int width, int height, double originX, double originY,
+                       const diffraction::Psf& psf, double gain, std::vector<float>& out, double* offFrame);
+
 /// "working f/N, B blades; W wavelengths from the shortest to the longest (nm); the transform's near field (to R
 /// px) joined from R/5 px to the far field (..., at E of the centre there) reaching the frame's edges[; dirt on the
 /// front element (its key)]".

@@ -13,6 +13,7 @@
 #include "optics/paraxial.h"
 #include "scene/scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -239,6 +240,18 @@ void Simulation::diffract(const image::Plate& plate, SimulatedPlate& out) {
         psfText = describePsf(*aperture_, idealPsf(pitch), s_.dirt.get());
         out.diffraction = diffraction::diffractionLayer(lightRgb, plate.width, plate.height, idealPsf(pitch),
                                                         s_.diffractionGain, &offFrame, convolver);
+    }
+    // Lights given beyond the data window reach into it through the aberration-free PSF (no tile of
+    // the frame holds them): a sun just off the frame casts its spikes into it, as in render.
+    const double ox = plate.originX - plate.displayX, oy = plate.originY - plate.displayY;
+    const bool outside = std::any_of(out.lights.begin(), out.lights.end(), [&](const ghosts::Light& l) {
+        return l.xPx - ox < 1.0 || l.yPx - oy < 1.0 || l.xPx - ox > plate.width - 1.0 ||
+               l.yPx - oy > plate.height - 1.0;
+    });
+    if (!s_.lights.empty() && outside) {
+        addOffFrameLights(out.lights, plate.width, plate.height, ox, oy, idealPsf(pitch), s_.diffractionGain,
+                          out.diffraction, &offFrame);
+        if (psfText.empty()) psfText = describePsf(*aperture_, idealPsf(pitch), s_.dirt.get());
     }
     std::string zoneText;
     for (const std::string& z : zones) zoneText += (zoneText.empty() ? "" : "; ") + z;

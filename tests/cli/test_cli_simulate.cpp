@@ -423,6 +423,29 @@ TEST(CliSimulate, DiffractionOffGainAndLightsGivenByHand) {
     EXPECT_FALSE(fs::exists(dir / "bad.exr"));
 }
 
+// A light given beyond the frame (a sun just off its left edge) casts its spikes into it: the
+// diffraction layer holds light in the frame, the lights layer none (the plate does not hold it), and
+// the flux that reaches in is a small part of the light's, more of it near the edge it lies beyond.
+TEST(CliSimulate, ALightGivenBeyondTheFrameReachesIntoIt) {
+    ff::test::TempDir dir;
+    writePlate(dir / "plate.exr", -1, -1, 0.0f);
+    const std::string light = " --layers diffraction,lights --light -6.5,32.5,1e6,1e6,1e6";
+    const auto r = run(simulate(dir / "plate.exr", dir / "out.exr", light), kEnv);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const Exr e = readExr(dir / "out.exr");
+    const int d = e.channel("diffraction.G"), l = e.channel("lights.G");
+    double sum = 0.0, nearEdge = 0.0, farEdge = 0.0;
+    for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) {
+        ASSERT_EQ(e.at(p, l), 0.0f);
+        ASSERT_GE(e.at(p, d), 0.0f);
+        sum += e.at(p, d);
+        (p % kW < static_cast<std::size_t>(kW) / 2 ? nearEdge : farEdge) += e.at(p, d);
+    }
+    EXPECT_GT(sum, 0.0);
+    EXPECT_LT(sum, 0.5 * 1e6);
+    EXPECT_GT(nearEdge, farEdge);
+}
+
 // --diffraction traced: the PSF carries the lens's traced wavefront per tile holding light; the
 // layer still only moves the lights' flux (sums to theirs), the ghosts do not change, and the f/5
 // triplet's aberrations near the frame's corner spread more of it out of the light's pixel than
