@@ -174,8 +174,8 @@ DetectionReport detectLights(const Plate& plate, const DetectionSettings& s) {
         // Centroids in the display window; lights ordered by component then block (deterministic).
         for (std::size_t i = 0; i < lights.size(); ++i) {
             const double w = luminance(lights[i].flux[0], lights[i].flux[1], lights[i].flux[2]);
-            lights[i].x = moments[i][0] / w + plate.originX - plate.displayX;
-            lights[i].y = moments[i][1] / w + plate.originY - plate.displayY;
+            lights[i].x = moments[i][0] / w + plate.dataOffsetX();
+            lights[i].y = moments[i][1] / w + plate.dataOffsetY();
         }
         std::vector<DetectedLight> sorted;
         for (const auto& [key, i] : index) sorted.push_back(lights[i]);

@@ -64,6 +64,10 @@ struct Plate {
     int width = 0, height = 0;                                           ///< data window size
     int originX = 0, originY = 0;                                        ///< data window origin
     int displayX = 0, displayY = 0, displayWidth = 0, displayHeight = 0; ///< display window
+    /// The data window's top-left corner in display-window pixels: a display-window position less
+    /// this is the same point in the data window's pixels.
+    int dataOffsetX() const { return originX - displayX; }
+    int dataOffsetY() const { return originY - displayY; }
     std::vector<std::string> channels;
     int r = -1, g = -1, b = -1, a = -1; ///< channel indices (g, b = r for a one-channel luminance plate)
     std::vector<float> pixels;          ///< every channel as float, interleaved, data window rows

@@ -121,12 +121,12 @@ void Simulation::drawShaped(const image::Plate& plate, SimulatedPlate& out) {
     out.tableSeconds = lap(t);
     // The axis is at the display window's centre; the frame is the data window.
     trace::ImageFrame frame{plate.width, plate.height, pitch};
-    frame.centreXMm = (plate.originX - plate.displayX + 0.5 * plate.width - 0.5 * plate.displayWidth) * pitch;
-    frame.centreYMm = (0.5 * plate.displayHeight - (plate.originY - plate.displayY + 0.5 * plate.height)) * pitch;
+    frame.centreXMm = (plate.dataOffsetX() + 0.5 * plate.width - 0.5 * plate.displayWidth) * pitch;
+    frame.centreYMm = (0.5 * plate.displayHeight - (plate.dataOffsetY() + 0.5 * plate.height)) * pitch;
     std::vector<ghosts::Light> shifted = out.lights;
     for (auto& l : shifted) {
-        l.xPx -= plate.originX - plate.displayX;
-        l.yPx -= plate.originY - plate.displayY;
+        l.xPx -= plate.dataOffsetX();
+        l.yPx -= plate.dataOffsetY();
         for (double& f : l.flux) f *= s_.gain;
     }
     ghosts::ShapedRender stats;
@@ -165,8 +165,8 @@ void Simulation::drawFitted(const image::Plate& plate, SimulatedPlate& out) {
     auto ghosts = fourierGhosts(ghosts::instantiate(*table_, out.lights, cam, profile));
     // Display-window pixels to the data window's, and the gain (1 = physical).
     for (auto& k : ghosts) {
-        k.x -= plate.originX - plate.displayX;
-        k.y -= plate.originY - plate.displayY;
+        k.x -= plate.dataOffsetX();
+        k.y -= plate.dataOffsetY();
         for (double& f : k.flux) f *= s_.gain;
     }
     const fourier::FourierRender flare = fourier::renderFourier(ghosts, plate.width, plate.height, s_.fourier);
@@ -204,9 +204,9 @@ void Simulation::diffract(const image::Plate& plate, SimulatedPlate& out) {
     std::string psfText;
     std::vector<std::string> zones;
     std::vector<float>& lightRgb = out.lightPixels;
-    lightRgb = s_.lights.empty() ? std::move(out.found.lightRgb)
-                                 : splatLights(out.lights, plate.width, plate.height, plate.originX - plate.displayX,
-                                               plate.originY - plate.displayY);
+    lightRgb = s_.lights.empty()
+                   ? std::move(out.found.lightRgb)
+                   : splatLights(out.lights, plate.width, plate.height, plate.dataOffsetX(), plate.dataOffsetY());
     double offFrame = 0.0;
     diffraction::Convolver* convolver = s_.convolver ? s_.convolver : &cpuConvolver_;
     if (s_.diffraction == DiffractionRule::Traced) {
@@ -214,8 +214,8 @@ void Simulation::diffract(const image::Plate& plate, SimulatedPlate& out) {
         // light, at its lights' centre (pixels of the data window; the axis at the display window's
         // centre). The aberration-free PSF only where a tile's own cannot be made.
         auto psfAt = [&](double x, double y) {
-            const double xMm = (x + plate.originX - plate.displayX - 0.5 * plate.displayWidth) * pitch;
-            const double yMm = (0.5 * plate.displayHeight - (y + plate.originY - plate.displayY)) * pitch;
+            const double xMm = (x + plate.dataOffsetX() - 0.5 * plate.displayWidth) * pitch;
+            const double yMm = (0.5 * plate.displayHeight - (y + plate.dataOffsetY())) * pitch;
             diffraction::PsfSettings ps;
             ps.pitchMm = pitch;
             ps.mask = s_.dirt;
@@ -243,7 +243,7 @@ void Simulation::diffract(const image::Plate& plate, SimulatedPlate& out) {
     }
     // Lights given beyond the data window reach into it through the aberration-free PSF (no tile of
     // the frame holds them): a sun just off the frame casts its spikes into it, as in render.
-    const double ox = plate.originX - plate.displayX, oy = plate.originY - plate.displayY;
+    const double ox = plate.dataOffsetX(), oy = plate.dataOffsetY();
     const bool outside = std::any_of(out.lights.begin(), out.lights.end(), [&](const ghosts::Light& l) {
         return l.xPx - ox < 1.0 || l.yPx - oy < 1.0 || l.xPx - ox > plate.width - 1.0 ||
                l.yPx - oy > plate.height - 1.0;
