@@ -140,9 +140,11 @@ std::string jobCommandLine(const std::vector<std::string>& arguments, int frame)
     return line;
 }
 
-class Simulation {
+// The command around scene::Simulation: the options into its settings, each frame's plate read and
+// its EXR, previews and lights written, the reports.
+class SimulateCommand {
   public:
-    Simulation(const SimulateOptions& o, const GlobalOptions& g) : o_(o), g_(g), reporter_(g) {
+    SimulateCommand(const SimulateOptions& o, const GlobalOptions& g) : o_(o), g_(g), reporter_(g) {
         layers_ = parseLayers(o.layers);
         optics::Lens lens;
         scene::SimulationSettings s = settings(o, g, lens);
@@ -336,7 +338,7 @@ void runSimulate(const SimulateOptions& o, const GlobalOptions& g) {
                             o.lightsOut.empty() ? "" : frameName(o.lightsOut, f, "--lights-out"), f,
                             jobCommandLine(g.arguments, f)});
     }
-    Simulation sim(o, g); // every option checked, even when no frame is left to render
+    SimulateCommand sim(o, g); // every option checked, even when no frame is left to render
     if (o.skipExisting) {
         // A job is done when all its files exist: each is written whole under its final name (a
         // temporary and a rename), so one that exists is complete.
