@@ -11,94 +11,13 @@
 #include <filesystem>
 
 #include "cli_runner.h"
+#include "simulate_support.h"
 #include "test_support.h"
 
 using ff::test::run;
 namespace fs = std::filesystem;
 
-namespace {
-
-// Ghost tables are cached across the tests of this suite (the cache is keyed and written atomically).
-const std::string kEnv = std::string("FF_CACHE_DIR='") + FF_TEST_CACHE_DIR + "' ";
-const std::string kLens = "lenses/cooke-triplet-50mm-f5.lens";
-constexpr int kW = 96, kH = 64;
-
-struct TestPlate {
-    std::vector<float> rgba = std::vector<float>(static_cast<std::size_t>(kW) * kH * 4, 0.0f);
-    std::vector<float> z = std::vector<float>(static_cast<std::size_t>(kW) * kH, 0.0f);
-    void set(int x, int y, float r, float g, float b, float a = 1.0f) {
-        float* p = &rgba[(static_cast<std::size_t>(y) * kW + x) * 4];
-        p[0] = r, p[1] = g, p[2] = b, p[3] = a;
-    }
-};
-
-// A plate with half R, G, B, A and a float Z, a faint background, a custom attribute; the data
-// window may be offset inside the display window (of the data window's size plus margin on each
-// side, by default the offset).
-TestPlate writePlate(const fs::path& path, int lightX, int lightY, float value, int originX = 0, int originY = 0,
-                     int marginX = -1, int marginY = -1) {
-    TestPlate t;
-    for (int y = 0; y < kH; ++y)
-        for (int x = 0; x < kW; ++x) {
-            t.set(x, y, 0.02f + 0.001f * float(x), 0.03f, 0.04f + 0.001f * float(y), 0.5f);
-            t.z[static_cast<std::size_t>(y) * kW + x] = 10.0f + float(x) + 0.25f * float(y);
-        }
-    if (lightX >= 0)
-        for (int dy = 0; dy < 2; ++dy)
-            for (int dx = 0; dx < 2; ++dx) t.set(lightX + dx, lightY + dy, value, value, value);
-    OIIO::ImageSpec spec(kW, kH, 5, OIIO::TypeDesc::HALF);
-    spec.channelnames = {"R", "G", "B", "A", "Z"};
-    spec.channelformats = {OIIO::TypeDesc::HALF, OIIO::TypeDesc::HALF, OIIO::TypeDesc::HALF, OIIO::TypeDesc::HALF,
-                           OIIO::TypeDesc::FLOAT};
-    spec.alpha_channel = 3;
-    spec.z_channel = 4;
-    spec.x = originX;
-    spec.y = originY;
-    spec.full_x = 0;
-    spec.full_y = 0;
-    spec.full_width = kW + originX + (marginX < 0 ? originX : marginX);
-    spec.full_height = kH + originY + (marginY < 0 ? originY : marginY);
-    spec.attribute("compression", "zip");
-    spec.attribute("studio:shot", "sq010_sh020");
-    std::vector<float> all(static_cast<std::size_t>(kW) * kH * 5);
-    for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) {
-        for (int c = 0; c < 4; ++c) all[p * 5 + c] = t.rgba[p * 4 + c];
-        all[p * 5 + 4] = t.z[p];
-    }
-    auto out = OIIO::ImageOutput::create(path.string());
-    EXPECT_TRUE(out && out->open(path.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, all.data()) &&
-                out->close());
-    return t;
-}
-
-struct Exr {
-    OIIO::ImageSpec spec;
-    std::vector<float> pixels; // all channels as float
-    int channel(const std::string& name) const {
-        for (int i = 0; i < spec.nchannels; ++i)
-            if (spec.channelnames[static_cast<std::size_t>(i)] == name) return i;
-        return -1;
-    }
-    float at(std::size_t p, int c) const {
-        return pixels[p * static_cast<std::size_t>(spec.nchannels) + static_cast<std::size_t>(c)];
-    }
-};
-
-Exr readExr(const fs::path& path) {
-    Exr e;
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) return e;
-    e.spec = in->spec();
-    e.pixels.resize(static_cast<std::size_t>(e.spec.width) * e.spec.height * e.spec.nchannels);
-    in->read_image(0, 0, 0, e.spec.nchannels, OIIO::TypeDesc::FLOAT, e.pixels.data());
-    return e;
-}
-
-std::string simulate(const fs::path& plate, const fs::path& out, const std::string& extra = "") {
-    return "simulate --lens " + kLens + " --plate '" + plate.string() + "' -o '" + out.string() + "' " + extra;
-}
-
-} // namespace
+using namespace ff::test::simulate;
 
 TEST(CliSimulate, KeepsEveryChannelAndAddsFlareLayers) {
     ff::test::TempDir dir;
@@ -382,96 +301,6 @@ TEST(CliSimulate, RefusesBadInputsWithoutWritingAnything) {
     EXPECT_EQ(folder.code, 1) << folder.err;
     EXPECT_EQ(run(simulate(dir / "plate.exr", out, "--threshold max:2"), kEnv).code, 2);
     EXPECT_FALSE(fs::exists(out));
-}
-
-// --diffraction off leaves the ghosts alone; --diffraction-gain scales the light the iris spreads
-// (away from the lights' own pixels, where a pixel never gives more than its light); lights given by
-// hand are diffracted where they are; bad values are refused.
-TEST(CliSimulate, DiffractionOffGainAndLightsGivenByHand) {
-    ff::test::TempDir dir;
-    writePlate(dir / "plate.exr", -1, -1, 0.0f);
-    const std::string light = " --layers ghosts,diffraction,lights,flare --light 40.5,30.5,5000,5000,5000";
-    ASSERT_EQ(run(simulate(dir / "plate.exr", dir / "off.exr", "--diffraction off" + light), kEnv).code, 0);
-    ASSERT_EQ(run(simulate(dir / "plate.exr", dir / "one.exr", light), kEnv).code, 0);
-    ASSERT_EQ(run(simulate(dir / "plate.exr", dir / "two.exr", "--diffraction-gain 2" + light), kEnv).code, 0);
-    const Exr off = readExr(dir / "off.exr"), one = readExr(dir / "one.exr"), two = readExr(dir / "two.exr");
-    EXPECT_EQ(off.spec.get_string_attribute("fourierflare:diffraction"), "off");
-    const int d = one.channel("diffraction.G"), f = one.channel("flare.G"), g = one.channel("ghosts.G"),
-              l = one.channel("lights.G");
-    ASSERT_TRUE(d >= 0 && f >= 0 && g >= 0 && l >= 0);
-    const std::size_t lightPixel = static_cast<std::size_t>(30) * kW + 40;
-    double sum = 0.0, spread = 0.0;
-    for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) {
-        ASSERT_EQ(off.at(p, d), 0.0f);
-        ASSERT_EQ(off.at(p, l), 0.0f);
-        ASSERT_EQ(off.at(p, f), off.at(p, g));
-        ASSERT_EQ(one.at(p, g), off.at(p, g));                     // the ghosts do not depend on the diffraction
-        ASSERT_EQ(one.at(p, l), p == lightPixel ? 5000.0f : 0.0f); // the light given, in its pixel
-        sum += one.at(p, d);
-        if (p != lightPixel) {
-            spread += one.at(p, d);
-            EXPECT_NEAR(two.at(p, d), 2.0f * one.at(p, d), 1e-5f * 5000.0f) << p;
-        }
-    }
-    // What the pattern holds left the light's pixel.
-    EXPECT_NEAR(one.at(lightPixel, d), 5000.0 - spread, 1e-4 * 5000.0);
-    EXPECT_NEAR(two.at(lightPixel, d), 5000.0 - 2.0 * spread, 1e-4 * 5000.0);
-    EXPECT_NEAR(sum, 5000.0, 1e-4 * 5000.0);
-    EXPECT_GT(spread, 0.0);
-    for (const std::string bad : {"--diffraction-gain -1", "--diffraction-gain nan", "--diffraction bogus"})
-        EXPECT_EQ(run(simulate(dir / "plate.exr", dir / "bad.exr", bad + light), kEnv).code, 2) << bad;
-    EXPECT_FALSE(fs::exists(dir / "bad.exr"));
-}
-
-// A light given beyond the frame (a sun just off its left edge) casts its spikes into it: the
-// diffraction layer holds light in the frame, the lights layer none (the plate does not hold it), and
-// the flux that reaches in is a small part of the light's, more of it near the edge it lies beyond.
-TEST(CliSimulate, ALightGivenBeyondTheFrameReachesIntoIt) {
-    ff::test::TempDir dir;
-    writePlate(dir / "plate.exr", -1, -1, 0.0f);
-    const std::string light = " --layers diffraction,lights --light -6.5,32.5,1e6,1e6,1e6";
-    const auto r = run(simulate(dir / "plate.exr", dir / "out.exr", light), kEnv);
-    ASSERT_EQ(r.code, 0) << r.err;
-    const Exr e = readExr(dir / "out.exr");
-    const int d = e.channel("diffraction.G"), l = e.channel("lights.G");
-    double sum = 0.0, nearEdge = 0.0, farEdge = 0.0;
-    for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) {
-        ASSERT_EQ(e.at(p, l), 0.0f);
-        ASSERT_GE(e.at(p, d), 0.0f);
-        sum += e.at(p, d);
-        (p % kW < static_cast<std::size_t>(kW) / 2 ? nearEdge : farEdge) += e.at(p, d);
-    }
-    EXPECT_GT(sum, 0.0);
-    EXPECT_LT(sum, 0.5 * 1e6);
-    EXPECT_GT(nearEdge, farEdge);
-}
-
-// --diffraction traced: the PSF carries the lens's traced wavefront per tile holding light; the
-// layer still only moves the lights' flux (sums to theirs), the ghosts do not change, and the f/5
-// triplet's aberrations near the frame's corner spread more of it out of the light's pixel than
-// the aberration-free PSF does.
-TEST(CliSimulate, DiffractionTracedUsesTheLensWavefrontPerTile) {
-    ff::test::TempDir dir;
-    writePlate(dir / "plate.exr", -1, -1, 0.0f);
-    const std::string lights = " --light 48.5,32.5,5000,5000,5000 --light 90.5,5.5,5000,5000,5000";
-    ASSERT_EQ(run(simulate(dir / "plate.exr", dir / "ideal.exr", "--sensor-size 36x24" + lights), kEnv).code, 0);
-    const auto r =
-        run(simulate(dir / "plate.exr", dir / "traced.exr", "--sensor-size 36x24 --diffraction traced" + lights), kEnv);
-    ASSERT_EQ(r.code, 0) << r.err;
-    const Exr ideal = readExr(dir / "ideal.exr"), traced = readExr(dir / "traced.exr");
-    const std::string meta = traced.spec.get_string_attribute("fourierflare:diffraction");
-    EXPECT_NE(meta.find("traced, gain 1"), std::string::npos) << meta;
-    EXPECT_NE(meta.find("48,32: to"), std::string::npos) << meta; // the tiles' centres, one light each
-    EXPECT_NE(meta.find("90,6: to"), std::string::npos) << meta;
-    const int d = traced.channel("diffraction.G"), g = traced.channel("ghosts.G");
-    double sum = 0.0;
-    for (std::size_t p = 0; p < static_cast<std::size_t>(kW) * kH; ++p) {
-        ASSERT_EQ(traced.at(p, g), ideal.at(p, g));
-        sum += traced.at(p, d);
-    }
-    EXPECT_NEAR(sum, 10000.0, 1e-4 * 10000.0); // the two lights' flux
-    const std::size_t corner = static_cast<std::size_t>(5) * kW + 90;
-    EXPECT_LT(traced.at(corner, d), ideal.at(corner, d)); // more of the light leaves its pixel
 }
 
 // --sensor is the sensor plane in simulate as everywhere; its old meaning, the sensor's size, still
