@@ -120,7 +120,7 @@ void BM_SimulateCached(benchmark::State& state) {
     const ghosts::GhostTable& table = cachedTable();
     std::size_t ghostCount = 0;
     frame(state, plateWith(static_cast<int>(state.range(0))), [&](const std::vector<ghosts::Light>& lights) {
-        const auto ghosts = scene::fourierGhosts(ghosts::instantiate(table, lights, {kW, kH, 36.0}));
+        const auto ghosts = scene::fourierGhosts(ghosts::instantiate(table, lights, {kW, kH, 36.0 / kW}));
         ghostCount = ghosts.size();
         return fourier::renderFourier(ghosts, kW, kH, {}).image;
     });

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Quick start, second command (and what CI runs): install what is missing, then
-#   stage 0: the C++ sources formatted as .clang-format says (scripts/check-format.sh), and
-#            docs/layering.md what the includes give (scripts/layering.py --check), and the fuzz
-#            targets built with clang, which refuses some code gcc takes (a minute, not forty late);
+#   stage 0: the C++ sources formatted as .clang-format says (scripts/check-format.sh),
+#            docs/layering.md what the includes give (scripts/layering.py --check), no function in
+#            src/ over 120 lines (scripts/function-length.py), and the fuzz targets built with
+#            clang, which refuses some code gcc takes (a minute, not forty late);
 #   stage 1: Release build, whole test suite through CTest;
 #   stage 2: AddressSanitizer + UndefinedBehaviorSanitizer build, the fast tier again (every test
 #            labelled *-fast: the slow tier repeats the fast one's code paths at larger sizes, and
@@ -15,9 +16,10 @@ cd "$(dirname "$0")/.."
 scripts/install-deps.sh --fuzz
 jobs="$(nproc 2>/dev/null || echo 2)"
 
-echo "== stage 0: formatting, layering and clang's build of the fuzz targets (a minute; fails early)"
+echo "== stage 0: formatting, layering, function length and clang's build of the fuzz targets (a minute; fails early)"
 scripts/check-format.sh
 python3 scripts/layering.py --check
+python3 scripts/function-length.py
 scripts/fuzz.sh build >/dev/null
 
 echo "== stage 1: Release build and tests"

@@ -200,6 +200,7 @@ fourier::FlareImage renderLensFlare(const RenderOptions& o, const GlobalOptions&
     s.loadShaped = [&](const optics::Lens& l, const ghosts::TableSettings& ss) {
         return loadShapedTable(l, ss, g, reporter);
     };
+    s.reporter = &reporter;
     scene::RenderedFlare r = scene::renderFlare(lens, lights, s);
     if (s.mode == scene::RenderMode::Traced)
         job.traced(r, lights.size());

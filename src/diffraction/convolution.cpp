@@ -432,10 +432,10 @@ std::vector<float> diffractionLayer(const std::vector<float>& lights, int width,
     return spread;
 }
 
-std::vector<float> zonedDiffractionLayer(const std::vector<float>& lights, int width, int height, int tilesX,
-                                         int tilesY, const std::function<Psf(double x, double y)>& psfAt, double gain,
-                                         double* offFrame, Convolver* device) {
-    std::vector<float> layer(lights.size(), 0.0f), tile(lights.size());
+std::vector<float>
+sumOverTiles(const std::vector<float>& lights, int width, int height, int tilesX, int tilesY,
+             const std::function<std::vector<float>(const std::vector<float>& tile, double x, double y)>& part) {
+    std::vector<float> sum(lights.size(), 0.0f), tile(lights.size());
     for (int ty = 0; ty < tilesY; ++ty)
         for (int tx = 0; tx < tilesX; ++tx) {
             const int x0 = tx * width / tilesX, x1 = (tx + 1) * width / tilesX;
@@ -445,18 +445,17 @@ std::vector<float> zonedDiffractionLayer(const std::vector<float>& lights, int w
             for (int y = y0; y < y1; ++y)
                 for (int x = x0; x < x1; ++x) {
                     const std::size_t p = (static_cast<std::size_t>(y) * width + x) * 3;
-                    double sum = 0.0;
-                    for (int c = 0; c < 3; ++c) sum += tile[p + c] = lights[p + c];
-                    flux += sum;
-                    cx += sum * (x + 0.5);
-                    cy += sum * (y + 0.5);
+                    double s = 0.0;
+                    for (int c = 0; c < 3; ++c) s += tile[p + c] = lights[p + c];
+                    flux += s;
+                    cx += s * (x + 0.5);
+                    cy += s * (y + 0.5);
                 }
             if (!(flux > 0.0)) continue;
-            const std::vector<float> part =
-                diffractionLayer(tile, width, height, psfAt(cx / flux, cy / flux), gain, offFrame, device);
-            for (std::size_t i = 0; i < layer.size(); ++i) layer[i] += part[i];
+            const std::vector<float> one = part(tile, cx / flux, cy / flux);
+            for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += one[i];
         }
-    return layer;
+    return sum;
 }
 
 } // namespace ff::diffraction

@@ -81,12 +81,13 @@ bool convolvesDirectly(const std::vector<float>& image, int width, int height, c
 std::vector<float> diffractionLayer(const std::vector<float>& lights, int width, int height, const Psf& psf,
                                     double gain, double* offFrame = nullptr, Convolver* device = nullptr);
 
-/// The diffraction layer where the PSF changes over the frame (the lens's wavefront at each light's
-/// field): the lights split over a tilesX x tilesY grid of the frame, each tile's lights convolved
-/// with psfAt(x, y), the PSF at their flux-weighted centre (pixels from the frame's top-left corner,
-/// summed over the channels). Tiles without light cost nothing.
-std::vector<float> zonedDiffractionLayer(const std::vector<float>& lights, int width, int height, int tilesX,
-                                         int tilesY, const std::function<Psf(double x, double y)>& psfAt, double gain,
-                                         double* offFrame = nullptr, Convolver* device = nullptr);
+/// The lights split over a tilesX x tilesY grid of the frame (where the PSF changes over it: the
+/// lens's wavefront at each light's field): part(tile, x, y) for each tile that holds light, with the
+/// image of that tile's lights alone (the rest zero) and their flux-weighted centre (pixels from the
+/// frame's top-left corner, summed over the channels); the parts summed, tile by tile, rows first.
+/// Tiles without light cost nothing.
+std::vector<float>
+sumOverTiles(const std::vector<float>& lights, int width, int height, int tilesX, int tilesY,
+             const std::function<std::vector<float>(const std::vector<float>& tile, double x, double y)>& part);
 
 } // namespace ff::diffraction

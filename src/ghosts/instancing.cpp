@@ -17,15 +17,16 @@ double fieldAngleForRadius(const GhostTable& t, double r) {
     return 0.5 * (lo + hi);
 }
 
-std::vector<GhostInstance> instantiate(const GhostTable& t, const std::vector<Light>& lights, const Camera& cam,
-                                       Profile profile) {
+std::vector<GhostInstance> instantiate(const GhostTable& t, const std::vector<Light>& lights,
+                                       const trace::ImageFrame& frame, Profile profile) {
     const std::array<std::size_t, 3> ch = t.rgbChannels();
-    const double pitch = cam.pitchMm();
+    const double pitch = frame.pitchMm;
     std::vector<GhostInstance> out;
     for (std::size_t l = 0; l < lights.size(); ++l) {
         const Light& light = lights[l];
         // Sensor position in mm with +y up; the image's y axis points down.
-        const double sx = (light.xPx - 0.5 * cam.width) * pitch, sy = (0.5 * cam.height - light.yPx) * pitch;
+        const glm::dvec2 at = frame.pixelToSensor(light.xPx, light.yPx);
+        const double sx = at.x, sy = at.y;
         const double r = std::hypot(sx, sy);
         const double ex = r > 0.0 ? sx / r : 0.0, ey = r > 0.0 ? sy / r : 1.0;
         const double angle = fieldAngleForRadius(t, r);
@@ -46,8 +47,9 @@ std::vector<GhostInstance> instantiate(const GhostTable& t, const std::vector<Li
             if (!any) continue;
             // Centre m r e (green channel), back to pixels.
             const double m = t.magnification(g, ch[1], angle);
-            gi.xPx = 0.5 * cam.width + m * r * ex / pitch;
-            gi.yPx = 0.5 * cam.height - m * r * ey / pitch;
+            const glm::dvec2 centre = frame.sensorToPixel(m * r * ex, m * r * ey);
+            gi.xPx = centre.x;
+            gi.yPx = centre.y;
             gi.radialAngle = std::atan2(-ey, ex);
             out.push_back(gi);
         }

@@ -1,13 +1,14 @@
 #pragma once
 // Ghost instances for any set of lights: a table lookup per light and ghost, no tracing.
 //
-// A light at image position p (pixels -> sensor mm through the camera) lies at distance r from the
+// A light at image position p (pixels -> sensor mm through the image frame) lies at distance r from the
 // optical centre in direction e = p / r. Its field angle is the one whose traced direct image height
 // (from the table, distortion included) equals r. Each ghost is the table entry at that angle rotated
 // onto e: centre m r e, widths along e (radial) and across it (tangential), flux = the light's flux x
 // the ghost's relative flux per channel.
 
 #include "ghosts/table_data.h"
+#include "trace/flare_raster.h"
 
 #include <array>
 #include <vector>
@@ -17,12 +18,6 @@ namespace ff::ghosts {
 struct Light {
     double xPx = 0.0, yPx = 0.0;         ///< image position, pixels (origin top-left, +y down)
     std::array<double, 3> flux{1, 1, 1}; ///< RGB flux of the light's direct image
-};
-
-struct Camera {
-    int width = 0, height = 0;   ///< image size, pixels
-    double sensorWidthMm = 36.0; ///< the image spans the sensor width (square pixels)
-    double pitchMm() const { return sensorWidthMm / width; }
 };
 
 struct GhostInstance {
@@ -40,7 +35,7 @@ double fieldAngleForRadius(const GhostTable& table, double rMm);
 
 /// Instances of every ghost with non-zero flux for every light. Channels are the table wavelengths
 /// nearest to 650 / 550 / 450 nm.
-std::vector<GhostInstance> instantiate(const GhostTable& table, const std::vector<Light>& lights, const Camera& camera,
-                                       Profile profile = Profile::Gaussian);
+std::vector<GhostInstance> instantiate(const GhostTable& table, const std::vector<Light>& lights,
+                                       const trace::ImageFrame& frame, Profile profile = Profile::Gaussian);
 
 } // namespace ff::ghosts

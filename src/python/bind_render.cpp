@@ -119,6 +119,7 @@ py::array_t<float> render(const py::object& source, const py::object& lightsIn, 
     s.fourier.error = a.fourierError;
     s.fourier.fixedN = a.fourierN;
     s.fourier.hybrid = a.hybrid;
+    s.useCache = a.useCache;
     s.loadTable = [&](const optics::Lens& l, const ghosts::TableSettings& ts) {
         py::gil_scoped_acquire gil;
         return std::move(*buildTable(l, ts, a.useCache, progress)); // the only owner
@@ -163,7 +164,7 @@ the separable Fourier series; fourier_error, fourier_n, and hybrid=False to
 send every ghost through the series, as the CLI's --no-hybrid) or 'diffraction' (the iris's starburst;
 diffraction='physical' or 'traced').
 The table's options (table_grid, sensor, coating, max_angle, table_angles, use_cache, progress) are
-GhostTable.build's and serve 'shaped', 'fitted' and 'fourier'; sampling is the traced paths' pupil
+GhostTable.build's and serve 'shaped', 'fitted' and 'fourier' (use_cache the diffraction's PSF too); sampling is the traced paths' pupil
 sampling; sensor and coating serve every mode.
 backend: where the flare is drawn (the Fourier series, the shaped polygons, the diffraction's
 convolution), as the CLI's --backend: 'cpu', 'gl' (OpenGL 4.5 through EGL; llvmpipe without a GPU)

@@ -10,6 +10,7 @@
 #include "ghosts/shaped_cache.h"
 #include "image/image_output.h"
 #include "image/metrics.h"
+#include "scene/light_diffraction.h"
 #include "scene/scene.h"
 
 #include <nlohmann/json.hpp>
@@ -93,7 +94,6 @@ std::string compareDiffraction(const ComparisonSettings& s, const optics::Lens& 
                                const image::Metadata& meta, nlohmann::json& report) {
     const std::vector<ghosts::Light>& lights = s.lights;
     const int W = to.frame.width, H = to.frame.height;
-    const double z = trace::sensorPlaneZ(lens, to.sensor);
     std::string md =
         "## Diffraction\n\nThe lights through the lens's point-spread function (the same for every ghost model; "
         "the model: docs/diffraction.md):\n\n| PSF | flux in the frame / the lights' | seconds |\n|---|---|---|\n";
@@ -107,7 +107,12 @@ std::string compareDiffraction(const ComparisonSettings& s, const optics::Lens& 
         const auto t0 = Clock::now();
         double off = 0.0;
         std::string text;
-        images.push_back(renderDiffraction(lens, lights, to.frame, z, rule, s.convolver, &off, &text));
+        DiffractionSettings ds;
+        ds.rule = rule;
+        ds.sensor = to.sensor;
+        ds.convolver = s.convolver;
+        if (s.convolver && s.fourier.backend) ds.convolverName = s.fourier.backend->describe();
+        images.push_back(renderDiffraction(lens, lights, to.frame, ds, orNull(nullptr), &off, &text));
         const double sec = secondsSince(t0);
         double flux = 0.0;
         for (float v : images.back()) flux += v;
@@ -215,9 +220,9 @@ struct Comparison {
 
     // One profile's fitted and Fourier images against the reference, and its error against N.
     void compareProfile(ghosts::Profile profile, const ghosts::GhostTable& tab, const std::vector<int>& ns) {
-        const ghosts::Camera cam{W, H, sensorMm.first};
+        const trace::ImageFrame frame{W, H, sensorMm.first / W};
         const std::string name = ghosts::toString(profile);
-        const auto ghosts = fourierGhosts(ghosts::instantiate(tab, lights, cam, profile));
+        const auto ghosts = fourierGhosts(ghosts::instantiate(tab, lights, frame, profile));
         auto t0 = Clock::now();
         const fourier::FlareImage fitted = fourier::renderDirect(ghosts, W, H);
         const double fittedSeconds = secondsSince(t0);

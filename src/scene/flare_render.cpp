@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/text.h"
 #include "core/units.h"
+#include "fourier/backend.h"
 #include "fourier/render.h"
 #include "ghosts/shaped_cache.h"
 
@@ -27,15 +28,25 @@ RenderedFlare renderFromTable(const ghosts::GhostTable& table, const std::vector
     if (s.mode != RenderMode::Fitted && s.mode != RenderMode::Fourier)
         throw Error(ErrorKind::Usage,
                     std::string("a ghost table renders its fits (fitted or fourier), not ") + toString(s.mode));
-    const ghosts::Camera cam{s.traced.frame.width, s.traced.frame.height, s.sensorMm.first};
-    return renderGhosts(fourierGhosts(ghosts::instantiate(table, lights, cam, s.profile)), s);
+    return renderGhosts(fourierGhosts(ghosts::instantiate(table, lights, s.traced.frame, s.profile)), s);
+}
+
+DiffractionSettings diffractionSettings(const FlareSettings& s) {
+    DiffractionSettings d;
+    d.rule = s.diffraction;
+    d.sensor = s.traced.sensor;
+    d.dirt = s.dirt;
+    d.convolver = s.convolver;
+    d.useCache = s.useCache;
+    if (s.convolver && s.fourier.backend) d.convolverName = s.fourier.backend->describe();
+    return d;
 }
 
 RenderedFlare renderFlare(const optics::Lens& lens, const std::vector<ghosts::Light>& lights, const FlareSettings& s) {
     const trace::TracedFlareOptions& t = s.traced;
     if (s.mode == RenderMode::Fitted || s.mode == RenderMode::Fourier) {
         const ghosts::GhostTable table =
-            s.loadTable ? s.loadTable(lens, s.table) : ghosts::tableFor(lens, s.table, true, {}, orNull(nullptr));
+            s.loadTable ? s.loadTable(lens, s.table) : ghosts::tableFor(lens, s.table, s.useCache, {}, orNull(nullptr));
         return renderFromTable(table, lights, s);
     }
     RenderedFlare r;
@@ -50,9 +61,8 @@ RenderedFlare renderFlare(const optics::Lens& lens, const std::vector<ghosts::Li
         r.image = std::move(r.traced.image);
         r.traced.image = {};
     } else if (s.mode == RenderMode::Diffraction) {
-        const std::vector<float> spread =
-            renderDiffraction(lens, lights, t.frame, trace::sensorPlaneZ(lens, t.sensor), s.diffraction, s.convolver,
-                              &r.offFrame, &r.diffractionText, s.dirt);
+        const std::vector<float> spread = renderDiffraction(lens, lights, t.frame, diffractionSettings(s),
+                                                            orNull(s.reporter), &r.offFrame, &r.diffractionText);
         r.image = fourier::FlareImage(t.frame.width, t.frame.height);
         for (std::size_t p = 0; p < r.image.pixels(); ++p)
             for (int c = 0; c < 3; ++c) r.image.channel[c][p] = spread[p * 3 + c];
@@ -60,7 +70,7 @@ RenderedFlare renderFlare(const optics::Lens& lens, const std::vector<ghosts::Li
         ghosts::TableSettings ss = s.table;
         ss.sensorSizeMm = s.sensorMm;
         const ghosts::ShapedTable tab =
-            s.loadShaped ? s.loadShaped(lens, ss) : ghosts::shapedTableFor(lens, ss, true, orNull(nullptr));
+            s.loadShaped ? s.loadShaped(lens, ss) : ghosts::shapedTableFor(lens, ss, s.useCache, orNull(nullptr));
         if (s.field && radToDeg(s.field->angleRad) > tab.maxAngleDeg * (1.0 + 1e-9))
             throw Error(ErrorKind::Usage, "field angle " + text::fixed(radToDeg(s.field->angleRad), 2) +
                                               " deg is beyond the table's largest, " + text::fixed(tab.maxAngleDeg, 2) +

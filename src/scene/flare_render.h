@@ -3,12 +3,14 @@
 // shaped, fitted, fourier or diffraction. What the CLI's `render` and the Python module's render()
 // run; each adds its own header and summary from what the mode reports here.
 
+#include "core/reporter.h"
 #include "diffraction/convolution.h"
 #include "fourier/render_result.h"
 #include "ghosts/instancing.h"
 #include "ghosts/shaped_ghosts.h"
 #include "optics/lens.h"
 #include "scene/choices.h"
+#include "scene/light_diffraction.h"
 #include "scene/scene.h"
 #include "trace/traced_flare.h"
 
@@ -33,6 +35,8 @@ struct FlareSettings {
     ghosts::PolygonRaster* raster = nullptr;        ///< shaped: where the polygons are drawn (null: the CPU)
     diffraction::Convolver* convolver = nullptr;    ///< diffraction: the convolution (null: FFTW)
     std::shared_ptr<const diffraction::PupilMask> dirt; ///< diffraction: on the front element (null: clean)
+    bool useCache = true;         ///< the default table loaders and the aberration-free PSF use the disk cache
+    Reporter* reporter = nullptr; ///< notes (a tile's traced PSF that could not be made); null: none
     /// The tables (default: from the cache, or built and cached).
     std::function<ghosts::GhostTable(const optics::Lens&, const ghosts::TableSettings&)> loadTable;
     std::function<ghosts::ShapedTable(const optics::Lens&, const ghosts::TableSettings&)> loadShaped;
@@ -50,6 +54,9 @@ struct RenderedFlare {
     std::string diffractionText;                    ///< diffraction: the PSFs
     double offFrame = 0.0;                          ///< diffraction: flux that left the frame
 };
+
+/// The diffraction driver's settings of a flare request.
+DiffractionSettings diffractionSettings(const FlareSettings& settings);
 
 /// The lights' flare in settings.mode (fitted and fourier through the lens's ghost table).
 RenderedFlare renderFlare(const optics::Lens& lens, const std::vector<ghosts::Light>& lights,

@@ -378,47 +378,4 @@ std::string describePsf(const diffraction::Aperture& aperture, const diffraction
            (dirt && !dirt->empty() ? "; dirt on the front element (" + dirt->key + ")" : std::string());
 }
 
-std::vector<float> renderDiffraction(const optics::Lens& lens, const std::vector<ghosts::Light>& lights,
-                                     const trace::ImageFrame& frame, double sensorZ, DiffractionRule rule,
-                                     diffraction::Convolver* device, double* offFrame, std::string* summary,
-                                     std::shared_ptr<const diffraction::PupilMask> dirt) {
-    const int W = frame.width, H = frame.height;
-    const diffraction::Aperture aperture = diffraction::apertureOf(lens);
-    diffraction::PsfSettings ps;
-    ps.pitchMm = frame.pitchMm;
-    ps.mask = std::move(dirt);
-    // The lights' image through the PSF, and the PSF of each part of their footprints (splatLights's
-    // bilinear weights) that falls outside the frame, reaching in: a sun just off the frame casts its
-    // spikes into it.
-    auto convolve = [&](const std::vector<ghosts::Light>& ls, const diffraction::Psf& p) {
-        const std::vector<float> in = splatLights(ls, W, H);
-        std::vector<float> out =
-            device ? device->convolve(in, W, H, p, offFrame) : diffraction::convolve(in, W, H, p, offFrame);
-        addOffFrameLights(ls, W, H, 0.0, 0.0, p, 1.0, out, offFrame);
-        return out;
-    };
-    const std::string mode = toString(rule);
-    if (rule != DiffractionRule::Traced) {
-        const diffraction::Psf psf = diffraction::pixelPsf(aperture, ps);
-        if (summary) *summary = mode + "; " + describePsf(aperture, psf, ps.mask.get());
-        return convolve(lights, psf);
-    }
-    // Each light through the PSF with the lens's traced wavefront at its own field (described by the
-    // first light's PSF, then each light's reach).
-    std::vector<float> spread(static_cast<std::size_t>(W) * H * 3, 0.0f);
-    std::string text = mode;
-    for (const ghosts::Light& l : lights) {
-        const glm::dvec2 at = frame.pixelToSensor(l.xPx, l.yPx);
-        ps.pupil = diffraction::tracedPupil(lens, at.x, at.y, sensorZ);
-        const diffraction::Psf own = diffraction::pixelPsf(aperture, ps);
-        const std::vector<float> one = convolve({l}, own);
-        for (std::size_t i = 0; i < spread.size(); ++i) spread[i] += one[i];
-        if (text == mode) text += "; " + describePsf(aperture, own, ps.mask.get());
-        text += "; at (" + text::fixed(l.xPx, 1) + ", " + text::fixed(l.yPx, 1) +
-                ") the lens's traced wavefront, PSF to " + std::to_string(own.radius) + " px";
-    }
-    if (summary) *summary = text;
-    return spread;
-}
-
 } // namespace ff::scene

@@ -77,17 +77,6 @@ void addOffFrameLights(const std::vector<ghosts::Light>& lights, int width, int 
 std::string describePsf(const diffraction::Aperture& aperture, const diffraction::Psf& psf,
                         const diffraction::PupilMask* dirt = nullptr);
 
-/// The lights through the lens's PSF (render --mode diffraction, compare): the aberration-free PSF
-/// (Physical), or each light through the PSF with the lens's traced wavefront at its field (Traced;
-/// sensor plane sensorZ). Lights outside the frame reach into it (their PSF added over the
-/// frame, on the CPU: a pass over the frame each). The convolution runs on `device` when given. `offFrame` (summed
-/// over the channels) and `summary` receive what left the frame and a description of the PSFs. `dirt`
-/// multiplies the iris (diffraction::PsfSettings::mask).
-std::vector<float> renderDiffraction(const optics::Lens& lens, const std::vector<ghosts::Light>& lights,
-                                     const trace::ImageFrame& frame, double sensorZ, DiffractionRule rule,
-                                     diffraction::Convolver* device, double* offFrame, std::string* summary,
-                                     std::shared_ptr<const diffraction::PupilMask> dirt = nullptr);
-
 /// The shaped hybrid's grid (ghosts::ShapedRenderSettings::grid): cells of this many pixels, and
 /// this many cells of margin around the frame within the Fourier period.
 constexpr int kShapedGridStep = 4;

@@ -4,8 +4,6 @@
 #include "core/stopwatch.h"
 #include "core/text.h"
 #include "core/units.h"
-#include "diffraction/psf_cache.h"
-#include "diffraction/wavefront.h"
 #include "fourier/backend.h"
 #include "fourier/render.h"
 #include "ghosts/shaped_cache.h"
@@ -19,12 +17,6 @@
 #include <numbers>
 
 namespace ff::scene {
-
-namespace {
-
-constexpr int kZones = 3; ///< --diffraction traced: tiles per side of the frame
-
-} // namespace
 
 void checkSettings(const SimulationSettings& s) {
     if (s.gain < 0.0 || !std::isfinite(s.gain))
@@ -55,13 +47,19 @@ Simulation::Simulation(optics::Lens lens, SimulationSettings settings, Reporter&
             return ghosts::shapedTableFor(l, t, true, reporter_);
         };
     if (s_.diffraction != DiffractionRule::Off) {
+        DiffractionSettings d;
+        d.rule = s_.diffraction;
+        d.sensor = s_.table.sensor;
+        d.dirt = s_.dirt;
+        d.convolver = s_.convolver;
+        if (s_.convolver && s_.fourier.backend) d.convolverName = s_.fourier.backend->describe();
         try {
-            aperture_ = diffraction::apertureOf(lens_);
+            diffraction_ = std::make_unique<LightDiffraction>(lens_, std::move(d), reporter_);
         } catch (const Error& e) {
             reporter_.note({}, std::string("no diffraction: ") + e.what());
         }
     }
-    s_.detection.lightImage = aperture_.has_value();
+    s_.detection.lightImage = diffraction_ != nullptr;
 }
 
 Simulation::~Simulation() = default;
@@ -92,7 +90,7 @@ SimulatedPlate Simulation::run(const image::Plate& plate) {
     out.lightPixels.assign(out.flare.size(), 0.0f);
     out.diffractionText = "off";
     out.ghosts = out.flare;
-    if (aperture_) {
+    if (diffraction_) {
         // diffract leaves d = gain (L * PSF - L) >= -L in out.diffraction; the composite is the plate
         // plus ghosts + d, the layers the lights as the iris draws them, L + d >= 0, and L.
         diffract(plate, out);
@@ -160,9 +158,9 @@ void Simulation::drawFitted(const image::Plate& plate, SimulatedPlate& out) {
     auto t = Clock::now();
     if (!table_) table_ = std::make_unique<ghosts::GhostTable>(s_.loadTable(lens_, s_.table));
     out.tableSeconds = lap(t);
-    const ghosts::Camera cam{plate.displayWidth, plate.displayHeight, s_.sensorWidthMm};
+    const trace::ImageFrame display{plate.displayWidth, plate.displayHeight, s_.sensorWidthMm / plate.displayWidth};
     const auto profile = s_.ghostModel == GhostModel::Cos2 ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
-    auto ghosts = fourierGhosts(ghosts::instantiate(*table_, out.lights, cam, profile));
+    auto ghosts = fourierGhosts(ghosts::instantiate(*table_, out.lights, display, profile));
     // Display-window pixels to the data window's, and the gain (1 = physical).
     for (auto& k : ghosts) {
         k.x -= plate.dataOffsetX();
@@ -175,7 +173,7 @@ void Simulation::drawFitted(const image::Plate& plate, SimulatedPlate& out) {
                       ", evaluate " + text::fixed(flare.seconds.evaluate, 4) + ", direct " +
                       text::fixed(flare.seconds.direct, 4);
     // The composite on the device that holds the flare, when the flare is the ghosts alone.
-    if (s_.deviceComposite && !aperture_) out.composite = s_.deviceComposite(plate);
+    if (s_.deviceComposite && !diffraction_) out.composite = s_.deviceComposite(plate);
     char buf[200];
     std::snprintf(buf, sizeof buf, "%zu ghosts instanced; N %d x M %d, %zu through Fourier, %zu direct, %zu culled",
                   ghosts.size(), flare.plan.n, flare.plan.m, flare.fourierCount(), flare.directCount(),
@@ -188,80 +186,22 @@ void Simulation::drawFitted(const image::Plate& plate, SimulatedPlate& out) {
     out.flareSeconds = lap(t);
 }
 
-const diffraction::Psf& Simulation::idealPsf(double pitch) {
-    if (!psf_ || psfPitch_ != pitch) {
-        diffraction::PsfSettings ps;
-        ps.pitchMm = pitch;
-        ps.mask = s_.dirt;
-        psf_ = std::make_unique<diffraction::Psf>(diffraction::cachedPixelPsf(*aperture_, ps, true, reporter_));
-        psfPitch_ = pitch;
-    }
-    return *psf_;
-}
-
 void Simulation::diffract(const image::Plate& plate, SimulatedPlate& out) {
-    const double pitch = s_.sensorWidthMm / plate.displayWidth;
-    std::string psfText;
-    std::vector<std::string> zones;
-    std::vector<float>& lightRgb = out.lightPixels;
-    lightRgb = s_.lights.empty()
-                   ? std::move(out.found.lightRgb)
-                   : splatLights(out.lights, plate.width, plate.height, plate.dataOffsetX(), plate.dataOffsetY());
-    double offFrame = 0.0;
-    diffraction::Convolver* convolver = s_.convolver ? s_.convolver : &cpuConvolver_;
-    if (s_.diffraction == DiffractionRule::Traced) {
-        // The lens's own wavefront at the lights' fields: one PSF per tile of the frame that holds
-        // light, at its lights' centre (pixels of the data window; the axis at the display window's
-        // centre). The aberration-free PSF only where a tile's own cannot be made.
-        auto psfAt = [&](double x, double y) {
-            const double xMm = (x + plate.dataOffsetX() - 0.5 * plate.displayWidth) * pitch;
-            const double yMm = (0.5 * plate.displayHeight - (y + plate.dataOffsetY())) * pitch;
-            diffraction::PsfSettings ps;
-            ps.pitchMm = pitch;
-            ps.mask = s_.dirt;
-            try {
-                ps.pupil = diffraction::tracedPupil(lens_, xMm, yMm, trace::sensorPlaneZ(lens_, s_.table.sensor));
-                diffraction::Psf p = diffraction::pixelPsf(*aperture_, ps);
-                if (psfText.empty()) psfText = describePsf(*aperture_, p, s_.dirt.get());
-                zones.push_back(text::fixed(x, 0) + "," + text::fixed(y, 0) + ": to " + std::to_string(p.radius) +
-                                " px");
-                return p;
-            } catch (const Error& e) {
-                reporter_.note({}, "the lights near pixel (" + text::fixed(x, 0) + ", " + text::fixed(y, 0) +
-                                       ") get the aberration-free PSF: " + e.what());
-                zones.push_back(text::fixed(x, 0) + "," + text::fixed(y, 0) + ": aberration-free");
-                if (psfText.empty()) psfText = describePsf(*aperture_, idealPsf(pitch), s_.dirt.get());
-                return idealPsf(pitch);
-            }
-        };
-        out.diffraction = diffraction::zonedDiffractionLayer(lightRgb, plate.width, plate.height, kZones, kZones, psfAt,
-                                                             s_.diffractionGain, &offFrame, convolver);
-    } else {
-        psfText = describePsf(*aperture_, idealPsf(pitch), s_.dirt.get());
-        out.diffraction = diffraction::diffractionLayer(lightRgb, plate.width, plate.height, idealPsf(pitch),
-                                                        s_.diffractionGain, &offFrame, convolver);
-    }
-    // Lights given beyond the data window reach into it through the aberration-free PSF (no tile of
-    // the frame holds them): a sun just off the frame casts its spikes into it, as in render.
-    const double ox = plate.dataOffsetX(), oy = plate.dataOffsetY();
-    const bool outside = std::any_of(out.lights.begin(), out.lights.end(), [&](const ghosts::Light& l) {
-        return l.xPx - ox < 1.0 || l.yPx - oy < 1.0 || l.xPx - ox > plate.width - 1.0 ||
-               l.yPx - oy > plate.height - 1.0;
-    });
-    if (!s_.lights.empty() && outside) {
-        addOffFrameLights(out.lights, plate.width, plate.height, ox, oy, idealPsf(pitch), s_.diffractionGain,
-                          out.diffraction, &offFrame);
-        if (psfText.empty()) psfText = describePsf(*aperture_, idealPsf(pitch), s_.dirt.get());
-    }
-    std::string zoneText;
-    for (const std::string& z : zones) zoneText += (zoneText.empty() ? "" : "; ") + z;
+    // The lights' pixels: the detector's, or the given lights splatted into the data window.
+    out.lightPixels = s_.lights.empty() ? std::move(out.found.lightRgb)
+                                        : splatLights(out.lights, plate.width, plate.height, plate.dataOffsetX(),
+                                                      plate.dataOffsetY());
+    const LayerWindow window{{plate.displayWidth, plate.displayHeight, s_.sensorWidthMm / plate.displayWidth},
+                             plate.width,
+                             plate.height,
+                             plate.dataOffsetX(),
+                             plate.dataOffsetY()};
+    DiffractedLights d =
+        diffraction_->diffract(out.lightPixels, s_.lights.empty() ? std::vector<ghosts::Light>{} : out.lights, window,
+                               DiffractionOutput::Change, s_.diffractionGain);
+    out.diffraction = std::move(d.layer);
     out.diffractionText =
-        std::string(toString(s_.diffraction)) + ", gain " + text::roundTrip(s_.diffractionGain) + "; " +
-        (psfText.empty() ? std::string("no light to diffract") : psfText) +
-        (s_.diffraction == DiffractionRule::Traced ? "; the lens's wavefront per " + std::to_string(kZones) + " x " +
-                                                         std::to_string(kZones) + " tile, at (px) " + zoneText
-                                                   : std::string()) +
-        (s_.convolver ? "; convolved on " + s_.fourier.backend->describe() : std::string("; convolved on the CPU"));
+        std::string(toString(s_.diffraction)) + ", gain " + text::roundTrip(s_.diffractionGain) + "; " + d.text;
 }
 
 } // namespace ff::scene

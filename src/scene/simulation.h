@@ -14,6 +14,7 @@
 #include "image/plate.h"
 #include "optics/lens.h"
 #include "scene/choices.h"
+#include "scene/light_diffraction.h"
 #include "scene/scene.h"
 
 #include <functional>
@@ -90,19 +91,14 @@ class Simulation {
     void drawShaped(const image::Plate& plate, SimulatedPlate& out);
     void drawFitted(const image::Plate& plate, SimulatedPlate& out);
     void diffract(const image::Plate& plate, SimulatedPlate& out);
-    const diffraction::Psf& idealPsf(double pitch);
 
     optics::Lens lens_;
     SimulationSettings s_;
     Reporter& reporter_;
-    std::optional<diffraction::Aperture> aperture_;
+    std::unique_ptr<LightDiffraction> diffraction_; ///< null: diffraction off, or the lens has no aperture
     std::unique_ptr<ghosts::GhostTable> table_;
     std::unique_ptr<ghosts::ShapedTable> shaped_;
-    std::pair<int, int> shapedFor_;         ///< the display window shaped_ was made for
-    std::unique_ptr<diffraction::Psf> psf_; ///< aberration-free (the traced PSFs' fallback)
-    /// The CPU's convolution where no device is given, kept from frame to frame (its kernel's spectra).
-    diffraction::FftwConvolver cpuConvolver_;
-    double psfPitch_ = 0.0; ///< the pixel pitch psf_ was made for
+    std::pair<int, int> shapedFor_; ///< the display window shaped_ was made for
 };
 
 } // namespace ff::scene

@@ -193,7 +193,7 @@ TEST(Convolution, TheLayerRedistributesTheLightsFlux) {
     }
 }
 
-// Zones: each tile's lights get the PSF psfAt gives at their flux-weighted centre (derived here
+// Tiles: each tile's lights get the PSF chosen at their flux-weighted centre (derived here
 // from the lights placed); with one PSF for every tile the layer is the unzoned one (at gain 1 the
 // layer's floor -lights never binds, so splitting the lights changes nothing but rounding).
 TEST(Convolution, ZonesConvolveEachTilesLightsWithItsOwnPsf) {
@@ -208,13 +208,10 @@ TEST(Convolution, ZonesConvolveEachTilesLightsWithItsOwnPsf) {
     put(9, 10, 300.0f, 0.0f, 0.0f);    // tile (0, 0)
     put(45, 20, 10.0f, 20.0f, 30.0f);  // tile (2, 1)
     std::vector<std::pair<double, double>> asked;
-    const auto zoned = zonedDiffractionLayer(
-        lights, W, H, 3, 2,
-        [&](double x, double y) {
-            asked.push_back({x, y});
-            return one;
-        },
-        1.0);
+    const auto zoned = sumOverTiles(lights, W, H, 3, 2, [&](const std::vector<float>& tile, double x, double y) {
+        asked.push_back({x, y});
+        return diffractionLayer(tile, W, H, one, 1.0);
+    });
     ASSERT_EQ(asked.size(), 2u);
     // (3.5, 4.5) with 300, (9.5, 10.5) with 300; (45.5, 20.5) alone.
     EXPECT_NEAR(asked[0].first, 6.5, 1e-9);
@@ -225,8 +222,9 @@ TEST(Convolution, ZonesConvolveEachTilesLightsWithItsOwnPsf) {
     for (std::size_t i = 0; i < whole.size(); ++i) EXPECT_NEAR(zoned[i], whole[i], 1e-5f * 300.0f) << i;
 
     // A different PSF per tile: each tile's part is its lights through its own kernel.
-    const auto mixed = zonedDiffractionLayer(
-        lights, W, H, 3, 2, [&](double x, double) { return x < 20 ? one : other; }, 1.0);
+    const auto mixed = sumOverTiles(lights, W, H, 3, 2, [&](const std::vector<float>& tile, double x, double) {
+        return diffractionLayer(tile, W, H, x < 20 ? one : other, 1.0);
+    });
     std::vector<float> left = lights, right = lights;
     for (std::size_t p = 0; p < lights.size() / 3; ++p)
         (p % W < 20 ? right : left)[3 * p] = 0.0f, (p % W < 20 ? right : left)[3 * p + 1] = 0.0f,

@@ -100,7 +100,7 @@ TEST(GodotExport, TheEngineDrawsTheFittedFlareOfTheCli) {
             std::printf("%s at %s: relative L2 %.4f\n", lens.c_str(), light.c_str(), std::sqrt(num / den));
 
             const auto instances = ff::scene::fourierGhosts(
-                ff::ghosts::instantiate(table, {{x, y, {1.0, 1.0, 1.0}}}, {kW, kH, table.sensorSizeMm.first}));
+                ff::ghosts::instantiate(table, {{x, y, {1.0, 1.0, 1.0}}}, {kW, kH, table.sensorSizeMm.first / kW}));
             const auto engine = nlohmann::json::parse(ff::test::readFile(drawn));
             ASSERT_EQ(engine.size(), instances.size());
             double worst = 0.0;

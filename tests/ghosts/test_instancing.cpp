@@ -36,11 +36,11 @@ TEST(Instancing, ALightAtAnyAzimuthIsTheRotatedTableEntry) {
     // The same distance from the centre straight above (azimuth 0 in sensor terms: image up) and to
     // the right: every ghost keeps its flux and widths and its centre turns with the light.
     const GhostTable& t = table();
-    const Camera cam{1000, 800, 36.0};
+    const trace::ImageFrame cam{1000, 800, 36.0 / 1000};
     const double rPx = 150.0;
     const std::vector<Light> lights = {{500.0, 400.0 - rPx, {2.0, 1.0, 0.5}}, {500.0 + rPx, 400.0, {2.0, 1.0, 0.5}}};
     const auto inst = instantiate(t, lights, cam);
-    const double angle = fieldAngleForRadius(t, rPx * cam.pitchMm());
+    const double angle = fieldAngleForRadius(t, rPx * cam.pitchMm);
     std::size_t checked = 0;
     for (const GhostInstance& up : inst) {
         if (up.light != 0) continue;
@@ -62,7 +62,7 @@ TEST(Instancing, ALightAtAnyAzimuthIsTheRotatedTableEntry) {
         }
         // Flux = the light's flux x the ghost's relative flux at that angle (green: 550 nm).
         EXPECT_NEAR(up.flux[1], 1.0 * t.at(up.ghost, 1, angle).flux, 1e-15);
-        EXPECT_NEAR(up.widthR[1], t.at(up.ghost, 1, angle).gaussian.widthR / cam.pitchMm(), 1e-9);
+        EXPECT_NEAR(up.widthR[1], t.at(up.ghost, 1, angle).gaussian.widthR / cam.pitchMm, 1e-9);
         ++checked;
     }
     EXPECT_GT(checked, 5u);
