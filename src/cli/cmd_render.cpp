@@ -74,6 +74,7 @@ void printPlan(const fourier::FourierRender& r) {
 
 // The sources given are one of --angle, lights, --ghosts, and suit the mode; no output is an input.
 void checkRenderSources(const RenderOptions& o) {
+    const scene::RenderMode mode = scene::renderModeNamed(o.mode, "the mode (--mode)");
     for (const std::string& out : {o.output, o.preview})
         for (const std::string& in : {o.lens, o.lightsFile, o.ghostsFile})
             if (!out.empty() && !in.empty() && samePath(out, in))
@@ -85,10 +86,10 @@ void checkRenderSources(const RenderOptions& o) {
                     "give exactly one of --angle DEG[,AZ], --light X,Y (or --lights FILE) and --ghosts FILE");
     if (!o.lights.empty() && !o.lightsFile.empty())
         throw Error(ErrorKind::Usage, "give lights with --light or with --lights, not both");
-    if (!o.angle.empty() && o.mode != "traced" && o.mode != "shaped")
+    if (!o.angle.empty() && mode != scene::RenderMode::Traced && mode != scene::RenderMode::Shaped)
         throw Error(ErrorKind::Usage,
                     "--angle works with --mode traced or shaped; give the light's position with --light X,Y");
-    if (explicitGhosts && o.mode == "traced")
+    if (explicitGhosts && mode == scene::RenderMode::Traced)
         throw Error(ErrorKind::Usage, "--ghosts needs --mode fitted or fourier (a ghost list has nothing to trace)");
     if (!explicitGhosts && o.lens.empty())
         throw Error(ErrorKind::Usage, "a lens file is required (unless --ghosts gives the ghosts)");
@@ -228,7 +229,7 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
     RenderJob job{o, g, meta, {}};
     scene::FlareSettings s;
     s.mode = scene::renderModeNamed(o.mode, "the mode (--mode)");
-    s.profile = o.ghostModel == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
+    s.profile = ghosts::profileNamed(o.ghostModel, "the ghost model (--ghost-model)");
     s.diffraction = scene::diffractionNamed(o.diffraction, "the diffraction (--diffraction)");
     s.fourier = o.fourier.settings(g);
     s.traced.frame = {W, H, 0.0};

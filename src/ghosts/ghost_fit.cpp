@@ -1,5 +1,8 @@
 #include "ghosts/ghost_fit.h"
 
+#include "core/error.h"
+#include "core/text.h"
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -11,6 +14,12 @@ namespace ff::ghosts {
 
 const char* toString(Profile p) {
     return p == Profile::Gaussian ? "gaussian" : "cos2";
+}
+
+Profile profileNamed(std::string_view name, std::string_view what) {
+    for (const Profile p : {Profile::Gaussian, Profile::Cos2})
+        if (name == toString(p)) return p;
+    throw Error(ErrorKind::Usage, std::string(what) + " is gaussian or cos2, got " + text::quoted(std::string(name)));
 }
 
 namespace {

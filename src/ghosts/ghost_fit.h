@@ -15,10 +15,14 @@
 #include "ghosts/polygons.h"
 #include "trace/flare_raster.h"
 
+#include <string_view>
+
 namespace ff::ghosts {
 
 enum class Profile { Gaussian, Cos2 };
 const char* toString(Profile p);
+/// The profile toString names; any other name throws ff::Error (Usage) naming `what`.
+Profile profileNamed(std::string_view name, std::string_view what = "the profile");
 
 /// Unit-peak separable profile at offsets (u radial, v tangential) from its centre.
 double profileValue(Profile p, double widthR, double widthT, double u, double v);

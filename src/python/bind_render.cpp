@@ -9,7 +9,6 @@
 
 #include <cmath>
 #include <pybind11/stl.h>
-#include <set>
 
 #include "bindings.h"
 #include "python_support.h"
@@ -21,7 +20,9 @@ using namespace pybind11::literals;
 namespace {
 
 struct RenderArgs {
-    std::string mode = "traced", ghostModel = "gaussian", diffraction = "physical";
+    scene::RenderMode mode = scene::RenderMode::Traced;
+    ghosts::Profile profile = ghosts::Profile::Gaussian;
+    scene::DiffractionRule diffraction = scene::DiffractionRule::Physical;
     std::optional<std::pair<double, double>> angle;        ///< degrees: field, azimuth
     std::optional<std::pair<double, double>> sensorSizeMm; ///< default: the lens file's, else 36 x 24
     int grid = 32, spectral = 0;
@@ -46,11 +47,7 @@ std::optional<std::pair<double, double>> angleFrom(const py::object& angle) {
 
 void check(const RenderArgs& a, bool fromTable, bool haveLights) {
     auto usage = [](const std::string& s) { throw Error(ErrorKind::Usage, s); };
-    const std::set<std::string> modes = {"traced", "shaped", "fitted", "fourier", "diffraction"};
-    if (!modes.count(a.mode))
-        usage("mode must be traced, shaped, fitted, fourier or diffraction, got '" + a.mode + "'");
-    if (a.ghostModel != "gaussian" && a.ghostModel != "cos2") usage("ghost_model must be gaussian or cos2");
-    if (a.diffraction != "physical" && a.diffraction != "traced") usage("diffraction must be physical or traced");
+    if (a.diffraction == scene::DiffractionRule::Off) usage("diffraction must be physical or traced");
     if (a.grid < 2 || a.grid > 1024) usage("grid must be 2..1024 rays per side");
     if (a.spectral != 0 && (a.spectral < 8 || a.spectral > 16)) usage("spectral must be 0 or 8..16 wavelengths");
     if (!(a.refine >= 1.0 && a.refine <= 16.0)) usage("refine must be 1..16");
@@ -61,11 +58,13 @@ void check(const RenderArgs& a, bool fromTable, bool haveLights) {
         usage("sensor_size must be (width, height) in mm, both > 0");
     if (a.angle && (!std::isfinite(a.angle->first) || !std::isfinite(a.angle->second)))
         usage("angle must be finite degrees");
-    if (a.angle && a.mode != "traced") usage("angle works with mode='traced'; give the lights' positions instead");
+    if (a.angle && a.mode != scene::RenderMode::Traced)
+        usage("angle works with mode='traced'; give the lights' positions instead");
     if (a.angle && haveLights) usage("give either angle or lights, not both");
     if (!a.angle && !haveLights) usage("give lights (pixels) or, with mode='traced', a field angle");
-    if (fromTable && a.mode != "fitted" && a.mode != "fourier")
-        usage("a GhostTable renders with mode='fitted' or 'fourier'; give the Lens for mode='" + a.mode + "'");
+    if (fromTable && a.mode != scene::RenderMode::Fitted && a.mode != scene::RenderMode::Fourier)
+        usage("a GhostTable renders with mode='fitted' or 'fourier'; give the Lens for mode='" +
+              std::string(scene::toString(a.mode)) + "'");
 }
 
 py::array_t<float> render(const py::object& source, const py::object& lightsIn, const py::object& size,
@@ -76,9 +75,9 @@ py::array_t<float> render(const py::object& source, const py::object& lightsIn, 
                           double fourierError, int fourierN, bool hybrid, const std::string& backend,
                           const py::object& progress) {
     RenderArgs a;
-    a.mode = mode;
-    a.ghostModel = ghostModel;
-    a.diffraction = diffraction;
+    a.mode = scene::renderModeNamed(mode, "the mode (mode)");
+    a.profile = ghosts::profileNamed(ghostModel, "the ghost model (ghost_model)");
+    a.diffraction = scene::diffractionNamed(diffraction, "the diffraction (diffraction)");
     a.angle = angleFrom(angle);
     if (!sensorSize.is_none()) a.sensorSizeMm = py::cast<std::pair<double, double>>(sensorSize);
     a.grid = grid;
@@ -101,9 +100,9 @@ py::array_t<float> render(const py::object& source, const py::object& lightsIn, 
     check(a, table != nullptr, !lights.empty());
 
     scene::FlareSettings s;
-    s.mode = scene::renderModeNamed(a.mode, "the mode (mode)");
-    s.profile = a.ghostModel == "cos2" ? ghosts::Profile::Cos2 : ghosts::Profile::Gaussian;
-    s.diffraction = scene::diffractionNamed(a.diffraction, "the diffraction (diffraction)");
+    s.mode = a.mode;
+    s.profile = a.profile;
+    s.diffraction = a.diffraction;
     s.sensorMm =
         a.sensorSizeMm.value_or(table ? table->sensorSizeMm : lens->sensorMm.value_or(std::make_pair(36.0, 24.0)));
     trace::TracedFlareOptions& t = s.traced;
@@ -129,8 +128,8 @@ py::array_t<float> render(const py::object& source, const py::object& lightsIn, 
     };
     DeferredReporter reporter;
     if (!table) optics::requireTraceable(*lens);
-    drawOn(a.backend, s, reporter, a.mode == "shaped",
-           a.mode == "diffraction"); // last, after every argument has been checked
+    drawOn(a.backend, s, reporter, a.mode == scene::RenderMode::Shaped,
+           a.mode == scene::RenderMode::Diffraction); // last, after every argument has been checked
     reporter.flush();
     fourier::FlareImage image;
     {

@@ -91,7 +91,7 @@ py::dict simulate(const FloatArray& plateArray, const optics::Lens& lens, const 
     // shaped polygons, or aggregates the fitted models and composites on the device.
     drawOn(backend, s, reporter, s.ghostModel == scene::GhostModel::Shaped,
            s.diffraction != scene::DiffractionRule::Off);
-    if (gpu::GlBackend* gl = gpu::glBackendOf(s.fourier); gl && ghostModel != "shaped")
+    if (gpu::GlBackend* gl = gpu::glBackendOf(s.fourier); gl && s.ghostModel != scene::GhostModel::Shaped)
         s.deviceComposite = [gl](const image::Plate& p) {
             return gpu::compositeOnDevice(*gl, p.width, p.height, p.rgb());
         };
