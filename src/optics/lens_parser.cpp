@@ -335,18 +335,42 @@ class LensTextParser {
                 s.coating = parseCoatingSpec(val, at(valCol));
                 return;
             }
+            if (key == "biconic") {
+                // biconic=RX[,KX]: the x-z section's radius (0 or inf: flat) and conic; the row's radius
+                // and conic= are the y-z section's.
+                const auto parts = text::split(val, ',');
+                if (parts.size() > 2) fail(valCol, "expected 'biconic=RX' or 'biconic=RX,KX'");
+                int col = valCol;
+                std::array<double, 2> rk{0.0, 0.0};
+                for (std::size_t k = 0; k < parts.size(); ++k) {
+                    const auto x = parts[k] == "inf" && k == 0 ? std::optional(0.0) : text::parseNumber(parts[k]);
+                    if (!x || !std::isfinite(*x))
+                        fail(col, std::string("expected a number for the x-z section's ") +
+                                      (k == 0 ? "radius" : "conic") + " in 'biconic=RX,KX', got " +
+                                      text::quoted(parts[k]));
+                    rk[k] = *x;
+                    col += static_cast<int>(parts[k].size()) + 1;
+                }
+                if (s.shape != SurfaceShape::Spherical)
+                    fail(tok.column,
+                         std::string("'biconic=' on a ") + toString(s.shape) + " surface (one shape a row)");
+                s.shape = SurfaceShape::Biconic;
+                s.radiusX = rk[0];
+                s.conicX = rk[1];
+                return;
+            }
             if (key == "grin_r" || key == "grin_z") {
                 parseGradient(s, key, val, tok.column, valCol);
                 return;
             }
             fail(tok.column, "unknown surface option " + text::quoted(key) +
-                                 "; valid options: conic=K, asph=A4,A6,..., coating=SPEC, grin_r=A1:D1,..., "
-                                 "grin_z=B1:D1,...");
+                                 "; valid options: conic=K, asph=A4,A6,..., biconic=RX[,KX], coating=SPEC, "
+                                 "grin_r=A1:D1,..., grin_z=B1:D1,...");
         }
         fail(tok.column, "unexpected " + text::quoted(v) +
                              " after the surface columns; expected 'stop', a shape "
-                             "(sph, cyl_x, cyl_y, toric), conic=K, asph=A4,A6,..., coating=SPEC, grin_r=... or "
-                             "grin_z=...");
+                             "(sph, cyl_x, cyl_y, toric), conic=K, asph=A4,A6,..., biconic=RX[,KX], coating=SPEC, "
+                             "grin_r=... or grin_z=...");
     }
 
     // grin_r=A1:D1,A2:D2,... (coefficients of r^2, r^4, ...) or grin_z=B1:D1,... (of z, z^2, ...): each

@@ -107,11 +107,14 @@ void validateLens(Lens& lens, const SourceLocation& section, Reporter& reporter)
         if (s.semiAperture == 0.0 && !s.stop)
             reporter.note(s.origin, "surface " + std::to_string(i + 1) +
                                         " has semi-aperture 0 (not given): it is treated as unclipped");
+        if (!s.rotationallySymmetric() && s.isAspheric())
+            throwInputError(s.origin, std::string("surface ") + std::to_string(i + 1) + ": asph= on a " +
+                                          toString(s.shape) + " surface is not supported (no anamorphic asphere)");
         if (!s.rotationallySymmetric())
             reporter.note(s.origin, std::string("surface ") + std::to_string(i + 1) + " is anamorphic (" +
                                         toString(s.shape) +
-                                        "): first-order data use the radius of the y-z section; stages that need a "
-                                        "rotationally symmetric lens will refuse it");
+                                        "): first-order data are given per section (x-z and y-z); stages that "
+                                        "need a rotationally symmetric lens will refuse it");
     }
 
     if (lens.imageDistanceAuto) {

@@ -61,7 +61,9 @@ std::string writeLensText(const Lens& lens) {
         else
             row += pad(num(s.medium.nd), 10) + pad(num(s.medium.vd), 9);
         row += pad(num(s.semiAperture), 10) + pad(std::to_string(s.coatingLayers), 9);
-        if (s.shape != SurfaceShape::Spherical) {
+        if (s.shape == SurfaceShape::Biconic) {
+            row += "biconic=" + num(s.radiusX) + (s.conicX != 0.0 ? "," + num(s.conicX) : std::string()) + " ";
+        } else if (s.shape != SurfaceShape::Spherical) {
             row += std::string(toString(s.shape)) + " ";
             if (s.radiusY != 0.0) row += num(s.radiusY) + " ";
         }

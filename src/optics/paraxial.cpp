@@ -27,7 +27,7 @@ ParaxialRay refract(const Lens& lens, double lambdaNm, std::size_t i, ParaxialRa
     const double n1 = i == 0 ? lens.mediumBefore(0).index(lambdaNm)
                              : axialIndex(lens.surfaces[i - 1].medium, lambdaNm, lens.surfaces[i - 1].thickness);
     const double n2 = lens.surfaces[i].medium.index(lambdaNm);
-    r.w -= r.y * lens.surfaces[i].curvature() * (n2 - n1);
+    r.w -= r.y * lens.surfaces[i].curvatureY() * (n2 - n1);
     return r;
 }
 
@@ -172,6 +172,19 @@ FirstOrder analyzeFirstOrder(const Lens& lens, double lambdaNm, bool allowAfocal
 
 void focusAtParaxialImage(Lens& lens) {
     lens.surfaces.back().thickness = paraxialBfd(lens, lines::d);
+}
+
+Lens sectionOf(const Lens& lens, Section section) {
+    Lens out = lens;
+    for (Surface& s : out.surfaces) {
+        if (s.rotationallySymmetric()) continue;
+        const double c = section == Section::X ? s.curvatureX() : s.curvatureY();
+        s.conic = section == Section::X ? s.conicOfX() : s.conicOfY();
+        s.radius = c == 0.0 ? 0.0 : 1.0 / c;
+        s.shape = SurfaceShape::Spherical;
+        s.radiusX = s.conicX = s.radiusY = 0.0;
+    }
+    return out;
 }
 
 } // namespace ff::optics

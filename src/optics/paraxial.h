@@ -57,6 +57,11 @@ double workingStopSemiAperture(const Lens& lens, bool* clamped = nullptr);
 /// allowAfocal, where its focal data are +inf and its angular magnification is given.
 FirstOrder analyzeFirstOrder(const Lens& lens, double lambdaNm, bool allowAfocal = false);
 
+/// The lens as one section sees it: every surface rotationally symmetric with that section's
+/// curvature and conic (a rotationally symmetric lens is returned as it is). Its first-order data are
+/// the section's (analyzeFirstOrder(sectionOf(lens, Section::X), ...)).
+Lens sectionOf(const Lens& lens, Section section);
+
 /// Sets the last thickness to the paraxial back focal distance at the d line.
 void focusAtParaxialImage(Lens& lens);
 

@@ -22,6 +22,30 @@ std::optional<double> vertexBranchRoot(double a, double B, double C) {
     return C / q;
 }
 
+// Where the ray p + t d (p on the vertex plane) meets an anamorphic surface: Newton on
+// f(t) = z(t) - sag(x(t), y(t)), f'(t) = d.z - grad(sag) . (d.x, d.y), from the vertex plane (t = 0).
+// The vertex plane is the sag's tangent plane, so for lens rays the first root Newton reaches from it
+// is the one on the vertex's branch.
+std::optional<double> anamorphicRoot(const Surface& s, const glm::dvec3& p, const glm::dvec3& d) {
+    if (!s.hasExactShape())
+        throw Error(ErrorKind::Input, s.origin,
+                    std::string("a ") + toString(s.shape) +
+                        " surface has no exact shape to trace (give it as biconic)");
+    double t = 0.0;
+    for (int it = 0; it < 60; ++it) {
+        const glm::dvec3 q = p + t * d;
+        const auto z = s.sagAt(q.x, q.y);
+        const auto g = s.sagGradient(q.x, q.y);
+        if (!z || !g) return std::nullopt;
+        const double fp = d.z - (g->x * d.x + g->y * d.y);
+        if (fp == 0.0 || !std::isfinite(fp)) return std::nullopt;
+        const double step = (q.z - *z) / fp;
+        t -= step;
+        if (std::abs(step) < 1e-13 * (1.0 + std::abs(t))) return t;
+    }
+    return std::nullopt;
+}
+
 } // namespace
 
 std::optional<SurfaceHit> intersectSurface(const Surface& s, double vertexZ, const Ray& ray, double tMin) {
@@ -40,6 +64,12 @@ std::optional<SurfaceHit> intersectSurfacePoint(const Surface& s, double vertexZ
     // vertex-branch root is the right one however far away the ray starts.
     const double t0 = (vertexZ - ray.origin.z) / d.z;
     const glm::dvec3 p(ray.origin.x + t0 * d.x, ray.origin.y + t0 * d.y, 0.0);
+    if (!s.rotationallySymmetric()) {
+        auto t = anamorphicRoot(s, p, d);
+        if (!t || t0 + *t <= tMin) return std::nullopt;
+        const glm::dvec3 local = p + *t * d;
+        return SurfaceHit{t0 + *t, glm::dvec3(local.x, local.y, local.z + vertexZ), glm::dvec3(0.0)};
+    }
     const double c = s.curvature(), k1 = 1.0 + s.conic;
     // Conic: c (x^2 + y^2 + (1 + k) z^2) - 2 z = 0, from p (z = 0) along d.
     const double a = c * (d.x * d.x + d.y * d.y + k1 * d.z * d.z);
@@ -149,16 +179,18 @@ RealTraceResult traceReal(const Lens& lens, double lambdaNm, Ray ray, bool clip,
     return {RayStatus::Ok, lens.surfaces.size(), ray};
 }
 
-double realRayEfl(const Lens& lens, double lambdaNm, double height) {
-    const Ray in{{0.0, height, -1.0}, {0.0, 0.0, 1.0}};
+double realRayEfl(const Lens& lens, double lambdaNm, double height, Section section) {
+    const bool x = section == Section::X;
+    const Ray in{{x ? height : 0.0, x ? 0.0 : height, -1.0}, {0.0, 0.0, 1.0}};
     GradientSettings gradient;
     gradient.tolerance = 1e-8 * std::abs(height);
     const RealTraceResult r = traceReal(lens, lambdaNm, in, false, gradient);
-    if (r.status != RayStatus::Ok || r.ray.dir.y == 0.0)
+    const double out = x ? r.ray.dir.x : r.ray.dir.y;
+    if (r.status != RayStatus::Ok || out == 0.0)
         throwRuntimeError("a real ray at height " + std::to_string(height) + " mm did not reach image space (" +
                           toString(r.status) + " at surface " + std::to_string(r.surface + 1) + ")");
     // In image space of index n', the paraxial EFL is -y / (n' u'); the real-ray analogue uses sin U'.
-    return -height / (lens.surfaces.back().medium.index(lambdaNm) * r.ray.dir.y);
+    return -height / (lens.surfaces.back().medium.index(lambdaNm) * out);
 }
 
 } // namespace ff::optics

@@ -62,7 +62,8 @@ RealTraceResult traceReal(const Lens& lens, double lambdaNm, Ray ray, bool clip 
 /// Focal length from a real ray parallel to the axis at `height` mm: -height / sin(U'), with U' the
 /// final ray angle in image space. Through graded elements the integrator's tolerance is 1e-8 of the
 /// height per mm of path, so its error stays far below the ray's own aberrations however small the
-/// height. Throws ff::Error (Runtime) if the ray does not get through.
-double realRayEfl(const Lens& lens, double lambdaNm, double height);
+/// height. Throws ff::Error (Runtime) if the ray does not get through. The ray lies in `section`
+/// (its height along y or x): an anamorphic lens's focal length in that section.
+double realRayEfl(const Lens& lens, double lambdaNm, double height, Section section = Section::Y);
 
 } // namespace ff::optics

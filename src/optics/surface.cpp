@@ -16,8 +16,65 @@ const char* toString(SurfaceShape s) {
         return "cyl_y";
     case SurfaceShape::Toric:
         return "toric";
+    case SurfaceShape::Biconic:
+        return "biconic";
     }
     return "sph";
+}
+
+double Surface::curvatureX() const {
+    switch (shape) {
+    case SurfaceShape::CylinderX:
+        return 0.0;
+    case SurfaceShape::Biconic:
+        return radiusX == 0.0 ? 0.0 : 1.0 / radiusX;
+    default:
+        return curvature();
+    }
+}
+
+double Surface::curvatureY() const {
+    return shape == SurfaceShape::CylinderY ? 0.0 : curvature();
+}
+
+double Surface::conicOfX() const {
+    switch (shape) {
+    case SurfaceShape::CylinderX:
+        return 0.0;
+    case SurfaceShape::Biconic:
+        return conicX;
+    default:
+        return conic;
+    }
+}
+
+double Surface::conicOfY() const {
+    return shape == SurfaceShape::CylinderY ? 0.0 : conic;
+}
+
+std::optional<double> Surface::sagAt(double x, double y) const {
+    if (rotationallySymmetric()) return sag(std::sqrt(x * x + y * y));
+    const double cx = curvatureX(), cy = curvatureY();
+    const double disc = 1.0 - (1.0 + conicOfX()) * cx * cx * x * x - (1.0 + conicOfY()) * cy * cy * y * y;
+    if (disc < 0.0) return std::nullopt;
+    return (cx * x * x + cy * y * y) / (1.0 + std::sqrt(disc));
+}
+
+std::optional<glm::dvec2> Surface::sagGradient(double x, double y) const {
+    if (rotationallySymmetric()) {
+        const double r = std::sqrt(x * x + y * y);
+        const auto slope = sagSlope(r);
+        if (!slope) return std::nullopt;
+        return r > 0.0 ? glm::dvec2(*slope * x / r, *slope * y / r) : glm::dvec2(0.0);
+    }
+    // z = u / (1 + s), u = cx x^2 + cy y^2, s = sqrt(D), D = 1 - ax x^2 - ay y^2 (a = (1 + k) c^2):
+    // dz/dx = (2 cx x (1 + s) + u ax x / s) / (1 + s)^2, and the same in y.
+    const double cx = curvatureX(), cy = curvatureY();
+    const double ax = (1.0 + conicOfX()) * cx * cx, ay = (1.0 + conicOfY()) * cy * cy;
+    const double disc = 1.0 - ax * x * x - ay * y * y;
+    if (disc <= 0.0) return std::nullopt; // the rim of a closed conic section: the slope is infinite
+    const double s = std::sqrt(disc), u = cx * x * x + cy * y * y, d = (1.0 + s) * (1.0 + s);
+    return glm::dvec2((2.0 * cx * x * (1.0 + s) + u * ax * x / s) / d, (2.0 * cy * y * (1.0 + s) + u * ay * y / s) / d);
 }
 
 std::optional<double> Surface::sag(double r) const {
@@ -54,6 +111,12 @@ std::optional<double> Surface::sagSlope(double r) const {
 // 1) for aspheres.
 std::optional<glm::dvec3> Surface::normal(const glm::dvec3& local) const {
     const Surface& s = *this;
+    if (!rotationallySymmetric()) {
+        // n ∝ (-dz/dx, -dz/dy, 1).
+        const auto g = sagGradient(local.x, local.y);
+        if (!g || !std::isfinite(g->x) || !std::isfinite(g->y)) return std::nullopt;
+        return glm::normalize(glm::dvec3(-g->x, -g->y, 1.0));
+    }
     if (!s.isAspheric()) {
         // Sphere or conic: minus the gradient of c (x^2 + y^2 + (1 + k) z^2) - 2 z, which points to +z.
         const double c = s.curvature();

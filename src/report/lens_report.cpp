@@ -73,6 +73,32 @@ std::string row(const char* label, const std::string& value) {
 
 } // namespace
 
+namespace {
+
+// An anamorphic lens's x-z section: its focal data, pupils and real-ray check, and the squeeze.
+void sectionXText(std::ostringstream& o, const PositionReport& p) {
+    const optics::FirstOrder& f = *p.sectionX;
+    o << "  the x-z section:\n";
+    if (f.afocal) {
+        o << row("effective focal length",
+                 "none: afocal (zero power), angular magnification " + fixed(f.angularMagnification, 4));
+    } else {
+        o << row("effective focal length", fixed(f.efl, 3) + " mm");
+        o << row("back focal distance", fixed(f.bfd, 3) + " mm (last vertex to paraxial focus)");
+    }
+    o << row("entrance pupil", pupilZText(f.entrancePupilZ, "the first vertex") + ", diameter " +
+                                   fixed(f.entrancePupilDiameter, 3) + " mm");
+    o << row("exit pupil", pupilZText(f.exitPupilZ, "the last vertex"));
+    if (!f.afocal) o << row("f-number", "f/" + fixed(f.fNumber, 2));
+    o << row("real-ray focal length", std::isfinite(p.realRayEflX)
+                                          ? fixed(p.realRayEflX, 3) + " mm (ray at 1e-4 of the pupil radius)"
+                                          : "not checked: " + p.realRayProblemX);
+    o << row("squeeze", std::isfinite(p.squeeze) ? fixed(p.squeeze, 4) + " (EFL y-z / EFL x-z)"
+                                                 : std::string("none: a section is afocal"));
+}
+
+} // namespace
+
 std::string lensInfoText(const Lens& lens, double lambdaNm, const std::vector<PositionReport>& positions) {
     std::ostringstream o;
     o << (lens.name.empty() ? std::string("(unnamed lens)") : lens.name) << "\n";
@@ -106,7 +132,11 @@ std::string lensInfoText(const Lens& lens, double lambdaNm, const std::vector<Po
         if (s.stop) extra += " STOP";
         if (s.conic != 0.0) extra += " k=" + text::roundTrip(s.conic);
         if (s.isAspheric()) extra += " asphere(" + std::to_string(s.asphere.size()) + " terms)";
-        if (!s.rotationallySymmetric()) extra += std::string(" ") + optics::toString(s.shape);
+        if (s.shape == optics::SurfaceShape::Biconic)
+            extra += " biconic, x-z radius " + (s.radiusX == 0.0 ? std::string("flat") : fixed(s.radiusX, 4)) +
+                     (s.conicX != 0.0 ? " k=" + text::roundTrip(s.conicX) : std::string());
+        else if (!s.rotationallySymmetric())
+            extra += std::string(" ") + optics::toString(s.shape);
         if (s.medium.gradient) extra += " graded index (below)";
         std::snprintf(buf, sizeof buf, "  %3zu %12s %21s  %-22s %9.5f %9.4f  %-12s%s\n", i + 1, radius.c_str(),
                       thicknessText(lens, i).c_str(), mediumText(s.medium).c_str(), s.medium.index(lambdaNm),
@@ -124,6 +154,7 @@ std::string lensInfoText(const Lens& lens, double lambdaNm, const std::vector<Po
         const optics::FirstOrder& f = p.firstOrder;
         o << "\nFirst-order optics at " << fixed(lambdaNm, 2) << " nm";
         if (!p.label.empty()) o << ", zoom position " << p.label;
+        if (p.sectionX) o << ", the y-z section (anamorphic lens; the x-z section below)";
         o << ":\n";
         if (f.afocal) {
             o << row("effective focal length",
@@ -155,27 +186,44 @@ std::string lensInfoText(const Lens& lens, double lambdaNm, const std::vector<Po
                                               : "not checked: " + p.realRayProblem);
         o << row("reflecting interfaces", std::to_string(f.reflectingInterfaces));
         o << row("two-bounce ghosts", std::to_string(f.ghostCount));
+        if (p.sectionX) sectionXText(o, p);
     }
     return o.str();
 }
 
+namespace {
+
+// The real-ray focal length of one section (a ray at 1e-4 of its entrance pupil's radius), or NaN
+// with why not: a check of the paraxial data, not part of them, so the report goes on without it.
+double realRayCheck(const Lens& lens, double lambdaNm, const optics::FirstOrder& f, optics::Section section,
+                    std::string& problem, Reporter* reporter) {
+    if (f.afocal) {
+        problem = "the lens is afocal: a ray parallel to the axis leaves parallel";
+        return std::numeric_limits<double>::quiet_NaN();
+    }
+    try {
+        return optics::realRayEfl(lens, lambdaNm, 1e-4 * 0.5 * f.entrancePupilDiameter, section);
+    } catch (const Error& e) {
+        problem = e.message();
+        if (reporter) reporter->note({lens.file, 0, 0}, "the real-ray focal length could not be checked: " + problem);
+        return std::numeric_limits<double>::quiet_NaN();
+    }
+}
+
+} // namespace
+
 PositionReport positionReport(const Lens& lens, double lambdaNm, const std::string& label, Reporter* reporter) {
     PositionReport p;
     p.label = label;
-    p.firstOrder = optics::analyzeFirstOrder(lens, lambdaNm, /*allowAfocal=*/true);
-    if (p.firstOrder.afocal) {
-        p.realRayEfl = std::numeric_limits<double>::quiet_NaN();
-        p.realRayProblem = "the lens is afocal: a ray parallel to the axis leaves parallel";
-        return p;
-    }
-    try {
-        p.realRayEfl = optics::realRayEfl(lens, lambdaNm, 1e-4 * 0.5 * p.firstOrder.entrancePupilDiameter);
-    } catch (const Error& e) {
-        // A check of the paraxial data, not part of them: the report goes on without it.
-        p.realRayEfl = std::numeric_limits<double>::quiet_NaN();
-        p.realRayProblem = e.message();
-        if (reporter)
-            reporter->note({lens.file, 0, 0}, "the real-ray focal length could not be checked: " + p.realRayProblem);
+    const bool anamorphic = !lens.rotationallySymmetric();
+    p.firstOrder = optics::analyzeFirstOrder(anamorphic ? optics::sectionOf(lens, optics::Section::Y) : lens, lambdaNm,
+                                             /*allowAfocal=*/true);
+    p.realRayEfl = realRayCheck(lens, lambdaNm, p.firstOrder, optics::Section::Y, p.realRayProblem, reporter);
+    if (anamorphic) {
+        p.sectionX = optics::analyzeFirstOrder(optics::sectionOf(lens, optics::Section::X), lambdaNm, true);
+        p.realRayEflX = realRayCheck(lens, lambdaNm, *p.sectionX, optics::Section::X, p.realRayProblemX, reporter);
+        p.squeeze = p.firstOrder.afocal || p.sectionX->afocal ? std::numeric_limits<double>::quiet_NaN()
+                                                              : p.firstOrder.efl / p.sectionX->efl;
     }
     return p;
 }
@@ -198,24 +246,40 @@ nlohmann::json positionJson(const PositionReport& p) {
     using nlohmann::json;
     auto finiteOrNull = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
     const optics::FirstOrder& f = p.firstOrder;
-    return {{"label", p.label},
-            {"efl_mm", finiteOrNull(f.efl)},
-            {"bfd_mm", finiteOrNull(f.bfd)},
-            {"ffd_mm", finiteOrNull(f.ffd)},
-            {"entrance_pupil_z_mm", f.entrancePupilZ},
-            {"entrance_pupil_diameter_mm", f.entrancePupilDiameter},
-            {"exit_pupil_z_mm", finiteOrNull(f.exitPupilZ)},
-            {"exit_pupil_diameter_mm", finiteOrNull(f.exitPupilDiameter)},
-            {"f_number", finiteOrNull(f.fNumber)},
-            {"afocal", f.afocal},
-            {"angular_magnification", f.afocal ? json(f.angularMagnification) : json(nullptr)},
-            {"stop_semi_aperture_mm", f.stopSemiAperture},
-            {"image_distance_mm", f.imageDistance},
-            {"total_track_mm", f.totalTrack},
-            {"real_ray_efl_mm", finiteOrNull(p.realRayEfl)},
-            {"real_ray_problem", p.realRayProblem},
-            {"reflecting_interfaces", f.reflectingInterfaces},
-            {"two_bounce_ghosts", f.ghostCount}};
+    json out = {{"label", p.label},
+                {"efl_mm", finiteOrNull(f.efl)},
+                {"bfd_mm", finiteOrNull(f.bfd)},
+                {"ffd_mm", finiteOrNull(f.ffd)},
+                {"entrance_pupil_z_mm", f.entrancePupilZ},
+                {"entrance_pupil_diameter_mm", f.entrancePupilDiameter},
+                {"exit_pupil_z_mm", finiteOrNull(f.exitPupilZ)},
+                {"exit_pupil_diameter_mm", finiteOrNull(f.exitPupilDiameter)},
+                {"f_number", finiteOrNull(f.fNumber)},
+                {"afocal", f.afocal},
+                {"angular_magnification", f.afocal ? json(f.angularMagnification) : json(nullptr)},
+                {"stop_semi_aperture_mm", f.stopSemiAperture},
+                {"image_distance_mm", f.imageDistance},
+                {"total_track_mm", f.totalTrack},
+                {"real_ray_efl_mm", finiteOrNull(p.realRayEfl)},
+                {"real_ray_problem", p.realRayProblem},
+                {"reflecting_interfaces", f.reflectingInterfaces},
+                {"two_bounce_ghosts", f.ghostCount}};
+    if (p.sectionX) {
+        // An anamorphic lens: the keys above are its y-z section's.
+        const optics::FirstOrder& x = *p.sectionX;
+        out["section_x"] = {{"efl_mm", finiteOrNull(x.efl)},
+                            {"bfd_mm", finiteOrNull(x.bfd)},
+                            {"ffd_mm", finiteOrNull(x.ffd)},
+                            {"entrance_pupil_z_mm", x.entrancePupilZ},
+                            {"entrance_pupil_diameter_mm", x.entrancePupilDiameter},
+                            {"exit_pupil_z_mm", finiteOrNull(x.exitPupilZ)},
+                            {"f_number", finiteOrNull(x.fNumber)},
+                            {"afocal", x.afocal},
+                            {"real_ray_efl_mm", finiteOrNull(p.realRayEflX)},
+                            {"real_ray_problem", p.realRayProblemX}};
+        out["squeeze"] = finiteOrNull(p.squeeze);
+    }
+    return out;
 }
 
 nlohmann::json surfacesJson(const Lens& lens, double lambdaNm) {
@@ -250,6 +314,14 @@ nlohmann::json surfacesJson(const Lens& lens, double lambdaNm) {
         js["coating"] = lens.coatingOf(i).str();
         js["stop"] = s.stop;
         js["shape"] = optics::toString(s.shape);
+        if (!s.rotationallySymmetric()) {
+            // The sections' radii (null: flat) and conics.
+            const auto radius = [](double c) { return c == 0.0 ? json(nullptr) : json(1.0 / c); };
+            js["radius_x_mm"] = radius(s.curvatureX());
+            js["radius_y_mm"] = radius(s.curvatureY());
+            js["conic_x"] = s.conicOfX();
+            js["conic_y"] = s.conicOfY();
+        }
         surfaces.push_back(js);
     }
     return surfaces;

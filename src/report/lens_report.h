@@ -9,6 +9,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,12 @@ struct PositionReport {
     optics::FirstOrder firstOrder;
     double realRayEfl = 0.0;    ///< EFL from a real ray at 1e-4 of the entrance-pupil radius (NaN: not checked)
     std::string realRayProblem; ///< why the real ray could not be traced, where it could not
+    /// An anamorphic lens: firstOrder and realRayEfl are its y-z section's, these the x-z section's,
+    /// and squeeze = EFL y / EFL x (NaN where either is afocal).
+    std::optional<optics::FirstOrder> sectionX;
+    double realRayEflX = 0.0;
+    std::string realRayProblemX;
+    double squeeze = 0.0;
 };
 
 /// The first-order data of the lens as given (one zoom position) at lambdaNm, afocal lenses included;

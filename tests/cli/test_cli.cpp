@@ -40,6 +40,28 @@ TEST(Cli, LensInfoJsonIsMachineReadable) {
     EXPECT_EQ(j["first_order"][0]["two_bounce_ghosts"].get<int>(), 528);
 }
 
+// An anamorphic lens: both sections' first-order data and the squeeze (the numbers themselves are
+// checked against the design in tests/optics/test_anamorphic.cpp); a rotationally symmetric lens
+// reports as before, without them; the tracer's commands refuse the lens with the reason.
+TEST(Cli, LensInfoReportsBothSectionsOfAnAnamorphic) {
+    const std::string lens = "lenses/anamorphic-2x-double-gauss-50mm.lens";
+    const RunResult text = run("lens info " + lens);
+    ASSERT_EQ(text.code, 0) << text.err;
+    EXPECT_TRUE(contains(text.out, "the y-z section (anamorphic lens")) << text.out;
+    EXPECT_TRUE(contains(text.out, "squeeze                   2.0000")) << text.out;
+    const RunResult r = run("lens info " + lens + " --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out)["first_order"][0];
+    EXPECT_NEAR(j["squeeze"].get<double>(), j["efl_mm"].get<double>() / j["section_x"]["efl_mm"].get<double>(), 1e-12);
+    EXPECT_EQ(nlohmann::json::parse(r.out)["surfaces"][1]["radius_y_mm"], nullptr); // flat in y
+    const auto round = nlohmann::json::parse(run("lens info lenses/double-gauss-50mm-f2.lens --json").out);
+    EXPECT_FALSE(round["first_order"][0].contains("section_x"));
+    EXPECT_FALSE(round["first_order"][0].contains("squeeze"));
+    const RunResult refused = run("render " + lens + " --mode shaped --light 10,10 -o out.exr");
+    EXPECT_EQ(refused.code, 2);
+    EXPECT_TRUE(contains(refused.err, "needs a rotationally symmetric lens")) << refused.err;
+}
+
 TEST(Cli, BadLensFileGivesFileLineColumnAndExitCode2) {
     ff::test::TempDir dir;
     ff::test::writeFile(dir / "x.lens", "name: x\nsurfaces:\n  stop 2 1 0 5\n  12 abc 1.5 60 10\n  -50 40 1 0 10\n");

@@ -45,10 +45,16 @@ std::vector<BadCase> badCases() {
          "t.lens:3:17: expected a whole number of coating layers (0..20) for 'coating', got '1.5'"},
         {"unknown word after the columns", kHead + "  10 2 1.5 60 5 1 sto\n" + kTail,
          "t.lens:3:19: unexpected 'sto' after the surface columns; expected 'stop', a shape (sph, cyl_x, cyl_y, "
-         "toric), conic=K, asph=A4,A6,..., coating=SPEC, grin_r=... or grin_z=..."},
+         "toric), conic=K, asph=A4,A6,..., biconic=RX[,KX], coating=SPEC, grin_r=... or grin_z=..."},
         {"unknown surface option", kHead + "  10 2 1.5 60 5 1 conik=1\n" + kTail,
-         "t.lens:3:19: unknown surface option 'conik'; valid options: conic=K, asph=A4,A6,..., coating=SPEC, "
-         "grin_r=A1:D1,..., grin_z=B1:D1,..."},
+         "t.lens:3:19: unknown surface option 'conik'; valid options: conic=K, asph=A4,A6,..., biconic=RX[,KX], "
+         "coating=SPEC, grin_r=A1:D1,..., grin_z=B1:D1,..."},
+        {"biconic radius not a number", kHead + "  10 2 1.5 60 5 1 biconic=x\n" + kTail,
+         "t.lens:3:27: expected a number for the x-z section's radius in 'biconic=RX,KX', got 'x'"},
+        {"biconic with three values", kHead + "  10 2 1.5 60 5 1 biconic=1,2,3\n" + kTail,
+         "t.lens:3:27: expected 'biconic=RX' or 'biconic=RX,KX'"},
+        {"biconic on a cylinder", kHead + "  10 2 1.5 60 5 1 cyl_x biconic=20\n" + kTail,
+         "t.lens:3:25: 'biconic=' on a cyl_x surface (one shape a row)"},
         {"gradient without dispersion", kHead + "  10 2 1.5 60 5 1 grin_r=-0.002\n" + kTail,
          "t.lens:3:26: the gradient coefficient '-0.002' has no dispersion: write VALUE:D (c(lambda) = VALUE + D "
          "(1/L^2 - 1/Ld^2), L in um; D = 0 for none)"},

@@ -38,6 +38,8 @@ void expectSamePrescription(const Lens& a, const Lens& b, const std::string& wha
         EXPECT_EQ(x.medium.index(450.0), y.medium.index(450.0)) << at;
         EXPECT_EQ(a.coatingOf(i), b.coatingOf(i)) << at;
         EXPECT_EQ(x.shape, y.shape) << at;
+        EXPECT_EQ(x.radiusX, y.radiusX) << at;
+        EXPECT_EQ(x.conicX, y.conicX) << at;
         ASSERT_EQ(x.medium.gradient.has_value(), y.medium.gradient.has_value()) << at;
         if (!x.medium.gradient) continue;
         for (const auto& [p, q] : {std::pair{&x.medium.gradient->radial, &y.medium.gradient->radial},
@@ -66,11 +68,15 @@ TEST(LensWriter, EveryBundledLensRoundTrips) {
 TEST(LensWriter, ExtensionsRoundTrip) {
     const char* text = "name: x\ncoating: mgf2 600\nzoom_positions: a b\nsurfaces:\n"
                        "  30 4 N-BK7 12 1 conic=-0.5 asph=1e-06,-2e-09 coating=stack(MgF2:0.25,ZrO2:0.5)@500\n"
-                       "  -50 2,8 air 12 1\n  20 3 1.6 40 9 1 stop\n  -40 auto 1 0 9 2 cyl_x 30\n";
+                       "  -50 2,8 air 12 1\n  20 3 1.6 40 9 1 stop\n  45 1 N-BK7 9 1 conic=-0.3 biconic=-70,0.25\n"
+                       "  0 1 air 9 1\n  -40 auto 1 0 9 2 cyl_x 30\n";
     const Lens a = parseLensText(text, "x.lens");
     const Lens b = parseLensText(writeLensText(a), "y.lens");
     expectSamePrescription(a, b, "extensions");
-    EXPECT_EQ(b.surfaces[3].radiusY, 30.0);
+    EXPECT_EQ(b.surfaces[5].radiusY, 30.0);
+    EXPECT_EQ(b.surfaces[3].shape, SurfaceShape::Biconic);
+    EXPECT_EQ(b.surfaces[3].radiusX, -70.0);
+    EXPECT_EQ(b.surfaces[3].conicX, 0.25);
 }
 
 // Graded media: every coefficient and its dispersion, to the last bit.
