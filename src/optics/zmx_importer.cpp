@@ -165,11 +165,14 @@ ZmxFile readZmx(const std::string& textUtf8, const std::string& fileName) {
             s.typeWhere = {fileName, lineNo, t[1].column};
             if (s.type == "GRADIEN1") s.type = "GRADIENT1";
             if (s.type == "GRADIEN3") s.type = "GRADIENT3";
-            if (s.type != "STANDARD" && s.type != "EVENASPH" && !isGradient(s.type))
+            if (s.type == "TOROIDAL")
+                throwInputError(s.typeWhere, "TOROIDAL surfaces are not supported (a torus has no exact shape here); "
+                                             "give the surface as BICONICX, its X radius as PARM 1");
+            if (s.type != "STANDARD" && s.type != "EVENASPH" && s.type != "BICONICX" && !isGradient(s.type))
                 throwInputError(s.typeWhere,
                                 "unsupported surface type " + text::quoted(t[1].text) +
-                                    "; supported: STANDARD, EVENASPH, GRADIENT1, GRADIENT3 "
-                                    "(rotationally symmetric sequential lenses" +
+                                    "; supported: STANDARD, EVENASPH, BICONICX, GRADIENT1, GRADIENT3 "
+                                    "(sequential lenses" +
                                     (text::startsWith(s.type, "GRAD") ? std::string(kOtherGradients) : std::string()) +
                                     ")");
         } else if (key == "CURV") {
@@ -267,6 +270,19 @@ Surface toSurface(const ZmxSurface& z, double scale, Reporter& reporter) {
             s.asphere[static_cast<std::size_t>(idx - 2)] = val * std::pow(scale, 1 - 2 * idx);
         }
         while (!s.asphere.empty() && s.asphere.back() == 0.0) s.asphere.pop_back();
+    }
+    if (z.type == "BICONICX") {
+        // OpticStudio's biconic: CURV and CONI are the y-z section's, PARM 1 the X radius (0: flat in
+        // x) and PARM 2 the X conic; no other parameter.
+        for (const auto& [idx, val] : z.parm)
+            if ((idx < 1 || idx > 2) && val != 0.0)
+                throwInputError(z.typeWhere,
+                                "BICONICX with PARM " + std::to_string(idx) +
+                                    " is not supported (only PARM 1, the X radius, and PARM 2, the X conic)");
+        const auto x = z.parm.find(1), k = z.parm.find(2);
+        s.shape = SurfaceShape::Biconic;
+        s.radiusX = x == z.parm.end() ? 0.0 : x->second * scale;
+        s.conicX = k == z.parm.end() ? 0.0 : k->second;
     }
     if (isGradient(z.type)) {
         s.medium = gradientMedium(z, scale, reporter);

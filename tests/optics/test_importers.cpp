@@ -5,6 +5,8 @@
 #include "core/units.h"
 #include "optics/dat_importer.h"
 #include "optics/lens_loader.h"
+#include "optics/lens_parser.h"
+#include "optics/lens_writer.h"
 #include "optics/paraxial.h"
 #include "optics/zmx_importer.h"
 
@@ -181,11 +183,48 @@ TEST(ZmxImporter, EvenAsphereTermsAreScaledWithTheUnit) {
     EXPECT_NEAR(lens.surfaces[0].radius, 50.0 * 25.4, 1e-9);
 }
 
+// OpticStudio's biconic in inches: CURV and CONI the y-z section, PARM 1 the X radius (a length,
+// scaled with the unit), PARM 2 the X conic; a cylinder (CURV 0: flat in y) the same way. `lens
+// convert`'s .lens reads back as the same surfaces, and the first-order data follow the sections.
+TEST(ZmxImporter, BiconicSurfacesKeepBothSections) {
+    const std::string text =
+        "UNIT IN\nSURF 0\n DISZ INFINITY\nSURF 1\n TYPE BICONICX\n CURV 0.5\n CONI -0.4\n"
+        " PARM 1 4\n PARM 2 0.3\n DISZ 0.2\n GLAS N-BK7\n DIAM 0.5\nSURF 2\n STOP\n DISZ 0.1\n"
+        " DIAM 0.3\nSURF 3\n TYPE BICONICX\n CURV 0\n PARM 1 -3\n DISZ 0.1\n GLAS N-BK7\n DIAM 0.5\n"
+        "SURF 4\n DISZ 2\nSURF 5\n";
+    const Lens lens = importZmx(text, "bi.zmx");
+    ASSERT_EQ(lens.surfaces.size(), 4u);
+    const Surface &a = lens.surfaces[0], &b = lens.surfaces[2];
+    EXPECT_EQ(a.shape, SurfaceShape::Biconic);
+    EXPECT_NEAR(a.radius, 2.0 * 25.4, 1e-12);
+    EXPECT_EQ(a.conic, -0.4);
+    EXPECT_NEAR(a.radiusX, 4.0 * 25.4, 1e-12);
+    EXPECT_EQ(a.conicX, 0.3);
+    EXPECT_EQ(b.shape, SurfaceShape::Biconic);
+    EXPECT_EQ(b.curvatureY(), 0.0);
+    EXPECT_NEAR(b.radiusX, -3.0 * 25.4, 1e-12);
+    const Lens again = parseLensText(writeLensText(lens), "bi.lens");
+    for (std::size_t i = 0; i < lens.surfaces.size(); ++i) {
+        EXPECT_EQ(again.surfaces[i].shape, lens.surfaces[i].shape) << i;
+        EXPECT_EQ(again.surfaces[i].radius, lens.surfaces[i].radius) << i;
+        EXPECT_EQ(again.surfaces[i].radiusX, lens.surfaces[i].radiusX) << i;
+        EXPECT_EQ(again.surfaces[i].conicX, lens.surfaces[i].conicX) << i;
+    }
+    // The x-z section (the lens of the X radii) survives the conversion.
+    EXPECT_EQ(analyzeFirstOrder(sectionOf(lens, Section::X), lines::d).efl,
+              analyzeFirstOrder(sectionOf(again, Section::X), lines::d).efl);
+}
+
 TEST(ZmxImporter, RefusesWhatItCannotRepresent) {
     const std::pair<std::string, const char*> cases[] = {
         {"SURF 0\n DISZ INFINITY\nSURF 1\n  TYPE COORDBRK\nSURF 2\nSURF 3\n",
-         "c.zmx:4:8: unsupported surface type 'COORDBRK'; supported: STANDARD, EVENASPH, GRADIENT1, GRADIENT3 "
-         "(rotationally symmetric sequential lenses)"},
+         "c.zmx:4:8: unsupported surface type 'COORDBRK'; supported: STANDARD, EVENASPH, BICONICX, GRADIENT1, "
+         "GRADIENT3 (sequential lenses)"},
+        {"SURF 0\n DISZ INFINITY\nSURF 1\n  TYPE TOROIDAL\nSURF 2\nSURF 3\n",
+         "c.zmx:4:8: TOROIDAL surfaces are not supported (a torus has no exact shape here); give the surface as "
+         "BICONICX, its X radius as PARM 1"},
+        {"SURF 0\n DISZ INFINITY\nSURF 1\n  TYPE BICONICX\n  PARM 3 0.5\nSURF 2\n",
+         "c.zmx:4:8: BICONICX with PARM 3 is not supported (only PARM 1, the X radius, and PARM 2, the X conic)"},
         {"SURF 0\nSURF 1\n  GLAS MIRROR\nSURF 2\n",
          "c.zmx:3:8: MIRROR surfaces (catadioptric systems) are not supported"},
         {"SURF 0\nSURF 1\n", "c.zmx:3: expected at least an object surface (SURF 0), one lens surface and an image "
@@ -288,8 +327,8 @@ TEST(ZmxImporter, RefusesGradientsItCannotRepresent) {
         {head + " TYPE GRADIENT1\n PARM 3 -0.001\n" + tail,
          "g.zmx:4:7: GRADIENT1 needs its base index n0 > 1 as PARM 2"},
         {head + " TYPE GRADIENT5\n" + tail,
-         "g.zmx:4:7: unsupported surface type 'GRADIENT5'; supported: STANDARD, EVENASPH, GRADIENT1, GRADIENT3 "
-         "(rotationally symmetric sequential lenses; Gradient 5, 6, 9, 12 and GRADIUM take their index from "
+         "g.zmx:4:7: unsupported surface type 'GRADIENT5'; supported: STANDARD, EVENASPH, BICONICX, GRADIENT1, "
+         "GRADIENT3 (sequential lenses; Gradient 5, 6, 9, 12 and GRADIUM take their index from "
          "dispersion files (SGRIN.DAT, GLC.DAT, GRADIENT_9.DAT, PROFILE.GRD) that a .zmx does not carry, and "
          "Gradient 2, 4, 7 and 10 are not polynomials in r^2 and z: convert them to grin_r=/grin_z= in a .lens "
          "file)"},
