@@ -80,6 +80,8 @@ class Simulation {
     /// (where it has none, diffraction is off, with a note).
     Simulation(optics::Lens lens, SimulationSettings settings, Reporter& reporter);
     ~Simulation();
+    Simulation(const Simulation&) = delete; ///< the diffraction driver refers to lens_
+    Simulation& operator=(const Simulation&) = delete;
 
     /// The layers for one plate; tables and PSFs are kept for the next plate of the same shape.
     SimulatedPlate run(const image::Plate& plate);
