@@ -8,11 +8,13 @@ set -euo pipefail
 
 # What the main job needs (scripts/run-main.sh): the compiler, the build tools and the libraries the
 # fourierflare command links.
+# Debian 12's OpenImageIO CMake config names the tools of openimageio-tools (iconvert, ...) and
+# fails without them; CMake's FindOpenGL needs libOpenGL (libopengl-dev) beside EGL.
 packages=(
   g++ cmake ninja-build pkg-config python3
   libembree-dev libglm-dev libtbb-dev
-  libopenimageio-dev libopenexr-dev
-  libepoxy-dev libegl-dev
+  libopenimageio-dev openimageio-tools libopenexr-dev
+  libepoxy-dev libegl-dev libopengl-dev
   libopenblas-dev libfftw3-dev zlib1g-dev libzstd-dev
   libcli11-dev nlohmann-json3-dev
 )
@@ -20,7 +22,7 @@ packages=(
 # (scripts/run-tests.sh): all of it unless --main is given.
 if [ "${1:-}" != "--main" ]; then
   packages+=(
-    git clang-format openimageio-tools libegl-mesa0 libgl1-mesa-dri
+    git clang-format libegl-mesa0 libgl1-mesa-dri
     libgtest-dev libgmock-dev libbenchmark-dev libyaml-cpp-dev
     pybind11-dev python3-dev python3-numpy python3-pytest python3-openimageio
     dpkg-dev slurmctld slurmd slurm-client munge
