@@ -75,19 +75,26 @@ std::string row(const char* label, const std::string& value) {
 
 namespace {
 
-// An anamorphic lens's x-z section: its focal data, pupils and real-ray check, and the squeeze.
-void sectionXText(std::ostringstream& o, const PositionReport& p) {
-    const optics::FirstOrder& f = *p.sectionX;
-    o << "  the x-z section:\n";
+// One section's focal rows: the EFL, BFD (and FFD), or an afocal lens's angular magnification; then
+// the entrance pupil.
+void focalRows(std::ostringstream& o, const optics::FirstOrder& f, bool withFfd) {
     if (f.afocal) {
         o << row("effective focal length",
                  "none: afocal (zero power), angular magnification " + fixed(f.angularMagnification, 4));
     } else {
         o << row("effective focal length", fixed(f.efl, 3) + " mm");
         o << row("back focal distance", fixed(f.bfd, 3) + " mm (last vertex to paraxial focus)");
+        if (withFfd) o << row("front focal distance", fixed(f.ffd, 3) + " mm (front focal point to first vertex)");
     }
     o << row("entrance pupil", pupilZText(f.entrancePupilZ, "the first vertex") + ", diameter " +
                                    fixed(f.entrancePupilDiameter, 3) + " mm");
+}
+
+// An anamorphic lens's x-z section: its focal data, pupils and real-ray check, and the squeeze.
+void sectionXText(std::ostringstream& o, const PositionReport& p) {
+    const optics::FirstOrder& f = *p.sectionX;
+    o << "  the x-z section:\n";
+    focalRows(o, f, false);
     o << row("exit pupil", pupilZText(f.exitPupilZ, "the last vertex"));
     if (!f.afocal) o << row("f-number", "f/" + fixed(f.fNumber, 2));
     o << row("real-ray focal length", std::isfinite(p.realRayEflX)
@@ -156,16 +163,7 @@ std::string lensInfoText(const Lens& lens, double lambdaNm, const std::vector<Po
         if (!p.label.empty()) o << ", zoom position " << p.label;
         if (p.sectionX) o << ", the y-z section (anamorphic lens; the x-z section below)";
         o << ":\n";
-        if (f.afocal) {
-            o << row("effective focal length",
-                     "none: afocal (zero power), angular magnification " + fixed(f.angularMagnification, 4));
-        } else {
-            o << row("effective focal length", fixed(f.efl, 3) + " mm");
-            o << row("back focal distance", fixed(f.bfd, 3) + " mm (last vertex to paraxial focus)");
-            o << row("front focal distance", fixed(f.ffd, 3) + " mm (front focal point to first vertex)");
-        }
-        o << row("entrance pupil", pupilZText(f.entrancePupilZ, "the first vertex") + ", diameter " +
-                                       fixed(f.entrancePupilDiameter, 3) + " mm");
+        focalRows(o, f, true);
         o << row("exit pupil",
                  pupilZText(f.exitPupilZ, "the last vertex") +
                      (std::isfinite(f.exitPupilDiameter) ? ", diameter " + fixed(f.exitPupilDiameter, 3) + " mm"
