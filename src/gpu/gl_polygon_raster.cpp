@@ -12,14 +12,24 @@ std::string_view embedded(std::string_view name);
 
 namespace {
 
-constexpr int kGroup = 64;           // invocations per work group of both shaders
-constexpr GLuint kMaxGroups = 65535; // work groups per dispatch dimension every GL 4.5 device allows
+constexpr int kGroup = 64;            // invocations per work group of the bins, tiles and image passes
+constexpr int kScanGroup = 256;       // bin_scan.comp's one work group
+constexpr int kTile = 16;             // pixels per side of a tile (polygon_bins.comp, polygon_tiles.comp)
+constexpr std::size_t kPrepared = 64; // bytes per polygon of polygon_bins.comp's Prepared
+constexpr GLuint kMaxGroups = 65535;  // work groups per dispatch dimension every GL 4.5 device allows
+
+// n work groups as a 1- or 2-D dispatch (the shaders fold y into one index and skip the excess).
+void dispatch(GLuint n) {
+    glDispatchCompute(std::min(n, kMaxGroups), (n + kMaxGroups - 1) / kMaxGroups, 1);
+}
 
 } // namespace
 
 GlPolygonRaster::GlPolygonRaster(const GlContext&, std::size_t batch) : batch_(std::max<std::size_t>(batch, 64)) {
-    edges_ = std::make_unique<ComputeProgram>("polygon_edges.comp", embedded("polygon_edges.comp"), kGroup);
-    rows_ = std::make_unique<ComputeProgram>("polygon_rows.comp", embedded("polygon_rows.comp"), kGroup);
+    bins_ = std::make_unique<ComputeProgram>("polygon_bins.comp", embedded("polygon_bins.comp"), kGroup);
+    scan_ = std::make_unique<ComputeProgram>("bin_scan.comp", embedded("bin_scan.comp"), kScanGroup);
+    tiles_ = std::make_unique<ComputeProgram>("polygon_tiles.comp", embedded("polygon_tiles.comp"), kGroup);
+    image_ = std::make_unique<ComputeProgram>("polygon_image.comp", embedded("polygon_image.comp"), kGroup);
 }
 
 GlPolygonRaster::~GlPolygonRaster() = default;
@@ -29,13 +39,14 @@ void GlPolygonRaster::begin(const trace::ImageFrame& frame, std::size_t channels
         throw Error(ErrorKind::Runtime, "the GL polygon raster needs a positive, finite energy bound");
     width_ = std::max(frame.width, 0);
     height_ = std::max(frame.height, 0);
+    tilesX_ = (width_ + kTile - 1) / kTile;
+    tilesY_ = (height_ + kTile - 1) / kTile;
     channels_ = channels;
-    // Every prefix sum stays below 2^62 units: one pixel holds at most energyBound.
+    // Every pixel's sum stays below 2^62 units: one pixel holds at most energyBound.
     scale_ = std::ldexp(1.0, 62) / energyBound;
     stagedVertices_.clear();
     stagedPolygons_.clear();
-    // The entries and the slopes (polygon_edges.comp), 64 bits each.
-    accumulator_.zeros(std::max<std::size_t>(1, 2 * channels_ * height_ * (width_ + 2) * 2 * sizeof(std::uint32_t)));
+    accumulator_.zeros(std::max<std::size_t>(1, channels_ * height_ * width_ * 2 * sizeof(std::uint32_t)));
 }
 
 void GlPolygonRaster::draw(std::size_t c, const ghosts::ShapedPolygons& polygons) {
@@ -53,7 +64,8 @@ void GlPolygonRaster::draw(std::size_t c, const ghosts::ShapedPolygons& polygons
 }
 
 void GlPolygonRaster::flush() {
-    if (stagedPolygons_.empty() || width_ == 0 || height_ == 0) {
+    const std::size_t bins = channels_ * static_cast<std::size_t>(tilesX_) * tilesY_;
+    if (stagedPolygons_.empty() || bins == 0) {
         stagedVertices_.clear();
         stagedPolygons_.clear();
         return;
@@ -61,19 +73,56 @@ void GlPolygonRaster::flush() {
     vertices_.upload(stagedVertices_.data(), stagedVertices_.size() * sizeof(glm::vec2));
     polygons_.upload(stagedPolygons_.data(), stagedPolygons_.size() * sizeof(GpuPolygon));
     const auto count = static_cast<GLuint>(stagedPolygons_.size());
-    const GLuint groups = (count + kGroup - 1) / kGroup;
+    if (prepared_.bytes() < count * kPrepared) prepared_.upload(nullptr, count * kPrepared);
+    counts_.zeros(bins * sizeof(std::uint32_t));
+    if (offsets_.bytes() != (bins + 1) * sizeof(std::uint32_t))
+        offsets_.upload(nullptr, (bins + 1) * sizeof(std::uint32_t));
     vertices_.bind(0);
     polygons_.bind(1);
     accumulator_.bind(2);
-    edges_->use();
-    edges_->set("width", width_);
-    edges_->set("height", height_);
-    edges_->set("count", static_cast<int>(count));
-    edges_->set("channels", static_cast<int>(channels_));
-    edges_->setDouble("scale", scale_);
-    glDispatchCompute(std::min(groups, kMaxGroups), (groups + kMaxGroups - 1) / kMaxGroups, 1);
+    prepared_.bind(4);
+    counts_.bind(5);
+    offsets_.bind(7);
+    // Pass 0: each polygon's kind, density and tiles; the bins' counts.
+    bins_->use();
+    bins_->set("width", width_);
+    bins_->set("height", height_);
+    bins_->set("count", static_cast<int>(count));
+    bins_->set("tilesX", tilesX_);
+    bins_->set("tilesY", tilesY_);
+    bins_->set("listPass", 0);
+    dispatch((count + kGroup - 1) / kGroup);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    scan_->use();
+    scan_->set("n", static_cast<int>(bins));
+    glDispatchCompute(1, 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-    checkGl("polygon_edges.comp");
+    checkGl("polygon_bins.comp, bin_scan.comp");
+    // The lists' length sizes their buffer (the one read-back of a batch); the counts become cursors.
+    std::uint32_t entries = 0;
+    glGetNamedBufferSubData(offsets_.id(), static_cast<GLintptr>(bins * sizeof(std::uint32_t)), sizeof entries,
+                            &entries);
+    if (entries > 0) {
+        if (lists_.bytes() < entries * sizeof(std::uint32_t)) lists_.upload(nullptr, entries * sizeof(std::uint32_t));
+        glCopyNamedBufferSubData(offsets_.id(), counts_.id(), 0, 0,
+                                 static_cast<GLsizeiptr>(bins * sizeof(std::uint32_t)));
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        lists_.bind(6);
+        bins_->use();
+        bins_->set("listPass", 1);
+        dispatch((count + kGroup - 1) / kGroup);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        tiles_->use();
+        tiles_->set("width", width_);
+        tiles_->set("height", height_);
+        tiles_->set("tilesX", tilesX_);
+        tiles_->set("tilesY", tilesY_);
+        tiles_->set("bins", static_cast<int>(bins));
+        tiles_->setDouble("scale", scale_);
+        dispatch(static_cast<GLuint>(bins));
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    }
+    checkGl("polygon_tiles.comp");
     stagedVertices_.clear();
     stagedPolygons_.clear();
 }
@@ -83,19 +132,18 @@ std::vector<std::vector<double>> GlPolygonRaster::finish() {
     const std::size_t pixels = static_cast<std::size_t>(width_) * height_;
     std::vector<std::vector<double>> out(channels_, std::vector<double>(pixels, 0.0));
     if (pixels == 0 || channels_ == 0) return out;
-    const int rows = static_cast<int>(channels_) * height_;
-    image_.upload(nullptr, channels_ * pixels * sizeof(float));
+    const std::size_t all = channels_ * pixels;
+    pixels_.upload(nullptr, all * sizeof(float));
     accumulator_.bind(2);
-    image_.bind(3);
-    rows_->use();
-    rows_->set("width", width_);
-    rows_->set("rows", rows);
-    rows_->setDouble("scale", scale_);
-    glDispatchCompute(static_cast<GLuint>((rows + kGroup - 1) / kGroup), 1, 1);
+    pixels_.bind(3);
+    image_->use();
+    image_->set("pixels", static_cast<int>(all));
+    image_->setDouble("scale", scale_);
+    dispatch(static_cast<GLuint>((all + kGroup - 1) / kGroup));
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    checkGl("polygon_rows.comp");
-    std::vector<float> image(channels_ * pixels);
-    image_.download(image.data(), image.size() * sizeof(float));
+    checkGl("polygon_image.comp");
+    std::vector<float> image(all);
+    pixels_.download(image.data(), image.size() * sizeof(float));
     for (std::size_t c = 0; c < channels_; ++c)
         std::copy(image.begin() + static_cast<std::ptrdiff_t>(c * pixels),
                   image.begin() + static_cast<std::ptrdiff_t>((c + 1) * pixels), out[c].begin());

@@ -1,8 +1,10 @@
 #pragma once
 // The shaped ghosts' polygons drawn on the GPU with the exact pixel-area coverage of the CPU's
-// trace::CoverageRaster: shaders/polygon_edges.comp adds each polygon's edges to 64-bit fixed-point
-// row entries with integer atomics, shaders/polygon_rows.comp takes each row's prefix sum. Integer
-// sums do not depend on the order of the additions: the image has the same bytes on any run.
+// trace::CoverageRaster, binned: shaders/polygon_bins.comp sorts each batch's polygons into lists per
+// 16 x 16-pixel tile and channel (offsets by shaders/bin_scan.comp), shaders/polygon_tiles.comp draws
+// each tile's list in shared memory (64-bit fixed point, integer atomics) and adds its pixels to the
+// frame's sums once, shaders/polygon_image.comp reads them out. Integer sums do not depend on the
+// order of the additions: the image has the same bytes on any run and for any batching.
 
 #include "ghosts/shaped_ghosts.h"
 #include "gpu/gl_context.h"
@@ -27,19 +29,21 @@ class GlPolygonRaster final : public ghosts::PolygonRaster {
     std::vector<std::vector<double>> finish() override;
 
   private:
-    // std430 layout of polygon_edges.comp's Polygon.
+    // std430 layout of polygon_bins.comp's Polygon.
     struct GpuPolygon {
         std::uint32_t first, count, channel, pad;
         double energy, gx, gy;
     };
     void flush();
 
-    std::unique_ptr<ComputeProgram> edges_, rows_;
-    Buffer vertices_, polygons_, accumulator_, image_;
+    std::unique_ptr<ComputeProgram> bins_, scan_, tiles_, image_;
+    // The batch (vertices, polygons, each polygon's kind, density and tiles), the bins' counts (then
+    // cursors), offsets and lists, the frame's 64-bit sums and the image read back.
+    Buffer vertices_, polygons_, prepared_, counts_, offsets_, lists_, accumulator_, pixels_;
     std::vector<glm::vec2> stagedVertices_;
     std::vector<GpuPolygon> stagedPolygons_;
     std::size_t batch_;
-    int width_ = 0, height_ = 0;
+    int width_ = 0, height_ = 0, tilesX_ = 0, tilesY_ = 0;
     std::size_t channels_ = 0;
     double scale_ = 1.0;
 };

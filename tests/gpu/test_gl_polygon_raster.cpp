@@ -1,4 +1,5 @@
-// polygon_edges.comp + polygon_rows.comp (gpu::GlPolygonRaster) against the CPU's
+// The binned polygon raster (gpu::GlPolygonRaster: polygon_bins, bin_scan, polygon_tiles and
+// polygon_image.comp) against the CPU's
 // trace::CoverageRaster: random polygons of every kind the shaped renderer makes, of uniform and linear
 // densities (triangles over five
 // decades of size, clipped polygons of many vertices, slivers, polygons inside one pixel, points and
@@ -130,6 +131,47 @@ TEST(GlPolygonRaster, MatchesTheCpuCoverageRaster) {
         EXPECT_LE(d.relativeL2, 1e-6) << "channel " << c;
         EXPECT_LE(d.worst, 1e-6 * d.peak) << "channel " << c;
     }
+}
+
+// The raster draws 16 x 16-pixel tiles, each from the list of polygons that may touch it: polygons
+// with vertices and edges on the tiles' sides, points splatted across them, pixels on either side,
+// one polygon over the whole frame and 20 000 in one tile (far more than a work group) must give what
+// the CPU's raster, which knows no tiles, gives.
+TEST(GlPolygonRaster, TileSidesAndACrowdedTileMatchTheCpu) {
+    std::string why;
+    const auto context = GlContext::create(why);
+    if (!context) GTEST_SKIP() << "no OpenGL 4.5 context: " << why;
+    const trace::ImageFrame frame{70, 50, 0.01}; // 5 x 4 tiles, the last ones partial
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    ghosts::ShapedPolygons ps;
+    auto add = [&](std::vector<glm::dvec2> p, glm::dvec2 g = glm::dvec2(0.0)) {
+        ps.add(p.data(), p.size(), 0.1 + u(rng), g);
+    };
+    for (int i = 0; i <= 4; ++i)
+        for (int j = 0; j <= 3; ++j) {
+            const glm::dvec2 corner(16.0 * i, 16.0 * j);
+            add({corner, corner + glm::dvec2(16.0, 0.0), corner + glm::dvec2(0.0, 16.0)}); // sides on the tiles'
+            add({corner - glm::dvec2(3.0, 2.0), corner + glm::dvec2(5.0, 1.0), corner + glm::dvec2(1.0, 7.0)},
+                glm::dvec2(0.05, -0.03));                                          // over a corner
+            add({corner + glm::dvec2(-0.5, 0.5), corner + glm::dvec2(-0.5, 0.5)}); // splatted across
+            add({corner + glm::dvec2(-0.9, 3.1), corner + glm::dvec2(-0.2, 3.2),
+                 corner + glm::dvec2(-0.5, 3.8)}); // pixel left of a side
+            add({corner + glm::dvec2(0.1, 3.1), corner + glm::dvec2(0.8, 3.2),
+                 corner + glm::dvec2(0.5, 3.8)}); // pixel right of it
+        }
+    add({{-10.0, -10.0}, {90.0, -5.0}, {80.0, 70.0}, {-5.0, 60.0}}, glm::dvec2(0.004, 0.002)); // the whole frame
+    for (int k = 0; k < 20000; ++k) {                                                          // tile (1, 1), crowded
+        const glm::dvec2 c(16.0 + 16.0 * u(rng), 16.0 + 16.0 * u(rng));
+        const double size = 0.2 + 3.0 * u(rng);
+        add({c, c + size * glm::dvec2(u(rng), 0.3 * u(rng)), c + size * glm::dvec2(0.3 * u(rng), u(rng))});
+    }
+    GlPolygonRaster gl(*context);
+    gl.begin(frame, 1, ps.energy);
+    gl.draw(0, ps);
+    const auto d = compare(gl.finish()[0], onCpu(ps, frame));
+    EXPECT_LE(d.relativeL2, 1e-6);
+    EXPECT_LE(d.worst, 1e-6 * d.peak);
 }
 
 // Integer sums do not depend on the order of the additions: any batching gives the same bytes.
