@@ -17,13 +17,27 @@ constexpr int kGroup = 64;
 constexpr GLuint kMaxGroups = 65535; // work groups per dispatch dimension every GL 4.5 device allows
 constexpr int kMaxSide = 16384;
 
-bool powerOfTwo(int n) {
-    return n > 0 && (n & (n - 1)) == 0;
+// The radices of a length's passes, 4 while it divides, then 2, then 3 (empty: not 2^a 3^b).
+std::vector<int> radices(int n) {
+    std::vector<int> out;
+    if (n < 1) return out;
+    while (n % 4 == 0) out.push_back(4), n /= 4;
+    if (n % 2 == 0) out.push_back(2), n /= 2;
+    while (n % 3 == 0) out.push_back(3), n /= 3;
+    if (n != 1) out.clear();
+    return out;
 }
-int nextPowerOfTwo(int n) {
-    int p = 1;
-    while (p < n) p *= 2;
-    return p;
+bool smooth(int n) {
+    return n == 1 || !radices(n).empty();
+}
+// The smallest 2^a 3^b >= n.
+int nextSmooth(int n) {
+    int best = 1;
+    while (best < n) best *= 2;
+    for (int three = 3; three < best; three *= 3)
+        for (int p = three; p < best; p *= 2)
+            if (p >= n) best = p;
+    return best;
 }
 
 } // namespace
@@ -37,23 +51,24 @@ GlFft::GlFft(const GlContext&) : a_(std::make_unique<Buffer>()), scratch_(std::m
 
 GlFft::~GlFft() = default;
 
-void GlFft::twiddles(int length) {
-    if (length <= twiddleLength_) return;
-    // exp(-2 pi i q / L) for q < L / 2.
-    std::vector<double> w(static_cast<std::size_t>(length));
-    for (int q = 0; q < length / 2; ++q) {
+const Buffer& GlFft::twiddles(int length) {
+    auto& table = twiddles_[length];
+    if (table) return *table;
+    // exp(-2 pi i q / n) for q < n.
+    std::vector<double> w(2 * static_cast<std::size_t>(length));
+    for (int q = 0; q < length; ++q) {
         const double a = -2.0 * std::numbers::pi * q / length;
         w[static_cast<std::size_t>(2 * q)] = std::cos(a);
         w[static_cast<std::size_t>(2 * q + 1)] = std::sin(a);
     }
-    twiddle_.upload(w.data(), w.size() * sizeof(double));
-    twiddleLength_ = length;
+    table = std::make_unique<Buffer>();
+    table->upload(w.data(), w.size() * sizeof(double));
+    return *table;
 }
 
 void GlFft::transform(std::unique_ptr<Buffer>& data, std::unique_ptr<Buffer>& scratch, int width, int height,
                       bool inverse, int used) {
     if (used <= 0 || used > height) used = height;
-    twiddles(std::max(width, height));
     const std::size_t rowBytes = static_cast<std::size_t>(width) * 2 * sizeof(double);
     scratch->upload(nullptr, rowBytes * height);
     // The forward transform's rows from `used` on are zero, and stay so through the row passes,
@@ -64,7 +79,6 @@ void GlFft::transform(std::unique_ptr<Buffer>& data, std::unique_ptr<Buffer>& sc
     }
     pass_->use();
     pass_->set("inverse", inverse ? 1 : 0);
-    twiddle_.bind(2);
     // Length n, element stride, transform stride, transforms: along rows (stride 1, one transform
     // per row) or columns (stride = width, one per column).
     const auto passes = [&](int n, int stride, int batch, int count) {
@@ -76,17 +90,20 @@ void GlFft::transform(std::unique_ptr<Buffer>& data, std::unique_ptr<Buffer>& sc
         // and write neighbouring memory; along rows, neighbouring butterflies.
         const bool across = stride != 1;
         pass_->set("across", across ? 1 : 0);
-        const auto inner = static_cast<GLuint>(across ? count : n / 2),
-                   outer = static_cast<GLuint>(across ? n / 2 : count);
-        const GLuint groupsX = (inner + kGroup - 1) / kGroup;
-        for (int ns = 1; ns < n; ns *= 2) {
+        twiddles(n).bind(2);
+        int ns = 1;
+        for (const int radix : radices(n)) {
+            const auto inner = static_cast<GLuint>(across ? count : n / radix),
+                       outer = static_cast<GLuint>(across ? n / radix : count);
+            const GLuint groupsX = (inner + kGroup - 1) / kGroup;
+            pass_->set("radix", radix);
             pass_->set("ns", ns);
-            pass_->set("step", twiddleLength_ / (2 * ns));
             data->bind(0);
             scratch->bind(1);
             glDispatchCompute(groupsX, std::min(outer, kMaxGroups), (outer + kMaxGroups - 1) / kMaxGroups);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
             std::swap(data, scratch);
+            ns *= radix;
         }
     };
     // Forward: the `used` rows, then every column; inverse: every column, then the `used` rows.
@@ -98,9 +115,9 @@ void GlFft::transform(std::unique_ptr<Buffer>& data, std::unique_ptr<Buffer>& sc
 
 std::vector<std::complex<double>> GlFft::transform(const std::vector<std::complex<double>>& data, int width, int height,
                                                    bool inverse) {
-    if (!powerOfTwo(width) || !powerOfTwo(height) || width > kMaxSide || height > kMaxSide ||
+    if (!smooth(width) || !smooth(height) || width > kMaxSide || height > kMaxSide ||
         data.size() != static_cast<std::size_t>(width) * height)
-        throw Error(ErrorKind::Runtime, "GlFft: the array must be a power of 2 per side, up to 16384");
+        throw Error(ErrorKind::Runtime, "GlFft: the array's sides must be products of 2s and 3s, up to 16384");
     a_->upload(data.data(), data.size() * sizeof(std::complex<double>));
     transform(a_, scratch_, width, height, inverse);
     std::vector<std::complex<double>> out(data.size());
@@ -146,7 +163,7 @@ std::vector<float> GlFft::convolve(const std::vector<float>& image, int width, i
     if (pixels == 0) return out;
     const auto [rx, ry] = diffraction::kernelReach(image, width, height, psf);
     // Linear convolution: a period of at least W + rx keeps what wraps around out of the frame.
-    const int P = nextPowerOfTwo(width + rx), Q = nextPowerOfTwo(height + ry);
+    const int P = nextSmooth(width + rx), Q = nextSmooth(height + ry);
     if (P > kMaxSide || Q > kMaxSide) throw Error(ErrorKind::Runtime, "the frame is too large for the GL FFT");
     const std::size_t N = static_cast<std::size_t>(P) * Q;
     kernelSpectra(psf, width, height, P, Q);

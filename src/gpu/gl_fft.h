@@ -1,6 +1,7 @@
 #pragma once
-// Two-dimensional complex FFTs in double precision on the GPU — radix-2 Stockham passes ping-ponging
-// between two buffers (shaders/fft_pass.comp), twiddles computed on the host — and the diffraction
+// Two-dimensional complex FFTs in double precision on the GPU — mixed-radix (4, 2, 3) Stockham passes
+// ping-ponging between two buffers (shaders/fft_pass.comp), twiddles computed on the host — over
+// periods of 2^a 3^b, and the diffraction
 // stage's convolution with them: the lights' red and green laid into the period on the GPU as one
 // complex image r + i g (shaders/fft_scatter.comp), transformed, each channel's spectrum multiplied
 // by its kernel's (shaders/spectrum_product.comp), transformed back, the two convolutions read out
@@ -15,6 +16,7 @@
 #include <array>
 #include <complex>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -25,8 +27,8 @@ class GlFft final : public diffraction::Convolver {
     explicit GlFft(const GlContext& context);
     ~GlFft() override;
 
-    /// The 2-D DFT of a width x height complex array (row-major; both sizes powers of 2, at most
-    /// 16384): forward with exp(-i ...), or inverse with exp(+i ...), unnormalised.
+    /// The 2-D DFT of a width x height complex array (row-major; both sizes of the form 2^a 3^b, at
+    /// most 16384): forward with exp(-i ...), or inverse with exp(+i ...), unnormalised.
     std::vector<std::complex<double>> transform(const std::vector<std::complex<double>>& data, int width, int height,
                                                 bool inverse);
 
@@ -39,15 +41,16 @@ class GlFft final : public diffraction::Convolver {
     // of the result are made (0: all rows).
     void transform(std::unique_ptr<Buffer>& data, std::unique_ptr<Buffer>& scratch, int width, int height, bool inverse,
                    int used = 0);
-    void twiddles(int length);
+    /// exp(-2 pi i q / length) for q < length, made once per length.
+    const Buffer& twiddles(int length);
 
     // Channel c's kernel spectrum for frames of width x height over a period x rows period.
     void kernelSpectra(const diffraction::Psf& psf, int width, int height, int period, int rows);
     void dispatch(std::size_t invocations) const;
 
     std::unique_ptr<ComputeProgram> pass_, product_, scatter_, gather_;
-    Buffer twiddle_, image_, frame_;
-    int twiddleLength_ = 0;
+    Buffer image_, frame_;
+    std::map<int, std::unique_ptr<Buffer>> twiddles_;
     std::unique_ptr<Buffer> a_, scratch_;
     /// What the cached spectra were made for: the PSF's fingerprint, the frame's and the period's sizes.
     struct KernelKey {

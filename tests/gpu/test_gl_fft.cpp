@@ -29,7 +29,9 @@ TEST(GlFft, MatchesTheDftByItsDefinition) {
     GlFft fft(*context);
     std::mt19937 rng(4);
     std::normal_distribution<double> g;
-    for (auto [W, H] : {std::pair{64, 32}, std::pair{8, 128}, std::pair{1, 16}}) {
+    // radix-4 passes alone, 4s and a 2, one side of length 1, 3s (one and several), 2s and 3s mixed
+    for (auto [W, H] : {std::pair{64, 32}, std::pair{8, 128}, std::pair{1, 16}, std::pair{48, 36}, std::pair{54, 3},
+                        std::pair{6, 81}}) {
         std::vector<std::complex<double>> x(static_cast<std::size_t>(W) * H);
         for (auto& v : x) v = {g(rng), g(rng)};
         for (bool inverse : {false, true}) {
@@ -49,7 +51,8 @@ TEST(GlFft, MatchesTheDftByItsDefinition) {
                 << W << "x" << H << " inverse " << inverse;
         }
     }
-    EXPECT_THROW(fft.transform(std::vector<std::complex<double>>(12), 4, 3, false), Error);
+    EXPECT_THROW(fft.transform(std::vector<std::complex<double>>(15), 5, 3, false),
+                 Error); // 5 is no product of 2s and 3s
 }
 
 TEST(GlFft, ConvolutionMatchesTheCpu) {
