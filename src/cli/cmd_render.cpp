@@ -17,6 +17,7 @@
 #include "gpu/backend_choice.h"
 #include "image/image_output.h"
 #include "image/plate.h"
+#include "optics/lens_loader.h"
 #include "scene/flare_render.h"
 #include "scene/scene.h"
 #include "trace/ghost_analysis.h"
@@ -187,7 +188,8 @@ void lensSettings(const RenderOptions& o, const optics::Lens& lens, int W, int H
 // The lens's flare of the options' lights, its summary and metadata in job.
 fourier::FlareImage renderLensFlare(const RenderOptions& o, const GlobalOptions& g, int W, int H,
                                     scene::FlareSettings& s, RenderJob& job, Reporter& reporter) {
-    const optics::Lens lens = loadTraceableLens(o.lens, o.table.zoom, reporter);
+    // Any lens: scene::renderFlare refuses an anamorphic one in the modes that cannot take it.
+    const optics::Lens lens = optics::loadLensAt(o.lens, o.table.zoom, &reporter);
     lensSettings(o, lens, W, H, s, job.meta);
     std::vector<ghosts::Light> lights =
         o.lightsFile.empty() ? std::vector<ghosts::Light>{} : scene::readLightsJson(o.lightsFile);

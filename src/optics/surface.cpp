@@ -3,6 +3,7 @@
 #include <glm/geometric.hpp>
 
 #include <cmath>
+#include <numbers>
 
 namespace ff::optics {
 
@@ -89,6 +90,24 @@ std::optional<double> Surface::sag(double r) const {
         r2k *= r2;
     }
     return z;
+}
+
+std::optional<std::pair<double, double>> Surface::sagRange(double r) const {
+    constexpr int kRadii = 128, kAngles = 64; // kAngles over a quarter turn suffice: sections are even
+    std::optional<std::pair<double, double>> range;
+    const int angles = rotationallySymmetric() ? 1 : kAngles + 1;
+    for (int a = 0; a < angles; ++a) {
+        const double phi = angles == 1 ? 0.0 : 0.5 * std::numbers::pi * a / kAngles;
+        for (int k = 0; k <= kRadii; ++k) {
+            const double rho = r * k / kRadii;
+            const auto z = rotationallySymmetric() ? sag(rho) : sagAt(rho * std::cos(phi), rho * std::sin(phi));
+            if (!z) break;
+            if (!range) range.emplace(*z, *z);
+            range->first = std::min(range->first, *z);
+            range->second = std::max(range->second, *z);
+        }
+    }
+    return range;
 }
 
 std::optional<double> Surface::sagSlope(double r) const {

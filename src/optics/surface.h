@@ -20,6 +20,7 @@
 #include <glm/vec3.hpp>
 
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace ff::optics {
@@ -71,6 +72,11 @@ struct Surface {
     std::optional<glm::dvec2> sagGradient(double x, double y) const;
     /// Sag z(r) in mm; nullopt where the conic part is undefined (1 - (1+k) c^2 r^2 < 0).
     std::optional<double> sag(double r) const;
+    /// The lowest and highest sag over the disc of radius r about the axis, mm (sampled: along a
+    /// radius where rotationally symmetric — aspheres need not be monotonic —, over a polar grid
+    /// otherwise); nullopt where the shape is undefined at the axis. Past the domain's edge the
+    /// samples stop.
+    std::optional<std::pair<double, double>> sagRange(double r) const;
     /// dz/dr at r (same domain as sag).
     std::optional<double> sagSlope(double r) const;
     /// Unit normal, oriented towards +z, at a point on the surface given in its vertex frame

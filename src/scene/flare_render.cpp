@@ -6,6 +6,7 @@
 #include "fourier/backend.h"
 #include "fourier/render.h"
 #include "ghosts/shaped_cache.h"
+#include "optics/lens_loader.h"
 
 namespace ff::scene {
 
@@ -44,6 +45,7 @@ DiffractionSettings diffractionSettings(const FlareSettings& s) {
 
 RenderedFlare renderFlare(const optics::Lens& lens, const std::vector<ghosts::Light>& lights, const FlareSettings& s) {
     const trace::TracedFlareOptions& t = s.traced;
+    if (s.mode != RenderMode::Traced) optics::requireTraceable(lens); // the traced flare takes any lens
     if (s.mode == RenderMode::Fitted || s.mode == RenderMode::Fourier) {
         const ghosts::GhostTable table =
             s.loadTable ? s.loadTable(lens, s.table) : ghosts::tableFor(lens, s.table, s.useCache, {}, orNull(nullptr));

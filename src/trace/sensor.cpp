@@ -6,6 +6,8 @@
 #include "optics/paraxial.h"
 #include "trace/sequential_tracer.h"
 
+#include <glm/geometric.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -18,6 +20,86 @@ namespace {
 [[noreturn]] void unknownName(const char* what, const std::string& name, const char* names) {
     throw Error(ErrorKind::Usage,
                 std::string("unknown ") + what + " " + text::quoted(name) + " (expected " + names + ")");
+}
+
+// The field of an anamorphic lens (no rotational symmetry) whose chief ray lands at (x, y) mm: the
+// transverse part u of its direction (|u| = sin of the field angle) and the point where it crosses
+// the paraxial entrance pupil's plane solved together by Newton's method with finite-difference
+// Jacobians — the inner solve aims the ray through the stop's centre, the outer moves u until the
+// ray lands on the point, approached from the axis (the first step from the paraxial field of each
+// section: tan = x / EFLx, y / EFLy).
+Field anamorphicField(const optics::Lens& lens, double sensorZ, double xMm, double yMm) {
+    const LensAtWavelength L(lens, lines::d, sensorZ);
+    const PupilFrame pupil = pupilFrame(lens);
+    const auto steps = pathSteps(lens, std::nullopt);
+    std::size_t stopStep = steps.size();
+    for (std::size_t k = 0; k < steps.size(); ++k)
+        if (steps[k].surface == L.stop) stopStep = k;
+    std::vector<double> margins(steps.size());
+    std::vector<glm::dvec3> points(steps.size());
+    const auto fieldOf = [&](glm::dvec2 u) {
+        const double s = std::min(glm::length(u), 1.0 - 1e-12);
+        const glm::dvec2 e = s > 0.0 ? pupil.eflSign * u / glm::length(u) : glm::dvec2(0.0, 1.0);
+        return Field{std::asin(s), std::atan2(-e.x, e.y)};
+    };
+    // The stop point and the sensor point of the ray of direction u through pupil point a.
+    const auto trace = [&](glm::dvec2 u, glm::dvec2 a) -> std::optional<std::pair<glm::dvec2, glm::dvec2>> {
+        const Bundle one = gridBundle(pupil, fieldOf(u), 1, a.x, a.y, 1e-9, false);
+        const SequentialResult r =
+            traceSequential(L, steps, one.rays[0], Weighting::Fresnel, margins.data(), points.data());
+        if (r.status != optics::RayStatus::Ok) return std::nullopt;
+        const glm::dvec3 stop = stopStep < steps.size() ? points[stopStep] : glm::dvec3(0.0);
+        return std::pair(glm::dvec2(stop), glm::dvec2(r.ray.origin));
+    };
+    // Solves g(v) = target for v by Newton's method, the Jacobian by forward differences of step h.
+    const auto newton = [](auto g, glm::dvec2 v, glm::dvec2 target, double h, double tolerance) {
+        for (int it = 0; it < 50; ++it) {
+            const auto g0 = g(v);
+            if (!g0) return std::optional<glm::dvec2>();
+            const glm::dvec2 residual = *g0 - target;
+            if (glm::length(residual) < tolerance) return std::optional(v);
+            const auto gx = g(v + glm::dvec2(h, 0.0)), gy = g(v + glm::dvec2(0.0, h));
+            if (!gx || !gy) return std::optional<glm::dvec2>();
+            const glm::dvec2 cx = (*gx - *g0) / h, cy = (*gy - *g0) / h;
+            const double det = cx.x * cy.y - cy.x * cx.y;
+            if (det == 0.0 || !std::isfinite(det)) return std::optional<glm::dvec2>();
+            v -= glm::dvec2(cy.y * residual.x - cy.x * residual.y, -cx.y * residual.x + cx.x * residual.y) / det;
+        }
+        return std::optional<glm::dvec2>();
+    };
+    glm::dvec2 aim(0.0);
+    const auto land = [&](glm::dvec2 u) -> std::optional<glm::dvec2> {
+        if (stopStep < steps.size()) {
+            const auto stop = [&](glm::dvec2 a) -> std::optional<glm::dvec2> {
+                const auto r = trace(u, a);
+                return r ? std::optional(r->first) : std::nullopt;
+            };
+            const auto a = newton(stop, aim, glm::dvec2(0.0), 1e-4 * pupil.radius, 1e-10);
+            if (!a) return std::nullopt;
+            aim = *a; // the next solve starts from this one
+        }
+        const auto r = trace(u, aim);
+        return r ? std::optional(r->second) : std::nullopt;
+    };
+    const double fy = std::abs(optics::paraxialEfl(optics::sectionOf(lens, optics::Section::Y), lines::d));
+    const double fx = std::abs(optics::paraxialEfl(optics::sectionOf(lens, optics::Section::X), lines::d));
+    // Continuation: the point approached in eight steps from the axis, each solve starting from the
+    // last one's field and aim (the paraxial guess alone leaves far fields' rays vignetted).
+    const glm::dvec2 target(xMm, yMm);
+    std::optional<glm::dvec2> u = glm::dvec2(0.0);
+    constexpr int kSteps = 8;
+    for (int k = 1; k <= kSteps && u; ++k) {
+        const glm::dvec2 point = target * (double(k) / kSteps);
+        const glm::dvec3 guess = glm::normalize(glm::dvec3(point.x / fx, point.y / fy, 1.0));
+        const glm::dvec2 start = k == 1 ? pupil.eflSign * glm::dvec2(guess) : *u;
+        u = newton(land, start, point, 1e-7, 1e-9 * (1.0 + glm::length(point)));
+    }
+    if (!u || glm::length(*u) >= 1.0)
+        throw Error(ErrorKind::Input, "no field images a source at (" + text::fixed(xMm, 3) + ", " +
+                                          text::fixed(yMm, 3) +
+                                          ") mm on the sensor (the chief ray does not reach it); is the light outside "
+                                          "the lens's field?");
+    return fieldOf(*u);
 }
 
 } // namespace
@@ -58,6 +140,7 @@ optics::Lens withCoating(const optics::Lens& lens, CoatingChoice choice) {
 }
 
 Field fieldForSensorPoint(const optics::Lens& lens, double sensorZ, double xMm, double yMm) {
+    if (!lens.rotationallySymmetric()) return anamorphicField(lens, sensorZ, xMm, yMm);
     const double r = std::sqrt(xMm * xMm + yMm * yMm);
     Field f;
     f.azimuthRad = std::atan2(-xMm, yMm); // image at r (-sin az, cos az)

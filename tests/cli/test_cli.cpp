@@ -42,7 +42,8 @@ TEST(Cli, LensInfoJsonIsMachineReadable) {
 
 // An anamorphic lens: both sections' first-order data and the squeeze (the numbers themselves are
 // checked against the design in tests/optics/test_anamorphic.cpp); a rotationally symmetric lens
-// reports as before, without them; the tracer's commands refuse the lens with the reason.
+// reports as before, without them; the traced flare takes the lens, the other modes refuse it with
+// the reason.
 TEST(Cli, LensInfoReportsBothSectionsOfAnAnamorphic) {
     const std::string lens = "lenses/anamorphic-2x-double-gauss-50mm.lens";
     const RunResult text = run("lens info " + lens);
@@ -57,9 +58,17 @@ TEST(Cli, LensInfoReportsBothSectionsOfAnAnamorphic) {
     const auto round = nlohmann::json::parse(run("lens info lenses/double-gauss-50mm-f2.lens --json").out);
     EXPECT_FALSE(round["first_order"][0].contains("section_x"));
     EXPECT_FALSE(round["first_order"][0].contains("squeeze"));
-    const RunResult refused = run("render " + lens + " --mode shaped --light 10,10 -o out.exr");
+    ff::test::TempDir dir;
+    const std::string shaped = (dir / "shaped.exr").string(), traced = (dir / "traced.exr").string();
+    const RunResult refused = run("render " + lens + " --mode shaped --light 10,10 -o '" + shaped + "'");
     EXPECT_EQ(refused.code, 2);
-    EXPECT_TRUE(contains(refused.err, "needs a rotationally symmetric lens")) << refused.err;
+    EXPECT_TRUE(contains(refused.err, "only the traced flare (render --mode traced) takes it")) << refused.err;
+    EXPECT_FALSE(std::filesystem::exists(shaped));
+    // The traced flare takes it (coarse: the anamorphic traces are checked in tests/trace).
+    const RunResult ok =
+        run("render " + lens + " --mode traced --light 100,30 --size 160x90 --grid 4 -o '" + traced + "'");
+    EXPECT_EQ(ok.code, 0) << ok.err;
+    EXPECT_TRUE(std::filesystem::exists(traced));
 }
 
 TEST(Cli, BadLensFileGivesFileLineColumnAndExitCode2) {

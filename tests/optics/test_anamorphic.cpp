@@ -53,6 +53,26 @@ TEST(Anamorphic, ACylindersSagAndSlopeAreTheCirclesInX) {
     EXPECT_NEAR(*turned.sagAt(0.0, 7.0), 30.0 - std::sqrt(900.0 - 49.0), 1e-12);
 }
 
+// The sag's range over a disc of radius r (what the Embree scene bounds a surface by): a cylinder's
+// runs from 0 on its axis to the circle's R - sqrt(R^2 - r^2) at x = +-r (negative for R < 0), whatever
+// the range in y; a rotationally symmetric surface's from 0 to its sag at r.
+TEST(Anamorphic, ASurfacesSagRangeOverADiscIsItsCirclesInX) {
+    const double r = 10.0;
+    for (const double R : {25.0, -40.0}) {
+        const auto range = cylinderAlongY(R).sagRange(r);
+        ASSERT_TRUE(range);
+        const double rim = R - std::copysign(std::sqrt(R * R - r * r), R);
+        EXPECT_NEAR(range->first, std::min(0.0, rim), 1e-12) << R;
+        EXPECT_NEAR(range->second, std::max(0.0, rim), 1e-12) << R;
+    }
+    Surface sphere;
+    sphere.radius = 25.0;
+    const auto range = sphere.sagRange(r);
+    ASSERT_TRUE(range);
+    EXPECT_EQ(range->first, 0.0);
+    EXPECT_NEAR(range->second, 25.0 - std::sqrt(625.0 - 100.0), 1e-12);
+}
+
 // A skew ray against the cylinder (x^2 + (z - R)^2 = R^2, y free), solved here as a quadratic in t;
 // the normal there is the circle's, (-x, 0, R - z) / R.
 TEST(Anamorphic, ARayMeetsACylinderWhereTheQuadraticSays) {
