@@ -21,6 +21,18 @@
 
 namespace ff::diffraction {
 
+namespace {
+
+// The exit pupil's distance to the sensor over its diameter (the stop's image at the working opening),
+// else the paraxial f-number.
+double workingFNumber(const optics::FirstOrder& fo) {
+    const double distance = fo.imageDistance - fo.exitPupilZ;
+    return std::isfinite(fo.exitPupilZ) && fo.exitPupilDiameter > 0.0 ? std::abs(distance) / fo.exitPupilDiameter
+                                                                      : fo.fNumber;
+}
+
+} // namespace
+
 Aperture apertureOf(const optics::Lens& lens) {
     const optics::FirstOrder fo = optics::analyzeFirstOrder(lens, lines::d);
     const trace::Iris iris = trace::LensAtWavelength(lens, lines::d, std::numeric_limits<double>::quiet_NaN(),
@@ -29,13 +41,21 @@ Aperture apertureOf(const optics::Lens& lens) {
     Aperture a;
     a.blades = iris.blades;
     a.rotationRad = iris.rotationRad;
-    // The exit pupil's distance to the sensor over its diameter; the exit pupil is the stop's image
-    // at the working opening.
-    const double distance = fo.imageDistance - fo.exitPupilZ;
-    a.fNumber = std::isfinite(fo.exitPupilZ) && fo.exitPupilDiameter > 0.0 ? std::abs(distance) / fo.exitPupilDiameter
-                                                                           : fo.fNumber;
+    a.fNumber = workingFNumber(fo);
     if (!(a.fNumber > 0.0) || !std::isfinite(a.fNumber))
         throw Error(ErrorKind::Input, "the lens has no finite working f-number: its diffraction is not defined");
+    // The PSF on the sensor is the exit pupil's: an anamorphic whose cylinders stand in front of the
+    // stop (a front attachment) has a round exit pupil and the same image-space cone in both sections,
+    // so the same PSF; one whose sections' cones differ would need an elliptical one.
+    if (!lens.rotationallySymmetric()) {
+        const double nX =
+            workingFNumber(optics::analyzeFirstOrder(optics::sectionOf(lens, optics::Section::X), lines::d));
+        if (!(std::abs(nX - a.fNumber) <= 1e-6 * a.fNumber))
+            throw Error(ErrorKind::Input, "the lens's working f-number differs between its sections (x " +
+                                              text::fixed(nX, 4) + ", y " + text::fixed(a.fNumber, 4) +
+                                              "): its PSF on the sensor is elliptical, which the diffraction does not "
+                                              "make yet");
+    }
     return a;
 }
 

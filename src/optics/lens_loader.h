@@ -23,8 +23,8 @@ std::filesystem::path findLensFile(const std::string& nameOrPath);
 Lens parseLensBytes(std::string_view bytes, const std::string& format, const std::string& fileName,
                     Reporter* reporter = nullptr);
 
-/// Throws ff::Error (Input, naming the file) for a lens the ghost tables, fits and diffraction cannot
-/// take: one with anamorphic surfaces (only the traced flare, scene::RenderMode::Traced, takes those).
+/// Throws ff::Error (Input, naming the file) for a lens the ghost tables, their fits and the traced
+/// wavefront cannot take: one with anamorphic surfaces (scene::requireLensFor says what takes those).
 void requireTraceable(const Lens& lens);
 
 /// The lens at the zoom position `zoom` (a label or 1-based index; "" = as loaded).

@@ -127,7 +127,7 @@ py::array_t<float> render(const py::object& source, const py::object& lightsIn, 
         return ghosts::shapedTableFor(l, ss, a.useCache, orNull(nullptr));
     };
     DeferredReporter reporter;
-    if (!table && a.mode != scene::RenderMode::Traced) optics::requireTraceable(*lens);
+    if (!table) scene::requireLensFor(*lens, s);
     drawOn(a.backend, s, reporter, a.mode == scene::RenderMode::Shaped,
            a.mode == scene::RenderMode::Diffraction); // last, after every argument has been checked
     reporter.flush();

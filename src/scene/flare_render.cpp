@@ -43,9 +43,15 @@ DiffractionSettings diffractionSettings(const FlareSettings& s) {
     return d;
 }
 
+void requireLensFor(const optics::Lens& lens, const FlareSettings& s) {
+    const bool anyLens = s.mode == RenderMode::Traced ||
+                         (s.mode == RenderMode::Diffraction && s.diffraction == DiffractionRule::Physical);
+    if (!anyLens) optics::requireTraceable(lens);
+}
+
 RenderedFlare renderFlare(const optics::Lens& lens, const std::vector<ghosts::Light>& lights, const FlareSettings& s) {
     const trace::TracedFlareOptions& t = s.traced;
-    if (s.mode != RenderMode::Traced) optics::requireTraceable(lens); // the traced flare takes any lens
+    requireLensFor(lens, s);
     if (s.mode == RenderMode::Fitted || s.mode == RenderMode::Fourier) {
         const ghosts::GhostTable table =
             s.loadTable ? s.loadTable(lens, s.table) : ghosts::tableFor(lens, s.table, s.useCache, {}, orNull(nullptr));

@@ -62,13 +62,24 @@ TEST(Cli, LensInfoReportsBothSectionsOfAnAnamorphic) {
     const std::string shaped = (dir / "shaped.exr").string(), traced = (dir / "traced.exr").string();
     const RunResult refused = run("render " + lens + " --mode shaped --light 10,10 -o '" + shaped + "'");
     EXPECT_EQ(refused.code, 2);
-    EXPECT_TRUE(contains(refused.err, "only the traced flare (render --mode traced) takes it")) << refused.err;
+    EXPECT_TRUE(
+        contains(refused.err, "only the traced flare (render --mode traced) and the aberration-free diffraction"))
+        << refused.err;
     EXPECT_FALSE(std::filesystem::exists(shaped));
     // The traced flare takes it (coarse: the anamorphic traces are checked in tests/trace).
     const RunResult ok =
         run("render " + lens + " --mode traced --light 100,30 --size 160x90 --grid 4 -o '" + traced + "'");
     EXPECT_EQ(ok.code, 0) << ok.err;
     EXPECT_TRUE(std::filesystem::exists(traced));
+    // So does the aberration-free diffraction (a front attachment leaves the prime's PSF); the traced
+    // wavefront does not.
+    const std::string diffraction = (dir / "diffraction.exr").string();
+    EXPECT_EQ(run("render " + lens + " --mode diffraction --light 80,45 --size 160x90 -o '" + diffraction + "'").code,
+              0);
+    EXPECT_EQ(run("render " + lens + " --mode diffraction --diffraction traced --light 80,45 --size 160x90 -o '" +
+                  diffraction + "x'")
+                  .code,
+              2);
 }
 
 TEST(Cli, BadLensFileGivesFileLineColumnAndExitCode2) {

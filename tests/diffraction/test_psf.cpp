@@ -228,5 +228,24 @@ TEST(Psf, ApertureOfALensFocusedAtInfinity) {
     EXPECT_NEAR(a.fNumber / optics::analyzeFirstOrder(lens, 587.56).fNumber, 1.0, 1e-6);
 }
 
+// A front anamorphic attachment sits in front of the stop: the exit pupil and the image-space cone
+// are the prime's in both sections, so the sensor's PSF is the prime's (lenses/anamorphic-2x-...lens
+// is that attachment before double-gauss-50mm-f2.lens, read here from its own file). A cylinder
+// behind the stop changes the cone in one section only: its PSF would be elliptical, and is refused.
+TEST(Psf, AFrontAnamorphicHasItsPrimesApertureAndARearCylinderIsRefused) {
+    const Aperture prime =
+        apertureOf(optics::loadLens(std::string(FF_SOURCE_DIR) + "/lenses/double-gauss-50mm-f2.lens"));
+    const Aperture anamorphic =
+        apertureOf(optics::loadLens(std::string(FF_SOURCE_DIR) + "/lenses/anamorphic-2x-double-gauss-50mm.lens"));
+    EXPECT_NEAR(anamorphic.fNumber, prime.fNumber, 1e-9 * prime.fNumber);
+    EXPECT_EQ(anamorphic.blades, prime.blades);
+    const optics::Lens rear = optics::parseLensBytes("name: rear cylinder\nsurfaces:\n"
+                                                     "  stop 10 1.0 0 5 0\n"
+                                                     "  0 5 1.5 0 12 0\n"
+                                                     "  -60 50 1.0 0 12 0 biconic=-30\n",
+                                                     "lens", "rear.lens");
+    EXPECT_THROW(apertureOf(rear), Error);
+}
+
 } // namespace
 } // namespace ff::diffraction
