@@ -18,6 +18,7 @@
 #include "image/image_output.h"
 #include "image/plate.h"
 #include "optics/lens_loader.h"
+#include "optics/paraxial.h"
 #include "scene/flare_render.h"
 #include "scene/scene.h"
 #include "trace/ghost_analysis.h"
@@ -52,6 +53,7 @@ struct RenderOptions {
     TableOptions table;
     std::string sensorSize;
     double exposure = std::numeric_limits<double>::quiet_NaN();
+    bool desqueeze = false; ///< the preview stretched by the lens's squeeze
     FourierOptions fourier;
 };
 
@@ -103,6 +105,7 @@ struct RenderJob {
     const GlobalOptions& g;
     image::Metadata& meta;
     std::string summary;
+    double squeeze = 1.0; ///< the lens's anamorphic squeeze (optics::squeeze)
 
     // fitted / fourier: "drew N<kind> ghosts<of> directly", "aggregated N ghosts<of>: ...".
     void drawn(const scene::RenderedFlare& r, const scene::FlareSettings& s, const std::string& kind,
@@ -191,6 +194,8 @@ fourier::FlareImage renderLensFlare(const RenderOptions& o, const GlobalOptions&
     // Any lens: scene::renderFlare refuses an anamorphic one in the modes that cannot take it.
     const optics::Lens lens = optics::loadLensAt(o.lens, o.table.zoom, &reporter);
     lensSettings(o, lens, W, H, s, job.meta);
+    job.squeeze = optics::squeeze(lens, lines::d);
+    if (job.squeeze != 1.0) job.meta.push_back({"fourierflare:squeeze", text::fixed(job.squeeze, 6)});
     std::vector<ghosts::Light> lights =
         o.lightsFile.empty() ? std::vector<ghosts::Light>{} : scene::readLightsJson(o.lightsFile);
     for (const std::string& l : o.lights) lights.push_back(scene::parseLight(l));
@@ -247,11 +252,21 @@ void runRender(const RenderOptions& o, const GlobalOptions& g) {
         image = renderLensFlare(o, g, W, H, s, job, reporter);
     }
     const std::vector<float> rgb = image.interleaved();
-    image::writeExr(o.output, W, H, {"R", "G", "B"}, rgb, meta);
+    // Sensor pixels, the squeeze in the header (viewers desqueeze on display); the preview desqueezed
+    // if asked.
+    image::writeExr(o.output, W, H, {"R", "G", "B"}, rgb, meta, job.squeeze);
     double ev = o.exposure;
     if (!o.preview.empty()) {
         if (std::isnan(ev)) ev = image::autoExposure(rgb);
-        image::writePng(o.preview, W, H, image::tonemapPreview(rgb, ev), meta);
+        if (o.desqueeze && job.squeeze != 1.0) {
+            int w = 0;
+            const std::vector<float> wide = image::stretchedRows(rgb, W, H, job.squeeze, &w);
+            image::writePng(o.preview, w, H, image::tonemapPreview(wide, ev), meta);
+        } else {
+            if (o.desqueeze)
+                reporter.note({}, "--desqueeze: the lens is not anamorphic (squeeze 1): the preview is as rendered");
+            image::writePng(o.preview, W, H, image::tonemapPreview(rgb, ev), meta);
+        }
     }
     for (const auto& [px, py] : probes) {
         const std::size_t p = static_cast<std::size_t>(py) * W + static_cast<std::size_t>(px);
@@ -304,6 +319,9 @@ void addRenderCommand(CLI::App& app, GlobalOptions& global) {
     cmd->add_option("-o,--output", o->output, "EXR file to write (R, G, B = the flare alone, linear)")->required();
     cmd->add_option("--preview", o->preview, "Also write a tonemapped PNG preview");
     cmd->add_option("--probe", o->probes, "Print the image's R G B at pixel X,Y (repeatable)");
+    cmd->add_flag("--desqueeze", o->desqueeze,
+                  "Stretch the preview horizontally by the lens's anamorphic squeeze (EFL y / EFL x); the EXR stays "
+                  "in sensor pixels with the squeeze as its pixel aspect ratio");
     cmd->add_option("--exposure", o->exposure,
                     "Preview exposure in EV (default: automatic, the 99th percentile of the flare at 1.0)");
     cmd->add_option(

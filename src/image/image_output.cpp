@@ -15,15 +15,38 @@ void setExrThreads(int n) {
 }
 
 void writeExr(const std::string& path, int width, int height, const std::vector<std::string>& channels,
-              const std::vector<float>& pixels, const Metadata& metadata) {
+              const std::vector<float>& pixels, const Metadata& metadata, double pixelAspectRatio) {
     if (pixels.size() != static_cast<std::size_t>(width) * height * channels.size())
         throwRuntimeError("writeExr: pixel buffer does not match " + std::to_string(width) + "x" +
                           std::to_string(height));
     OIIO::ImageSpec spec(width, height, static_cast<int>(channels.size()), OIIO::TypeDesc::FLOAT);
     spec.channelnames = channels;
     spec.attribute("compression", "zip");
+    if (pixelAspectRatio != 1.0) spec.attribute("PixelAspectRatio", static_cast<float>(pixelAspectRatio));
     for (const auto& [k, v] : metadata) spec.attribute(k, v);
     writeAtomic(path, spec, OIIO::TypeDesc::FLOAT, pixels.data());
+}
+
+std::vector<float> stretchedRows(const std::vector<float>& rgb, int width, int height, double factor, int* outWidth) {
+    if (!(factor > 0.0) || !std::isfinite(factor) || width < 1 || height < 0 ||
+        rgb.size() != static_cast<std::size_t>(width) * height * 3)
+        throwRuntimeError("stretchedRows: the image or the factor is not valid");
+    const int W = std::max(1, static_cast<int>(std::lround(width * factor)));
+    std::vector<float> out(static_cast<std::size_t>(W) * height * 3);
+    for (int i = 0; i < W; ++i) {
+        // Output centre i + 0.5 at input x = (i + 0.5) width / W; between input centres j + 0.5, j + 1.5.
+        const double x = (i + 0.5) * width / W - 0.5;
+        const int j0 = std::clamp(static_cast<int>(std::floor(x)), 0, width - 1), j1 = std::min(j0 + 1, width - 1);
+        const double t = std::clamp(x - j0, 0.0, 1.0);
+        for (int y = 0; y < height; ++y)
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t row = static_cast<std::size_t>(y) * width;
+                out[(static_cast<std::size_t>(y) * W + i) * 3 + c] =
+                    static_cast<float>((1.0 - t) * rgb[(row + j0) * 3 + c] + t * rgb[(row + j1) * 3 + c]);
+            }
+    }
+    if (outWidth) *outWidth = W;
+    return out;
 }
 
 std::vector<unsigned char> tonemapPreview(const std::vector<float>& rgb, double exposureEv) {

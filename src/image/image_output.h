@@ -17,9 +17,16 @@ using Metadata = std::vector<std::pair<std::string, std::string>>;
 void setExrThreads(int n);
 
 /// Writes a single-part, zip-compressed float EXR; `pixels` is width x height x channels.size(),
-/// interleaved, rows top to bottom.
+/// interleaved, rows top to bottom. pixelAspectRatio != 1 is recorded in the header (EXR's
+/// pixelAspectRatio: an anamorphic frame's squeeze, which viewers undo on display).
 void writeExr(const std::string& path, int width, int height, const std::vector<std::string>& channels,
-              const std::vector<float>& pixels, const Metadata& metadata);
+              const std::vector<float>& pixels, const Metadata& metadata, double pixelAspectRatio = 1.0);
+
+/// An interleaved RGB image stretched horizontally by `factor` (> 0) to round(width x factor) columns,
+/// each output pixel centre sampling the input linearly between its neighbouring pixel centres (an
+/// anamorphic frame desqueezed for viewing; values per pixel are kept, not the flux). *outWidth gets
+/// the new width.
+std::vector<float> stretchedRows(const std::vector<float>& rgb, int width, int height, double factor, int* outWidth);
 
 /// Preview tonemap of linear RGB (interleaved, 3 channels): multiply by 2^exposureEv, Reinhard
 /// x / (1 + x) per channel, sRGB transfer curve, 8 bits.

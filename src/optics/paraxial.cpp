@@ -86,6 +86,11 @@ double paraxialEfl(const Lens& lens, double lambdaNm) {
     return -1.0 / out.w;
 }
 
+double squeeze(const Lens& lens, double lambdaNm) {
+    if (lens.rotationallySymmetric()) return 1.0;
+    return paraxialEfl(sectionOf(lens, Section::Y), lambdaNm) / paraxialEfl(sectionOf(lens, Section::X), lambdaNm);
+}
+
 double paraxialBfd(const Lens& lens, double lambdaNm) {
     const ParaxialRay out = traceParaxial(lens, lambdaNm, {1.0, 0.0}, 0, lens.surfaces.size());
     if (std::abs(out.w) < 1e-15)

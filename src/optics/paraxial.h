@@ -62,6 +62,11 @@ FirstOrder analyzeFirstOrder(const Lens& lens, double lambdaNm, bool allowAfocal
 /// the section's (analyzeFirstOrder(sectionOf(lens, Section::X), ...)).
 Lens sectionOf(const Lens& lens, Section section);
 
+/// The anamorphic squeeze, EFL of the y-z section / EFL of the x-z section at lambdaNm: how much wider
+/// the field is in x than the frame's aspect shows (1 for a rotationally symmetric lens; throws
+/// ff::Error Input where a section is afocal).
+double squeeze(const Lens& lens, double lambdaNm);
+
 /// Sets the last thickness to the paraxial back focal distance at the d line.
 void focusAtParaxialImage(Lens& lens);
 

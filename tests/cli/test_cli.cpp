@@ -1,5 +1,6 @@
 // The fourierflare executable as a user meets it: output, error format, exit codes.
 
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -67,10 +68,20 @@ TEST(Cli, LensInfoReportsBothSectionsOfAnAnamorphic) {
         << refused.err;
     EXPECT_FALSE(std::filesystem::exists(shaped));
     // The traced flare takes it (coarse: the anamorphic traces are checked in tests/trace).
-    const RunResult ok =
-        run("render " + lens + " --mode traced --light 100,30 --size 160x90 --grid 4 -o '" + traced + "'");
+    // Its EXR in sensor pixels with the squeeze as the pixel aspect ratio; the preview desqueezed when
+    // asked: 160 x 90 becomes 320 x 90.
+    const std::string preview = (dir / "traced.png").string();
+    const RunResult ok = run("render " + lens + " --mode traced --light 100,30 --size 160x90 --grid 4 -o '" + traced +
+                             "' --preview '" + preview + "' --desqueeze");
     EXPECT_EQ(ok.code, 0) << ok.err;
-    EXPECT_TRUE(std::filesystem::exists(traced));
+    auto exr = OIIO::ImageInput::open(traced);
+    ASSERT_TRUE(exr);
+    EXPECT_EQ(exr->spec().width, 160);
+    EXPECT_NEAR(exr->spec().get_float_attribute("PixelAspectRatio", 1.0f), 2.0f, 1e-4f);
+    auto png = OIIO::ImageInput::open(preview);
+    ASSERT_TRUE(png);
+    EXPECT_EQ(png->spec().width, 320);
+    EXPECT_EQ(png->spec().height, 90);
     // So does the aberration-free diffraction (a front attachment leaves the prime's PSF); the traced
     // wavefront does not.
     const std::string diffraction = (dir / "diffraction.exr").string();

@@ -6,6 +6,7 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <fstream>
@@ -118,4 +119,27 @@ TEST(PlateWriting, ALayerThatThePlateAlreadyHoldsIsRefused) {
     image::writeSimulatedExr(out, plate, {{"ghosts", &rgb}}, {});
     EXPECT_EQ(image::readPlate(out).channels,
               (std::vector<std::string>{"R", "G", "B", "flare.G", "ghosts.R", "ghosts.G", "ghosts.B"}));
+}
+
+// Desqueezing a preview: each output pixel centre (i + 0.5) samples the input at (i + 0.5) / factor
+// pixels, linearly between input centres, so a ramp v = x (x the pixel centre, j + 0.5) stays the ramp
+// v = (i + 0.5) / factor inside and holds its end values beyond the outer centres.
+TEST(PreviewStretch, ARampStretchesToTheRampAtTheNewCentres) {
+    const int W = 5, H = 2;
+    std::vector<float> rgb(static_cast<std::size_t>(W) * H * 3);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            for (int c = 0; c < 3; ++c)
+                rgb[(static_cast<std::size_t>(y) * W + x) * 3 + c] = static_cast<float>((x + 0.5) * (c + 1));
+    int w = 0;
+    const std::vector<float> out = image::stretchedRows(rgb, W, H, 2.0, &w);
+    ASSERT_EQ(w, 10);
+    ASSERT_EQ(out.size(), static_cast<std::size_t>(w) * H * 3);
+    for (int y = 0; y < H; ++y)
+        for (int i = 0; i < w; ++i) {
+            const double x = std::clamp((i + 0.5) / 2.0, 0.5, W - 0.5);
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(out[(static_cast<std::size_t>(y) * w + i) * 3 + c], x * (c + 1), 1e-6) << i;
+        }
+    EXPECT_THROW(image::stretchedRows(rgb, W, H, 0.0, &w), Error);
 }
