@@ -22,6 +22,34 @@ namespace {
                 std::string("unknown ") + what + " " + text::quoted(name) + " (expected " + names + ")");
 }
 
+// The lens at the d line, its pupil frame and direct path: one ray of a field through a point of the
+// entrance pupil's plane traced with the apertures open (where a lens vignettes its own chief ray, the
+// rest of the beam still images the source there), giving its points on the stop (0 without a stop)
+// and on the sensor.
+struct ChiefRays {
+    ChiefRays(const optics::Lens& lens, double sensorZ)
+        : L(lens, lines::d, sensorZ), pupil(pupilFrame(lens)), steps(pathSteps(lens, std::nullopt)),
+          stopStep(steps.size()), margins(steps.size()), points(steps.size()) {
+        for (std::size_t k = 0; k < steps.size(); ++k)
+            if (steps[k].surface == L.stop) stopStep = k;
+    }
+    bool hasStop() const { return stopStep < steps.size(); }
+    std::optional<std::pair<glm::dvec3, glm::dvec3>> trace(const Field& field, double px, double py) {
+        const Bundle one = gridBundle(pupil, field, 1, px, py, 1e-9, false);
+        const SequentialResult s =
+            traceSequential(L, steps, one.rays[0], Weighting::Fresnel, margins.data(), points.data());
+        if (s.status != optics::RayStatus::Ok) return std::nullopt;
+        return std::pair(hasStop() ? points[stopStep] : glm::dvec3(0.0), s.ray.origin);
+    }
+
+    const LensAtWavelength L;
+    const PupilFrame pupil;
+    const std::vector<PathStep> steps;
+    std::size_t stopStep;
+    std::vector<double> margins;
+    std::vector<glm::dvec3> points;
+};
+
 // The field of an anamorphic lens (no rotational symmetry) whose chief ray lands at (x, y) mm: the
 // transverse part u of its direction (|u| = sin of the field angle) and the point where it crosses
 // the paraxial entrance pupil's plane solved together by Newton's method with finite-difference
@@ -29,14 +57,8 @@ namespace {
 // ray lands on the point, approached from the axis (the first step from the paraxial field of each
 // section: tan = x / EFLx, y / EFLy).
 Field anamorphicField(const optics::Lens& lens, double sensorZ, double xMm, double yMm) {
-    const LensAtWavelength L(lens, lines::d, sensorZ);
-    const PupilFrame pupil = pupilFrame(lens);
-    const auto steps = pathSteps(lens, std::nullopt);
-    std::size_t stopStep = steps.size();
-    for (std::size_t k = 0; k < steps.size(); ++k)
-        if (steps[k].surface == L.stop) stopStep = k;
-    std::vector<double> margins(steps.size());
-    std::vector<glm::dvec3> points(steps.size());
+    ChiefRays rays(lens, sensorZ);
+    const PupilFrame& pupil = rays.pupil;
     const auto fieldOf = [&](glm::dvec2 u) {
         const double s = std::min(glm::length(u), 1.0 - 1e-12);
         const glm::dvec2 e = s > 0.0 ? pupil.eflSign * u / glm::length(u) : glm::dvec2(0.0, 1.0);
@@ -44,12 +66,8 @@ Field anamorphicField(const optics::Lens& lens, double sensorZ, double xMm, doub
     };
     // The stop point and the sensor point of the ray of direction u through pupil point a.
     const auto trace = [&](glm::dvec2 u, glm::dvec2 a) -> std::optional<std::pair<glm::dvec2, glm::dvec2>> {
-        const Bundle one = gridBundle(pupil, fieldOf(u), 1, a.x, a.y, 1e-9, false);
-        const SequentialResult r =
-            traceSequential(L, steps, one.rays[0], Weighting::Fresnel, margins.data(), points.data());
-        if (r.status != optics::RayStatus::Ok) return std::nullopt;
-        const glm::dvec3 stop = stopStep < steps.size() ? points[stopStep] : glm::dvec3(0.0);
-        return std::pair(glm::dvec2(stop), glm::dvec2(r.ray.origin));
+        const auto r = rays.trace(fieldOf(u), a.x, a.y);
+        return r ? std::optional(std::pair(glm::dvec2(r->first), glm::dvec2(r->second))) : std::nullopt;
     };
     // Solves g(v) = target for v by Newton's method, the Jacobian by forward differences of step h.
     const auto newton = [](auto g, glm::dvec2 v, glm::dvec2 target, double h, double tolerance) {
@@ -69,7 +87,7 @@ Field anamorphicField(const optics::Lens& lens, double sensorZ, double xMm, doub
     };
     glm::dvec2 aim(0.0);
     const auto land = [&](glm::dvec2 u) -> std::optional<glm::dvec2> {
-        if (stopStep < steps.size()) {
+        if (rays.hasStop()) {
             const auto stop = [&](glm::dvec2 a) -> std::optional<glm::dvec2> {
                 const auto r = trace(u, a);
                 return r ? std::optional(r->first) : std::nullopt;
@@ -145,25 +163,14 @@ Field fieldForSensorPoint(const optics::Lens& lens, double sensorZ, double xMm, 
     Field f;
     f.azimuthRad = std::atan2(-xMm, yMm); // image at r (-sin az, cos az)
     if (r == 0.0) return f;
-    const LensAtWavelength L(lens, lines::d, sensorZ);
-    const PupilFrame pupil = pupilFrame(lens);
-    const auto steps = pathSteps(lens, std::nullopt);
+    ChiefRays rays(lens, sensorZ);
+    const PupilFrame& pupil = rays.pupil;
     // Height of the chief ray on the sensor for a field angle (azimuth 0: image along +y): the ray
     // of that field through the centre of the stop (aimed by the secant method from the paraxial
-    // entrance pupil's centre, where wide-angle lenses' pupils have moved), traced with the
-    // apertures open: where the lens vignettes its own chief ray, the rest of the beam still images
-    // the source there.
-    std::size_t stopStep = steps.size();
-    for (std::size_t k = 0; k < steps.size(); ++k)
-        if (steps[k].surface == L.stop) stopStep = k;
-    std::vector<double> margins(steps.size());
-    std::vector<glm::dvec3> points(steps.size());
+    // entrance pupil's centre, where wide-angle lenses' pupils have moved).
     auto trace = [&](double theta, double py) -> std::optional<std::pair<double, double>> {
-        const Bundle one = gridBundle(pupil, {theta, 0.0}, 1, 0.0, py, 1e-9, false);
-        const SequentialResult s =
-            traceSequential(L, steps, one.rays[0], Weighting::Fresnel, margins.data(), points.data());
-        if (s.status != optics::RayStatus::Ok) return std::nullopt;
-        return std::make_pair(stopStep < steps.size() ? points[stopStep].y : 0.0, s.ray.origin.y);
+        const auto hit = rays.trace({theta, 0.0}, 0.0, py);
+        return hit ? std::optional(std::make_pair(hit->first.y, hit->second.y)) : std::nullopt;
     };
     auto height = [&](double theta) -> std::optional<double> {
         // Start from the paraxial pupil's centre, else from the traced point of the pupil nearest it.
@@ -175,14 +182,14 @@ Field fieldForSensorPoint(const optics::Lens& lens, double sensorZ, double xMm, 
                 if (!r0) r0 = trace(theta, p0 = sign * h * k / 32.0);
         if (!r0) return std::nullopt;
         double p1 = p0 + 1e-3 * h;
-        for (int it = 0; it < 40 && stopStep < steps.size(); ++it) {
+        for (int it = 0; it < 40 && rays.hasStop(); ++it) {
             if (std::abs(r0->first) < 1e-10) break;
             const auto r1 = trace(theta, p1);
             if (!r1 || r1->first == r0->first) return std::nullopt;
             const double next = p1 - r1->first * (p1 - p0) / (r1->first - r0->first);
             p0 = p1, r0 = r1, p1 = next;
         }
-        if (stopStep < steps.size() && !(std::abs(r0->first) < 1e-6)) return std::nullopt;
+        if (rays.hasStop() && !(std::abs(r0->first) < 1e-6)) return std::nullopt;
         return r0->second;
     };
     // Bisection on the angle; the image height grows monotonically with it for a photographic lens.

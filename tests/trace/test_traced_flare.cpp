@@ -10,6 +10,7 @@
 #include <numeric>
 
 #include "test_support.h"
+#include "uniform_ellipse.h"
 
 using namespace ff;
 using namespace ff::trace;
@@ -47,33 +48,12 @@ TEST(TracedFlare, AGlassPlateGhostIsAUniformDiscOfKnownIrradiance) {
     const TracedFlare f = renderTracedFlare(lens, o);
     ASSERT_EQ(f.ghostCount, 1u);
     const double R = 0.04, r = 5.0;
-    std::vector<double> expected(static_cast<std::size_t>(W) * H, 0.0);
-    for (int j = 0; j < H; ++j)
-        for (int i = 0; i < W; ++i) {
-            const glm::dvec2 c = o.frame.pixelToSensor(i + 0.5, j + 0.5);
-            const double d = std::hypot(c.x, c.y) / pitch; // pixels from the axis
-            double inside = d < r / pitch - 1.0 ? 1.0 : 0.0;
-            if (std::abs(d - r / pitch) <= 1.0) {
-                int hits = 0;
-                for (int b = 0; b < 64; ++b)
-                    for (int a = 0; a < 64; ++a) {
-                        const glm::dvec2 p = o.frame.pixelToSensor(i + (a + 0.5) / 64, j + (b + 0.5) / 64);
-                        hits += p.x * p.x + p.y * p.y < r * r;
-                    }
-                inside = hits / 4096.0;
-            }
-            expected[static_cast<std::size_t>(j) * W + i] = R * R * inside * pitch * pitch / (std::numbers::pi * r * r);
-        }
+    const std::vector<double> expected = test::uniformEllipse(o.frame, r, r, R * R);
     for (int c = 0; c < 3; ++c) {
-        double d2 = 0.0, e2 = 0.0;
-        for (std::size_t p = 0; p < expected.size(); ++p) {
-            const double v = f.rgb[p * 3 + c];
-            ASSERT_GE(v, 0.0);
-            d2 += (v - expected[p]) * (v - expected[p]);
-            e2 += expected[p] * expected[p];
-        }
-        EXPECT_LE(std::sqrt(d2 / e2), 0.01) << "channel " << c;
-        EXPECT_NEAR(channelSum(f, c), R * R, 1e-4 * R * R) << "channel " << c;
+        const test::Agreement a = test::agreement(f.rgb, c, expected);
+        EXPECT_GE(a.lowest, 0.0) << "channel " << c;
+        EXPECT_LE(a.relativeL2, 0.01) << "channel " << c;
+        EXPECT_NEAR(a.sum, R * R, 1e-4 * R * R) << "channel " << c;
     }
 }
 
