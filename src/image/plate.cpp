@@ -2,7 +2,6 @@
 
 #include "core/error.h"
 #include "image/atomic_write.h"
-#include "image/plate_checks.h"
 
 #include <OpenEXR/ImfRgbaFile.h>
 #include <OpenImageIO/imageio.h>

@@ -95,6 +95,12 @@ Plate readPlate(const std::string& path, const PlateLimits& limits = {});
 Plate plateFromPixels(const std::string& name, int width, int height, std::vector<std::string> channels,
                       std::vector<float> pixels);
 
+/// The checks every plate passes, however it is made (ff::Error, Input, naming `path`): its R, G, B
+/// (or a luminance Y: a note) and A found among the channel names; no majority of negative, NaN or
+/// infinite pixels (that is not image data).
+void findChannels(const std::string& path, Plate& p);
+void checkValues(const std::string& path, const Plate& p);
+
 /// What the checker process runs: reads the file in full under a memory limit; exit status 0 when it
 /// is a usable plate, else 3 with the reason on stderr (a crash or a hang is the caller's to see).
 /// Once the header has passed the checks it writes `header BYTES` (the pixels as float) and a newline

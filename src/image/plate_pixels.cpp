@@ -1,11 +1,11 @@
+// The parts of image/plate.h that need no image library: a plate made from pixels in memory, its
+// channels found and its values checked (also for the plates plate.cpp reads), and its RGB.
+
 #include "core/error.h"
-#include "image/plate_checks.h"
+#include "image/plate.h"
 
 #include <cmath>
 #include <initializer_list>
-
-// The parts of image/plate.h that need no image library: a plate made from pixels in memory, its
-// channels found and its values checked (also for the plates plate.cpp reads), and its RGB.
 
 namespace ff::image {
 
