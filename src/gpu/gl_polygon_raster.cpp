@@ -2,8 +2,11 @@
 
 #include "core/error.h"
 
+#include <glm/common.hpp>
+
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string_view>
 
 namespace ff::gpu {
@@ -25,7 +28,8 @@ void dispatch(GLuint n) {
 
 } // namespace
 
-GlPolygonRaster::GlPolygonRaster(const GlContext&, std::size_t batch) : batch_(std::max<std::size_t>(batch, 64)) {
+GlPolygonRaster::GlPolygonRaster(const GlContext&, std::size_t batch, std::size_t listEntries)
+    : batch_(std::max<std::size_t>(batch, 64)), listEntries_(std::max<std::size_t>(listEntries, 1)) {
     bins_ = std::make_unique<ComputeProgram>("polygon_bins.comp", embedded("polygon_bins.comp"), kGroup);
     scan_ = std::make_unique<ComputeProgram>("bin_scan.comp", embedded("bin_scan.comp"), kScanGroup);
     tiles_ = std::make_unique<ComputeProgram>("polygon_tiles.comp", embedded("polygon_tiles.comp"), kGroup);
@@ -46,6 +50,7 @@ void GlPolygonRaster::begin(const trace::ImageFrame& frame, std::size_t channels
     scale_ = std::ldexp(1.0, 62) / energyBound;
     stagedVertices_.clear();
     stagedPolygons_.clear();
+    stagedEntries_ = 0;
     accumulator_.zeros(std::max<std::size_t>(1, channels_ * height_ * width_ * 2 * sizeof(std::uint32_t)));
 }
 
@@ -55,7 +60,22 @@ void GlPolygonRaster::draw(std::size_t c, const ghosts::ShapedPolygons& polygons
         const auto& p = polygons.polys[i];
         const glm::dvec2 g = polygons.gradient(i);
         if (p.count == 0 || p.energy == 0.0) continue;
-        if (stagedVertices_.size() + p.count > batch_) flush();
+        // Its tile box, clamped to the frame, bounds the lists it joins (polygon_bins.comp finds the
+        // same pixels or fewer: a kind that draws nothing joins none).
+        glm::vec2 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+        for (std::uint32_t k = p.first; k < p.first + p.count; ++k) {
+            lo = glm::min(lo, polygons.vertices[k]);
+            hi = glm::max(hi, polygons.vertices[k]);
+        }
+        const auto tiles = [](double a, double b, int n) -> std::size_t {
+            if (!(a <= b)) return std::size_t(n); // NaN: at most every tile
+            const double t0 = std::clamp(std::floor(a) - 1.0, 0.0, n * double(kTile) - 1.0);
+            const double t1 = std::clamp(std::ceil(b) + 1.0, 0.0, n * double(kTile) - 1.0);
+            return static_cast<std::size_t>(t1) / kTile - static_cast<std::size_t>(t0) / kTile + 1;
+        };
+        const std::size_t entries = tiles(lo.x, hi.x, tilesX_) * tiles(lo.y, hi.y, tilesY_);
+        if (stagedVertices_.size() + p.count > batch_ || stagedEntries_ + entries > listEntries_) flush();
+        stagedEntries_ += entries;
         stagedPolygons_.push_back({static_cast<std::uint32_t>(stagedVertices_.size()), p.count,
                                    static_cast<std::uint32_t>(c), 0, p.energy, g.x, g.y});
         stagedVertices_.insert(stagedVertices_.end(), polygons.vertices.begin() + p.first,
@@ -65,6 +85,7 @@ void GlPolygonRaster::draw(std::size_t c, const ghosts::ShapedPolygons& polygons
 
 void GlPolygonRaster::flush() {
     const std::size_t bins = channels_ * static_cast<std::size_t>(tilesX_) * tilesY_;
+    stagedEntries_ = 0;
     if (stagedPolygons_.empty() || bins == 0) {
         stagedVertices_.clear();
         stagedPolygons_.clear();

@@ -20,8 +20,13 @@ class GlPolygonRaster final : public ghosts::PolygonRaster {
   public:
     /// Vertices held on the host before a batch is sent to the GPU (8 bytes each).
     static constexpr std::size_t kDefaultBatch = std::size_t(1) << 22;
+    /// A bound on a batch's (polygon, tile) pairs, the bins' lists (4 bytes each, 256 MiB at the
+    /// default; their offsets are 32-bit): a batch is sent before its polygons' tile boxes could hold
+    /// more (one polygon alone may: at most every tile of the frame).
+    static constexpr std::size_t kDefaultListEntries = std::size_t(1) << 26;
 
-    explicit GlPolygonRaster(const GlContext& context, std::size_t batch = kDefaultBatch);
+    explicit GlPolygonRaster(const GlContext& context, std::size_t batch = kDefaultBatch,
+                             std::size_t listEntries = kDefaultListEntries);
     ~GlPolygonRaster() override;
 
     void begin(const trace::ImageFrame& frame, std::size_t channels, double energyBound) override;
@@ -42,7 +47,8 @@ class GlPolygonRaster final : public ghosts::PolygonRaster {
     Buffer vertices_, polygons_, prepared_, counts_, offsets_, lists_, accumulator_, pixels_;
     std::vector<glm::vec2> stagedVertices_;
     std::vector<GpuPolygon> stagedPolygons_;
-    std::size_t batch_;
+    std::size_t batch_, listEntries_;
+    std::size_t stagedEntries_ = 0; ///< the staged polygons' tile boxes, summed: a bound on their lists
     int width_ = 0, height_ = 0, tilesX_ = 0, tilesY_ = 0;
     std::size_t channels_ = 0;
     double scale_ = 1.0;

@@ -182,15 +182,19 @@ TEST(GlPolygonRaster, SameBytesForAnyBatching) {
     const trace::ImageFrame frame{120, 80, 0.01};
     const auto polys = randomPolygons(frame.width, frame.height, 3);
     std::vector<std::vector<double>> first;
-    for (std::size_t batch : {GlPolygonRaster::kDefaultBatch, std::size_t(64)}) {
-        GlPolygonRaster gl(*context, batch);
+    // The default batches; batches of 64 vertices; batches cut by a bound of 50 list entries.
+    for (const auto& [batch, entries] :
+         {std::pair{GlPolygonRaster::kDefaultBatch, GlPolygonRaster::kDefaultListEntries},
+          std::pair{std::size_t(64), GlPolygonRaster::kDefaultListEntries},
+          std::pair{GlPolygonRaster::kDefaultBatch, std::size_t(50)}}) {
+        GlPolygonRaster gl(*context, batch, entries);
         gl.begin(frame, 2, totalEnergy(polys));
         for (std::size_t c = 0; c < 2; ++c) gl.draw(c, polys[c]);
         auto image = gl.finish();
         if (first.empty())
             first = std::move(image);
         else
-            EXPECT_EQ(image, first) << "batch " << batch;
+            EXPECT_EQ(image, first) << "batch " << batch << ", list entries " << entries;
     }
 }
 
