@@ -25,27 +25,19 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
-#include <random>
 
+#include "bench_plates.h"
 #include "gl_bench.h"
 
 namespace {
 
 using namespace ff;
-constexpr int kW = 1920, kH = 1080;
+constexpr int kW = bench::kPlateWidth, kH = bench::kPlateHeight;
 
 std::string plateWith(int lights) {
     const auto path = std::filesystem::temp_directory_path() / ("ff-bench-plate-" + std::to_string(lights) + ".exr");
     if (std::filesystem::exists(path)) return path.string();
-    std::vector<float> px(static_cast<std::size_t>(kW) * kH * 3, 0.05f);
-    std::mt19937 rng(7);
-    std::uniform_int_distribution<int> x(10, kW - 12), y(10, kH - 12);
-    for (int l = 0; l < lights; ++l) {
-        const int cx = x(rng), cy = y(rng);
-        for (int dy = 0; dy < 3; ++dy)
-            for (int dx = 0; dx < 3; ++dx)
-                for (int c = 0; c < 3; ++c) px[(static_cast<std::size_t>(cy + dy) * kW + cx + dx) * 3 + c] = 500.0f;
-    }
+    const std::vector<float> px = bench::platePixels(lights);
     OIIO::ImageSpec spec(kW, kH, 3, OIIO::TypeDesc::HALF);
     spec.attribute("compression", "zip");
     auto out = OIIO::ImageOutput::create(path.string());

@@ -19,33 +19,28 @@
 #include <chrono>
 #include <filesystem>
 #include <memory>
-#include <random>
 #include <string>
 #include <vector>
+
+#include "bench_plates.h"
 
 namespace {
 
 using namespace ff;
-constexpr int kW = 1920, kH = 1080;
+constexpr int kW = bench::kPlateWidth, kH = bench::kPlateHeight;
 using Clock = std::chrono::steady_clock;
 
 double msSince(Clock::time_point t) {
     return 1e3 * std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-// A 0.05 grey plate with `lights` 3 x 3-pixel lights of 500 at seeded places, as RGBA half.
+// bench::platePixels as an RGBA half EXR.
 std::string plateWith(int lights) {
     const auto path = std::filesystem::temp_directory_path() / ("ff-bench-gl-plate-" + std::to_string(lights) + ".exr");
     if (std::filesystem::exists(path)) return path.string();
-    std::vector<Imf::Rgba> px(static_cast<std::size_t>(kW) * kH, Imf::Rgba(0.05f, 0.05f, 0.05f, 1.0f));
-    std::mt19937 rng(7);
-    std::uniform_int_distribution<int> x(10, kW - 12), y(10, kH - 12);
-    for (int l = 0; l < lights; ++l) {
-        const int cx = x(rng), cy = y(rng);
-        for (int dy = 0; dy < 3; ++dy)
-            for (int dx = 0; dx < 3; ++dx)
-                px[static_cast<std::size_t>(cy + dy) * kW + cx + dx] = {500.0f, 500.0f, 500.0f, 1.0f};
-    }
+    const std::vector<float> rgb = bench::platePixels(lights);
+    std::vector<Imf::Rgba> px(static_cast<std::size_t>(kW) * kH);
+    for (std::size_t p = 0; p < px.size(); ++p) px[p] = Imf::Rgba(rgb[p * 3], rgb[p * 3 + 1], rgb[p * 3 + 2], 1.0f);
     Imf::RgbaOutputFile out(path.c_str(), kW, kH, Imf::WRITE_RGBA);
     out.setFrameBuffer(px.data(), 1, kW);
     out.writePixels(kH);
