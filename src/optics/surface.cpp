@@ -92,20 +92,45 @@ std::optional<double> Surface::sag(double r) const {
     return z;
 }
 
+namespace {
+
+constexpr int kRangeAngles = 64; // over a quarter turn: both sections of a surface are even
+
+void widen(std::optional<std::pair<double, double>>& range, double z) {
+    if (!range) range.emplace(z, z);
+    range->first = std::min(range->first, z);
+    range->second = std::max(range->second, z);
+}
+
+} // namespace
+
 std::optional<std::pair<double, double>> Surface::sagRange(double r) const {
-    constexpr int kRadii = 128, kAngles = 64; // kAngles over a quarter turn suffice: sections are even
+    constexpr int kRadii = 128;
     std::optional<std::pair<double, double>> range;
-    const int angles = rotationallySymmetric() ? 1 : kAngles + 1;
+    const int angles = rotationallySymmetric() ? 1 : kRangeAngles + 1;
     for (int a = 0; a < angles; ++a) {
-        const double phi = angles == 1 ? 0.0 : 0.5 * std::numbers::pi * a / kAngles;
+        const double phi = angles == 1 ? 0.0 : 0.5 * std::numbers::pi * a / kRangeAngles;
         for (int k = 0; k <= kRadii; ++k) {
             const double rho = r * k / kRadii;
             const auto z = rotationallySymmetric() ? sag(rho) : sagAt(rho * std::cos(phi), rho * std::sin(phi));
             if (!z) break;
-            if (!range) range.emplace(*z, *z);
-            range->first = std::min(range->first, *z);
-            range->second = std::max(range->second, *z);
+            widen(range, *z);
         }
+    }
+    return range;
+}
+
+std::optional<std::pair<double, double>> Surface::rimRange(double r) const {
+    if (rotationallySymmetric()) {
+        const auto z = sag(r);
+        return z ? std::optional(std::pair(*z, *z)) : std::nullopt;
+    }
+    std::optional<std::pair<double, double>> range;
+    for (int a = 0; a <= kRangeAngles; ++a) {
+        const double phi = 0.5 * std::numbers::pi * a / kRangeAngles;
+        const auto z = sagAt(r * std::cos(phi), r * std::sin(phi));
+        if (!z) return std::nullopt;
+        widen(range, *z);
     }
     return range;
 }

@@ -77,6 +77,10 @@ struct Surface {
     /// otherwise); nullopt where the shape is undefined at the axis. Past the domain's edge the
     /// samples stop.
     std::optional<std::pair<double, double>> sagRange(double r) const;
+    /// The lowest and highest sag around the rim of radius r, mm: sag(r) twice where rotationally
+    /// symmetric; sampled over a quarter turn otherwise (both sections are even). nullopt where the
+    /// shape is undefined somewhere on the rim.
+    std::optional<std::pair<double, double>> rimRange(double r) const;
     /// dz/dr at r (same domain as sag).
     std::optional<double> sagSlope(double r) const;
     /// Unit normal, oriented towards +z, at a point on the surface given in its vertex frame

@@ -24,12 +24,9 @@ PupilFrame pupilFrame(const optics::Lens& lens) {
     p.eflSign = fo.efl >= 0.0 ? 1.0 : -1.0;
     const optics::Surface& first = lens.surfaces.front();
     p.frontRadius = first.semiAperture;
-    // In front of the first surface's rim (its lowest point where it is not rotationally symmetric).
-    double rim = 0.0;
-    if (first.semiAperture > 0.0 && first.rotationallySymmetric())
-        rim = first.sag(first.semiAperture).value_or(0.0);
-    else if (first.semiAperture > 0.0)
-        rim = first.sagRange(first.semiAperture).value_or(std::pair(0.0, 0.0)).first;
+    // In front of the first surface's rim (its lowest point).
+    const double rim =
+        first.semiAperture > 0.0 ? first.rimRange(first.semiAperture).value_or(std::pair(0.0, 0.0)).first : 0.0;
     p.startZ = std::min(0.0, rim) - 1.0;
     return p;
 }

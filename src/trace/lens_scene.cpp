@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <optional>
 
 namespace ff::trace {
@@ -128,27 +127,6 @@ void occludedN(const RTCOccludedFunctionNArguments* args) {
     }
 }
 
-// The lowest and highest sag around the rim of radius r: one value where the surface is rotationally
-// symmetric; sampled over a quarter turn otherwise (both sections are even). The barrel spans from
-// the lowest point of one rim to the highest of the next.
-std::optional<std::pair<double, double>> rimRange(const optics::Surface& s, double r) {
-    if (s.rotationallySymmetric()) {
-        const auto z = s.sag(r);
-        return z ? std::optional(std::pair(*z, *z)) : std::nullopt;
-    }
-    constexpr int kAngles = 64;
-    std::optional<std::pair<double, double>> range;
-    for (int a = 0; a <= kAngles; ++a) {
-        const double phi = 0.5 * std::numbers::pi * a / kAngles;
-        const auto z = s.sagAt(r * std::cos(phi), r * std::sin(phi));
-        if (!z) return std::nullopt;
-        if (!range) range.emplace(*z, *z);
-        range->first = std::min(range->first, *z);
-        range->second = std::max(range->second, *z);
-    }
-    return range;
-}
-
 void surfaceBounds(const RTCBoundsFunctionArguments* args) {
     const auto* p = static_cast<const LensScene::SurfacePrim*>(args->geometryUserPtr);
     // z extent from the sag sampled over the aperture (Surface::sagRange), padded so float
@@ -239,7 +217,8 @@ LensScene::LensScene(EmbreeDevice& device, const LensAtWavelength& L) {
     for (std::size_t s = 0; s + 1 < surfaceCount_; ++s) {
         const double r0 = L.clipRadius[s], r1 = L.clipRadius[s + 1];
         if (r0 <= 0.0 || r1 <= 0.0) continue;
-        const auto rim0 = rimRange(lens.surfaces[s], r0), rim1 = rimRange(lens.surfaces[s + 1], r1);
+        // From the lowest point of one rim to the highest of the next (one point each where round).
+        const auto rim0 = lens.surfaces[s].rimRange(r0), rim1 = lens.surfaces[s + 1].rimRange(r1);
         if (!rim0 || !rim1) continue;
         auto b = std::make_unique<BarrelPrim>();
         b->radius = std::max(r0, r1) * (1.0 + 1e-9);

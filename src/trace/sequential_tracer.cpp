@@ -49,7 +49,7 @@ LensAtWavelength::LensAtWavelength(const optics::Lens& l, double lambda, double 
         gradientStep.push_back(0.0);
         if (!gradient[s]) continue;
         const double r = 0.5 * barrelRadius[s];
-        const auto sag = l.surfaces[s].rotationallySymmetric() ? l.surfaces[s].sag(r) : l.surfaces[s].sagAt(r, 0.0);
+        const auto sag = l.surfaces[s].sagAt(r, 0.0);
         if (!sag) continue;
         const auto probe = optics::propagate(*gradient[s], {r, 0.0, vertexZ[s] + *sag}, {0.0, 0.0, 1.0}, l.surfaces[s],
                                              vertexZ[s], l.surfaces[s + 1], vertexZ[s + 1]);

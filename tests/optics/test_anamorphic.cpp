@@ -53,10 +53,11 @@ TEST(Anamorphic, ACylindersSagAndSlopeAreTheCirclesInX) {
     EXPECT_NEAR(*turned.sagAt(0.0, 7.0), 30.0 - std::sqrt(900.0 - 49.0), 1e-12);
 }
 
-// The sag's range over a disc of radius r (what the Embree scene bounds a surface by): a cylinder's
-// runs from 0 on its axis to the circle's R - sqrt(R^2 - r^2) at x = +-r (negative for R < 0), whatever
-// the range in y; a rotationally symmetric surface's from 0 to its sag at r.
-TEST(Anamorphic, ASurfacesSagRangeOverADiscIsItsCirclesInX) {
+// The sag's range over a disc of radius r (what the Embree scene bounds a surface by) and around its
+// rim (where the barrel starts and ends): a cylinder's runs from 0 (on its axis; at y = +-r on the
+// rim) to the circle's R - sqrt(R^2 - r^2) at x = +-r (negative for R < 0); a rotationally symmetric
+// surface's from 0 to its sag at r, and its rim's is that sag alone.
+TEST(Anamorphic, ASurfacesSagRangeOverADiscAndItsRimAreItsCirclesInX) {
     const double r = 10.0;
     for (const double R : {25.0, -40.0}) {
         const auto range = cylinderAlongY(R).sagRange(r);
@@ -64,6 +65,11 @@ TEST(Anamorphic, ASurfacesSagRangeOverADiscIsItsCirclesInX) {
         const double rim = R - std::copysign(std::sqrt(R * R - r * r), R);
         EXPECT_NEAR(range->first, std::min(0.0, rim), 1e-12) << R;
         EXPECT_NEAR(range->second, std::max(0.0, rim), 1e-12) << R;
+        // Around the rim of radius r: the circle's value at x = +-r, 0 at y = +-r.
+        const auto around = cylinderAlongY(R).rimRange(r);
+        ASSERT_TRUE(around);
+        EXPECT_NEAR(around->first, std::min(0.0, rim), 1e-12) << R;
+        EXPECT_NEAR(around->second, std::max(0.0, rim), 1e-12) << R;
     }
     Surface sphere;
     sphere.radius = 25.0;
@@ -71,6 +77,7 @@ TEST(Anamorphic, ASurfacesSagRangeOverADiscIsItsCirclesInX) {
     ASSERT_TRUE(range);
     EXPECT_EQ(range->first, 0.0);
     EXPECT_NEAR(range->second, 25.0 - std::sqrt(625.0 - 100.0), 1e-12);
+    EXPECT_EQ(sphere.rimRange(r), std::pair(*sphere.sag(r), *sphere.sag(r)));
 }
 
 // A skew ray against the cylinder (x^2 + (z - R)^2 = R^2, y free), solved here as a quadratic in t;
