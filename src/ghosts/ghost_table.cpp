@@ -139,7 +139,7 @@ TableEntry fitEntry(const ShapedTable& table, std::size_t g, std::size_t w, int 
     flat.subcellPx = std::numeric_limits<double>::infinity();
     const trace::ImageFrame micron{0, 0, 1e-3};
     ShapedPolygons coarse;
-    meshPolygons(table, {g, a, 0.0, std::numeric_limits<double>::infinity()}, w, 0.0, 1.0, micron, flat, coarse);
+    meshPolygons(table, {g, a, 0.0, std::numeric_limits<double>::infinity()}, w, {}, 1.0, micron, flat, coarse);
     const PolygonMoments m = polygonMoments(coarse, micron, options.maxRadiusMm);
     if (!(m.energy > 0.0)) return e;
     // Pass 2: pixels of the fit's image, centred on the ghost.
@@ -149,7 +149,7 @@ TableEntry fitEntry(const ShapedTable& table, std::size_t g, std::size_t w, int 
     ShapedRenderSettings fine = flat;
     fine.subcellPx = 1.0;
     ShapedPolygons polys;
-    meshPolygons(table, {g, a, 0.0, 0.1}, w, 0.0, 1.0, local, fine, polys);
+    meshPolygons(table, {g, a, 0.0, 0.1}, w, {}, 1.0, local, fine, polys);
     const GhostFit f = fitGhost(polys, local, options);
     e.centroidY = f.centroidY;
     e.sigmaR = f.sigmaR;
@@ -181,6 +181,9 @@ GhostTable fitShapedTable(const ShapedTable& table, const optics::Lens& lens, co
     t.apertureBlades = lens.apertureBlades;
     t.bladeRotationDeg = lens.bladeRotationDeg;
     t.wavelengthsNm = table.wavelengthsNm;
+    // The fits describe a ghost by its radial and tangential widths about the line to the light: a
+    // two-dimensional table's ghosts have none of that symmetry, and no fits.
+    if (table.twoDimensional()) return t;
     const int A = table.angles();
     for (int a = 0; a < A; ++a) t.anglesDeg.push_back(table.angleStep() * a);
     t.directY = table.directY;

@@ -19,11 +19,13 @@
 namespace ff::ghosts {
 
 /// The fits of every stored ghost of `table` at its angles and wavelengths (parallel over entries).
-/// Progress counts entries. The lens gives the table's header (name, file, focal length, iris).
+/// Progress counts entries. The lens gives the table's header (name, file, focal length, iris). A
+/// two-dimensional table (an anamorphic lens's) gets the header only: no ghosts, no angles.
 GhostTable fitShapedTable(const ShapedTable& table, const optics::Lens& lens, const Progress& progress = {});
 
 /// The lens's table: its meshes traced (traceShapedTable) and its fits derived (fitShapedTable).
-/// Progress counts the ghosts traced, then the fits. Throws ff::Error (Input) for an anamorphic lens.
+/// Progress counts the ghosts traced, then the fits. An anamorphic lens's table is two-dimensional
+/// and has no fits.
 ShapedTable buildShapedTable(const optics::Lens& lens, const TableSettings& settings, const Progress& progress = {});
 
 /// buildShapedTable's fitted table.

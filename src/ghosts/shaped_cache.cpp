@@ -6,6 +6,7 @@
 #include "core/json_integer.h"
 #include "core/text.h"
 #include "ghosts/table_json.h"
+#include "optics/lens_loader.h"
 
 #include <nlohmann/json.hpp>
 #include <tbb/parallel_for.h>
@@ -268,7 +269,14 @@ std::string shapedTableToBytes(const ShapedTable& t, const std::string& key) {
     h["sensor_size_mm"] = {t.sensorSizeMm.first, t.sensorSizeMm.second};
     h["pupil_radius_mm"] = t.pupilRadiusMm;
     h["direct_y_mm"] = t.directY;
-    h["fitted"] = tableToJson(t.fitted, true);
+    // A two-dimensional table has no fits (fitShapedTable), its field grid instead.
+    if (t.twoDimensional())
+        h["field_grid"] = {{"x", t.fieldGrid.x},
+                           {"y", t.fieldGrid.y},
+                           {"max_tan_x", t.fieldGrid.maxTanX},
+                           {"max_tan_y", t.fieldGrid.maxTanY}};
+    else
+        h["fitted"] = tableToJson(t.fitted, true);
     h["ghost_count"] = t.ghostCount;
     h["rays"] = t.rays;
     h["angles"] = t.angles();
@@ -354,14 +362,32 @@ ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file
         t.sensorSizeMm = {size[0], size[1]};
         t.pupilRadiusMm = h.at("pupil_radius_mm").get<double>();
         t.directY = h.at("direct_y_mm").get<std::vector<std::vector<double>>>();
-        t.fitted = fittedFrom(h, file);
+        if (const auto grid = h.find("field_grid"); grid != h.end()) {
+            auto& g = t.fieldGrid;
+            g.x = jsonInteger<int>(grid->at("x"));
+            g.y = jsonInteger<int>(grid->at("y"));
+            g.maxTanX = grid->at("max_tan_x").get<double>();
+            g.maxTanY = grid->at("max_tan_y").get<double>();
+            if (g.x < 2 || g.y < 2 || g.x > 1024 || g.y > 1024 || !(g.maxTanX > 0.0 && g.maxTanX < 1e3) ||
+                !(g.maxTanY > 0.0 && g.maxTanY < 1e3))
+                throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table field grid");
+            t.fitted.lensName = t.lensName;
+            t.fitted.lensHash = t.lensHash;
+            t.fitted.settingsKey = key;
+            t.fitted.sensorZ = t.sensorZ;
+            t.fitted.sensorSizeMm = t.sensorSizeMm;
+            t.fitted.wavelengthsNm = t.wavelengthsNm;
+        } else {
+            t.fitted = fittedFrom(h, file);
+        }
         t.ghostCount = jsonInteger<std::size_t>(h.at("ghost_count"));
         t.rays = jsonInteger<std::size_t>(h.at("rays"));
         t.buildSeconds = h.value("build_seconds", 0.0);
         const int A = jsonInteger<int>(h.at("angles"));
         const std::size_t W = t.wavelengthsNm.size();
         if (A < 1 || A > 10000 || W < 1 || W > 64 || t.directY.size() != W || t.fitted.wavelengthsNm.size() != W ||
-            t.fitted.anglesDeg.size() != static_cast<std::size_t>(A))
+            (t.twoDimensional() ? A != t.fieldGrid.x * t.fieldGrid.y
+                                : t.fitted.anglesDeg.size() != static_cast<std::size_t>(A)))
             throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table dimensions");
         for (const auto& row : t.directY)
             if (row.size() != static_cast<std::size_t>(A))
@@ -412,7 +438,7 @@ ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file
     }
     if (r.at != bytes.size())
         throw Error(ErrorKind::Input, SourceLocation{file}, "shaped-table entry has trailing bytes");
-    if (t.fitted.ghosts.size() != t.ghosts.size())
+    if (!t.twoDimensional() && t.fitted.ghosts.size() != t.ghosts.size())
         throw Error(ErrorKind::Input, SourceLocation{file}, "the fitted ghosts do not match the shaped ones");
     std::vector<std::string> errors(t.ghosts.size());
     tbb::parallel_for(std::size_t(0), t.ghosts.size(), [&](std::size_t g) {
@@ -486,6 +512,7 @@ ShapedTable shapedTableFor(const optics::Lens& lens, const TableSettings& s, boo
 GhostTable tableFor(const optics::Lens& lens, const TableSettings& s, bool useCache, const Progress& progress,
                     Reporter& reporter, bool* fromCache) {
     if (fromCache) *fromCache = false;
+    optics::requireTraceable(lens); // an anamorphic lens's table has no fits
     const std::string key = shapedCacheKey(lens, s);
     const fs::path file = cacheFile(lens, s);
     // The fits are in the entry's header: only it is read.

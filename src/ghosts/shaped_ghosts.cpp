@@ -228,14 +228,61 @@ trace::Field tableField(double maxAngleDeg, std::size_t a, std::size_t A) {
     return trace::Field{degToRad(maxAngleDeg * double(a) / double(A - 1)), 0.0};
 }
 
-// One ghost's meshes at every wavelength and angle, n cells per side over the pupil rectangle
-// rects[a] (the same at every angle), weights relative to the direct image's flux direct[w * A + a];
+// The field of tangents (tx, ty) (ShapedTable::FieldGrid).
+trace::Field tangentField(double tx, double ty) {
+    return trace::Field{std::atan(std::hypot(tx, ty)), tx == 0.0 && ty == 0.0 ? 0.0 : std::atan2(-tx, ty)};
+}
+
+// The field of a table's field index a of A (ShapedTable::field).
+trace::Field fieldOf(const ShapedTable& t, std::size_t a, std::size_t A) {
+    if (!t.twoDimensional()) return tableField(t.maxAngleDeg, a, A);
+    const auto& g = t.fieldGrid;
+    const std::size_t X = static_cast<std::size_t>(g.x);
+    return tangentField(g.maxTanX * double(a % X) / (g.x - 1), g.maxTanY * double(a / X) / (g.y - 1));
+}
+
+// An anamorphic lens's field grid: per axis its tangent where the chief ray lands 5 % beyond the
+// sensor's half-width (half-height) on the axis and at the corner, the larger (or tan maxAngleDeg
+// on both when given); fields spaced about as the sensor's half-diagonal is by `angles` fields,
+// times kAnamorphicSpacing, at least 3 per axis.
+constexpr double kAnamorphicSpacing = 2.0;
+
+ShapedTable::FieldGrid anamorphicGrid(const optics::Lens& lens, double sensorZ, std::pair<double, double> sensor,
+                                      const TableSettings& s) {
+    ShapedTable::FieldGrid g;
+    const double hx = 0.525 * sensor.first, hy = 0.525 * sensor.second;
+    if (s.maxAngleDeg > 0.0) {
+        g.maxTanX = g.maxTanY = std::tan(degToRad(s.maxAngleDeg));
+    } else {
+        const double fx = std::abs(optics::paraxialEfl(optics::sectionOf(lens, optics::Section::X), lines::d));
+        const double fy = std::abs(optics::paraxialEfl(optics::sectionOf(lens, optics::Section::Y), lines::d));
+        const auto tangents = [&](double x, double y) {
+            try {
+                const trace::Field f = trace::fieldForSensorPoint(lens, sensorZ, x, y);
+                const double t = std::tan(f.angleRad);
+                return glm::dvec2(std::abs(t * std::sin(f.azimuthRad)), std::abs(t * std::cos(f.azimuthRad)));
+            } catch (const Error&) {
+                return glm::dvec2(x / fx, y / fy); // no chief ray reaches it: the paraxial field
+            }
+        };
+        const glm::dvec2 ex = tangents(hx, 0.0), ey = tangents(0.0, hy), corner = tangents(hx, hy);
+        g.maxTanX = std::max(ex.x, corner.x);
+        g.maxTanY = std::max(ey.y, corner.y);
+    }
+    const double spacing = kAnamorphicSpacing * std::hypot(hx, hy) / std::max(1, s.angles - 1);
+    g.x = std::max(3, static_cast<int>(std::ceil(hx / spacing)) + 1);
+    g.y = std::max(3, static_cast<int>(std::ceil(hy / spacing)) + 1);
+    return g;
+}
+
+// One ghost's meshes at every wavelength and field, n cells per side over the pupil rectangle
+// rects[a] (the same at every field), weights relative to the direct image's flux direct[w * A + a];
 // the apertures that cut it somewhere kept. Adds the rays traced to `rays` and the largest mesh flux
 // to `peak`.
 ShapedGhost traceGhost(const optics::Lens& lens, const std::vector<trace::LensAtWavelength>& Ls,
                        const trace::GhostPair& pair, int n, const std::vector<Rect>& rects,
-                       const trace::PupilFrame& pupil, double maxAngleDeg, const std::vector<double>& direct,
-                       std::size_t& rays, double& peak) {
+                       const trace::PupilFrame& pupil, const std::vector<trace::Field>& fields,
+                       const std::vector<double>& direct, std::size_t& rays, double& peak) {
     const std::size_t W = Ls.size(), A = rects.size();
     ShapedGhost out;
     out.pair = pair;
@@ -255,7 +302,7 @@ ShapedGhost traceGhost(const optics::Lens& lens, const std::vector<trace::LensAt
     for (std::size_t w = 0; w < W; ++w)
         for (std::size_t a = 0; a < A; ++a) {
             const Rect& r = rects[a];
-            OpenMesh m = traceMesh(Ls[w], steps, RayMaker(pupil, tableField(maxAngleDeg, a, A)), r, n);
+            OpenMesh m = traceMesh(Ls[w], steps, RayMaker(pupil, fields[a]), r, n);
             rays += m.ok.size();
             const double cellArea = (r.x1 - r.x0) * (r.y1 - r.y0) / (double(n) * n);
             const double scale = direct[w * A + a] > 0.0 ? cellArea / direct[w * A + a] : 0.0;
@@ -307,11 +354,20 @@ ShapedGhost traceGhost(const optics::Lens& lens, const std::vector<trace::LensAt
 
 } // namespace
 
+trace::Field ShapedTable::field(int a) const {
+    return fieldOf(*this, static_cast<std::size_t>(a), static_cast<std::size_t>(angles()));
+}
+
+bool ShapedTable::covers(const trace::Field& f) const {
+    constexpr double kSlack = 1.0 + 1e-9;
+    if (!twoDimensional()) return radToDeg(f.angleRad) <= maxAngleDeg * kSlack;
+    const double t = std::tan(f.angleRad);
+    return std::abs(t * std::sin(f.azimuthRad)) <= fieldGrid.maxTanX * kSlack &&
+           std::abs(t * std::cos(f.azimuthRad)) <= fieldGrid.maxTanY * kSlack;
+}
+
 ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s, const Progress& progress) {
     const auto start = std::chrono::steady_clock::now();
-    if (!lensIn.rotationallySymmetric())
-        throw Error(ErrorKind::Input, SourceLocation{lensIn.file},
-                    "the lens has anamorphic surfaces; a ghost table needs a rotationally symmetric lens");
     if (s.grid < 2 || s.grid > 512)
         throw Error(ErrorKind::Usage, "the shaped ghosts' grid must be 2 to 512 cells per side");
     if (s.angles < 2 || s.angles > 1024) throw Error(ErrorKind::Usage, "the shaped ghosts need 2 to 1024 field angles");
@@ -323,8 +379,13 @@ ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s,
     table.wavelengthsNm = s.wavelengthsNm;
     table.sensorZ = sensorZ;
     table.sensorSizeMm = s.sensorSizeMm.value_or(lens.sensorMm.value_or(std::make_pair(36.0, 24.0)));
-    table.maxAngleDeg =
-        s.maxAngleDeg > 0.0 ? s.maxAngleDeg : trace::sensorCornerFieldDeg(lens, sensorZ, table.sensorSizeMm);
+    if (lens.rotationallySymmetric()) {
+        table.maxAngleDeg =
+            s.maxAngleDeg > 0.0 ? s.maxAngleDeg : trace::sensorCornerFieldDeg(lens, sensorZ, table.sensorSizeMm);
+    } else {
+        table.fieldGrid = anamorphicGrid(lens, sensorZ, table.sensorSizeMm, s);
+        table.maxAngleDeg = radToDeg(std::atan(std::hypot(table.fieldGrid.maxTanX, table.fieldGrid.maxTanY)));
+    }
     table.iris = trace::LensAtWavelength(lens, lines::d, sensorZ, trace::LensAtWavelength::Films::Exact).iris;
     const trace::PupilFrame pupil = trace::pupilFrame(lens);
     table.pupilRadiusMm = pupil.radius;
@@ -332,8 +393,12 @@ ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s,
     table.ghostCount = pairs.size();
     std::vector<trace::LensAtWavelength> Ls;
     for (double l : s.wavelengthsNm) Ls.emplace_back(lens, l, sensorZ);
-    const std::size_t W = Ls.size(), A = static_cast<std::size_t>(s.angles), G = pairs.size();
-    auto fieldAt = [&](std::size_t a) { return tableField(table.maxAngleDeg, a, A); };
+    const std::size_t W = Ls.size(), G = pairs.size();
+    const std::size_t A = table.twoDimensional() ? static_cast<std::size_t>(table.fieldGrid.x * table.fieldGrid.y)
+                                                 : static_cast<std::size_t>(s.angles);
+    std::vector<trace::Field> fields(A);
+    for (std::size_t a = 0; a < A; ++a) fields[a] = fieldOf(table, a, A);
+    auto fieldAt = [&](std::size_t a) { return fields[a]; };
 
     // The direct image's flux and centroid per wavelength and angle.
     const auto directSteps = trace::pathSteps(lens, std::nullopt);
@@ -396,8 +461,7 @@ ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s,
     std::vector<double> peak(G, 0.0);
     std::atomic<std::size_t> done = 0;
     tbb::parallel_for(std::size_t(0), G, [&](std::size_t g) {
-        ghosts[g] =
-            traceGhost(lens, Ls, pairs[g], grids[g], rects[g], pupil, table.maxAngleDeg, direct, rays[g], peak[g]);
+        ghosts[g] = traceGhost(lens, Ls, pairs[g], grids[g], rects[g], pupil, fields, direct, rays[g], peak[g]);
         if (progress) progress(++done, 2 * G);
     });
     const double strongest = G ? *std::max_element(peak.begin(), peak.end()) : 0.0;

@@ -21,6 +21,12 @@
 // four nearest angles (the same vertex of the grid, whose square moves smoothly with the angle;
 // linearly where a ray is lost at one of them); a light at azimuth phi rotates the landing points
 // by phi and the iris by -phi in the table's frame.
+//
+// An anamorphic lens (no rotational symmetry, but mirror symmetric about the x-z and y-z planes:
+// its surfaces are biconics centred on the axis) has a table over a two-dimensional field: a grid of
+// directions uniform in their tangents over one quadrant (ShapedTable::FieldGrid), interpolated by
+// bicubic Catmull-Rom between the sixteen nearest fields; a light in another quadrant is the mirror
+// image of one in this quadrant, its landing points and its iris mirrored (docs/anamorphic.md).
 
 #include "ghosts/instancing.h"
 #include "ghosts/polygons.h"
@@ -62,7 +68,16 @@ struct ShapedGhost {
 
 struct ShapedTable {
     std::string lensName, lensHash;
+    /// The field a rotationally symmetric lens's table spans: angles() field angles uniform over
+    /// 0..maxAngleDeg at azimuth 0 (for a two-dimensional table, the largest field angle it holds).
     double maxAngleDeg = 0.0;
+    /// An anamorphic lens's field (x > 0): x * y directions of tangents (tx, ty) = tan(angle) x
+    /// (-sin azimuth, cos azimuth) (trace::Field: the side of the axis its direct image lands on)
+    /// uniform over 0..maxTanX and 0..maxTanY, the meshes [wavelength][iy * x + ix].
+    struct FieldGrid {
+        int x = 0, y = 0;
+        double maxTanX = 0.0, maxTanY = 0.0;
+    } fieldGrid;
     std::vector<double> wavelengthsNm;
     double sensorZ = 0.0;                     ///< mm from the first vertex
     std::pair<double, double> sensorSizeMm;   ///< the sensor the table covers
@@ -77,8 +92,16 @@ struct ShapedTable {
     std::size_t rays = 0;       ///< rays traced to build the table
     double buildSeconds = 0.0;
 
+    /// True for an anamorphic lens's table (over the fieldGrid).
+    bool twoDimensional() const { return fieldGrid.x > 0; }
+    /// Fields stored per ghost and wavelength: the angles, or the grid's x * y.
     int angles() const { return ghosts.empty() ? 0 : static_cast<int>(ghosts.front().meshes.front().size()); }
     double angleStep() const { return angles() > 1 ? maxAngleDeg / (angles() - 1) : 0.0; }
+    /// The field the table's field index a (of angles()) stands for.
+    trace::Field field(int a) const;
+    /// Whether the table holds the field (within 1e-9 of its extent): its angle at most maxAngleDeg,
+    /// or its tangents' magnitudes at most the grid's.
+    bool covers(const trace::Field& field) const;
     /// Bytes held by the meshes.
     std::size_t bytes() const;
 };

@@ -9,7 +9,9 @@
 
 namespace ff::ghosts {
 
-/// A ghost between two of the table's angles: a0 and a0 + 1, at fraction t.
+/// A ghost between two of the table's angles: a0 and a0 + 1, at fraction t. In a two-dimensional
+/// table (ShapedTable::FieldGrid), between its fields (a0, b0) and (a0 + 1, b0 + 1) of the grid's x
+/// and y, at fractions t and s.
 struct MeshInstance {
     std::size_t ghost = 0;
     int a0 = 0;
@@ -23,12 +25,24 @@ struct MeshInstance {
     /// Every decimation-th vertex of the mesh on each axis (a divisor of the ghost's grid): cells
     /// of decimation^2 cells, for a grid coarser than the mesh (ShapedRenderSettings::grid).
     int decimation = 1;
+    int b0 = 0;
+    double s = 0.0;
+};
+
+/// Where a light puts the table's ghosts: their landing points turned by azimuthRad, then mirrored
+/// (x times mirrorX, y times mirrorY, each +-1), and the iris seen from the table's frame the
+/// inverse way (a light in another quadrant of a two-dimensional table is the mirror image of one
+/// in the table's).
+struct Placement {
+    double azimuthRad = 0.0;
+    double mirrorX = 1.0, mirrorY = 1.0;
 };
 
 /// Cuts the ghost's mesh at wavelength w into clipped polygons in `frame`'s pixels, appended to `out`:
-/// its landing points turned by azimuthRad (the iris by -azimuthRad in the table's frame), every
-/// polygon's energy scaled by `flux`, cells subdivided as ShapedRenderSettings says.
-void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t w, double azimuthRad, double flux,
-                  const trace::ImageFrame& frame, const ShapedRenderSettings& settings, ShapedPolygons& out);
+/// placed as `placement` says, every polygon's energy scaled by `flux`, cells subdivided as
+/// ShapedRenderSettings says.
+void meshPolygons(const ShapedTable& table, const MeshInstance& in, std::size_t w, const Placement& placement,
+                  double flux, const trace::ImageFrame& frame, const ShapedRenderSettings& settings,
+                  ShapedPolygons& out);
 
 } // namespace ff::ghosts

@@ -17,10 +17,11 @@ namespace ff::ghosts {
 
 namespace {
 
-// One light's ghost at the two table angles around its field angle.
+// One light's ghost at the two table angles around its field angle (the four fields around it).
 struct Instance {
     std::size_t light;
     MeshInstance mesh;
+    Placement placement;
     double flux = 0.0;                   ///< summed over the channels
     std::array<double, 3> channelFlux{}; ///< per channel
 };
@@ -97,7 +98,7 @@ Drawn drawInstances(const ShapedTable& table, const std::vector<ShapedLight>& li
             const Instance& in = instances[i0 + k / W];
             polys[k] = {};
             const ShapedLight& light = lights[in.light];
-            meshPolygons(table, in.mesh, k % W, light.field.azimuthRad, light.flux[k % W], frame, settings, polys[k]);
+            meshPolygons(table, in.mesh, k % W, in.placement, light.flux[k % W], frame, settings, polys[k]);
         });
         if (raster)
             for (std::size_t k = 0; k < (i1 - i0) * W; ++k) raster->draw(k % W, polys[k]);
@@ -187,24 +188,68 @@ namespace {
 
 // Per light: the interpolation between table angles and its ghosts kept after culling (the culled
 // counted in out).
+// Where a light falls in the table: between which fields, and how the table's ghosts are placed.
+struct TablePosition {
+    MeshInstance mesh;
+    Placement placement;
+};
+
+// Between fields i0 and i0 + 1 of `count` uniform over 0..extent: (i0, fraction), clamped.
+std::pair<int, double> bracket(double value, double extent, int count) {
+    const double x = count > 1 && extent > 0.0 ? std::clamp(value, 0.0, extent) / extent * (count - 1) : 0.0;
+    const int i0 = std::clamp(static_cast<int>(std::floor(x)), 0, std::max(0, count - 2));
+    return {i0, count > 1 ? std::clamp(x - i0, 0.0, 1.0) : 0.0};
+}
+
+TablePosition positionOf(const ShapedTable& table, const trace::Field& field) {
+    TablePosition p;
+    if (!table.twoDimensional()) {
+        const int A = table.angles();
+        const double deg = std::clamp(radToDeg(field.angleRad), 0.0, table.maxAngleDeg);
+        const double x = A > 1 ? deg / table.angleStep() : 0.0;
+        p.mesh.a0 = std::clamp(static_cast<int>(std::floor(x)), 0, std::max(0, A - 2));
+        p.mesh.t = A > 1 ? std::clamp(x - p.mesh.a0, 0.0, 1.0) : 0.0;
+        p.placement.azimuthRad = field.azimuthRad;
+        return p;
+    }
+    // The field's tangents (ShapedTable::FieldGrid), mirrored into the table's quadrant.
+    const double tan = std::tan(field.angleRad);
+    const double tx = -tan * std::sin(field.azimuthRad), ty = tan * std::cos(field.azimuthRad);
+    p.placement.mirrorX = tx < 0.0 ? -1.0 : 1.0;
+    p.placement.mirrorY = ty < 0.0 ? -1.0 : 1.0;
+    std::tie(p.mesh.a0, p.mesh.t) = bracket(std::abs(tx), table.fieldGrid.maxTanX, table.fieldGrid.x);
+    std::tie(p.mesh.b0, p.mesh.s) = bracket(std::abs(ty), table.fieldGrid.maxTanY, table.fieldGrid.y);
+    return p;
+}
+
+// A ghost's flux at a table position and wavelength, interpolated linearly between its fields.
+double fluxAt(const ShapedTable& table, const ShapedGhost& g, std::size_t w, const MeshInstance& in) {
+    const auto& m = g.meshes[w];
+    if (!table.twoDimensional()) {
+        const int A = table.angles();
+        return (1.0 - in.t) * m[in.a0].flux + in.t * m[std::min(in.a0 + 1, A - 1)].flux;
+    }
+    const int X = table.fieldGrid.x, Y = table.fieldGrid.y;
+    const auto at = [&](int i, int j) {
+        return m[static_cast<std::size_t>(std::min(j, Y - 1)) * X + std::min(i, X - 1)].flux;
+    };
+    return (1.0 - in.s) * ((1.0 - in.t) * at(in.a0, in.b0) + in.t * at(in.a0 + 1, in.b0)) +
+           in.s * ((1.0 - in.t) * at(in.a0, in.b0 + 1) + in.t * at(in.a0 + 1, in.b0 + 1));
+}
+
 std::vector<Instance> keptInstances(const ShapedTable& table, const std::vector<ShapedLight>& lights,
                                     const ShapedRenderSettings& settings, ShapedRender& out) {
     std::vector<Instance> instances;
     const std::size_t W = std::min<std::size_t>(3, table.wavelengthsNm.size()), G = table.ghosts.size();
-    const int A = table.angles();
     for (std::size_t l = 0; l < lights.size(); ++l) {
-        const double deg = std::clamp(radToDeg(lights[l].field.angleRad), 0.0, table.maxAngleDeg);
-        const double x = A > 1 ? deg / table.angleStep() : 0.0;
-        const int a0 = std::clamp(static_cast<int>(std::floor(x)), 0, std::max(0, A - 2));
-        const double t = A > 1 ? std::clamp(x - a0, 0.0, 1.0) : 0.0;
+        const TablePosition at = positionOf(table, lights[l].field);
         std::vector<std::pair<double, std::size_t>> flux;
         std::vector<std::array<double, 3>> perChannel(G);
         double total = 0.0;
         for (std::size_t g = 0; g < G; ++g) {
             double f = 0.0;
             for (std::size_t w = 0; w < W; ++w) {
-                const auto& m = table.ghosts[g].meshes[w];
-                perChannel[g][w] = lights[l].flux[w] * ((1.0 - t) * m[a0].flux + t * m[std::min(a0 + 1, A - 1)].flux);
+                perChannel[g][w] = lights[l].flux[w] * fluxAt(table, table.ghosts[g], w, at.mesh);
                 f += perChannel[g][w];
             }
             flux.push_back({f, g});
@@ -219,7 +264,8 @@ std::vector<Instance> keptInstances(const ShapedTable& table, const std::vector<
                 ++out.culled;
                 continue;
             }
-            Instance in{l, {g, a0, t, 0.0, 0.0}, f};
+            Instance in{l, at.mesh, at.placement, f};
+            in.mesh.ghost = g;
             in.mesh.irradianceError = settings.irradianceError;
             in.channelFlux = perChannel[g];
             instances.push_back(in);
@@ -235,9 +281,8 @@ struct Estimates {
     std::vector<std::array<double, 3>> norm2, jump2, perimeterPx;
 };
 
-Estimates estimateInstances(const ShapedTable& table, const std::vector<ShapedLight>& lights,
-                            const std::vector<Instance>& instances, const trace::ImageFrame& frame, std::size_t W,
-                            const ShapedRenderSettings& settings) {
+Estimates estimateInstances(const ShapedTable& table, const std::vector<Instance>& instances,
+                            const trace::ImageFrame& frame, std::size_t W, const ShapedRenderSettings& settings) {
     // Per instance and channel, from its mesh at the lower table angle: the cells' irradiance I
     // (flux per pixel, a cell carrying light where a corner passes every aperture), its squared norm
     // sum I^2 a (a lower bound of the ghost's: Cauchy-Schwarz within each cell), its jumps sum over
@@ -254,7 +299,10 @@ Estimates estimateInstances(const ShapedTable& table, const std::vector<ShapedLi
     tbb::parallel_for(std::size_t(0), instances.size() * W, [&](std::size_t k) {
         const std::size_t i = k / W, w = k % W;
         const ShapedGhost& gh = table.ghosts[instances[i].mesh.ghost];
-        const ShapedMesh& m = gh.meshes[w][instances[i].mesh.a0];
+        const MeshInstance& mi = instances[i].mesh;
+        const ShapedMesh& m =
+            gh.meshes[w][table.twoDimensional() ? static_cast<std::size_t>(mi.b0) * table.fieldGrid.x + mi.a0
+                                                : static_cast<std::size_t>(mi.a0)];
         if (m.data.empty()) return;
         const int n = gh.grid;
         const std::size_t stride = gh.stride();
@@ -274,13 +322,13 @@ Estimates estimateInstances(const ShapedTable& table, const std::vector<ShapedLi
         };
         std::vector<double> I(static_cast<std::size_t>(n) * n, 0.0), cellArea(I.size(), 0.0);
         std::vector<char> inFrame(I.size(), 1);
-        // Where the light's cells land (turned by its azimuth), for the grid's and the frame's extents.
-        const double cs = std::cos(lights[instances[i].light].field.azimuthRad),
-                     sn = std::sin(lights[instances[i].light].field.azimuthRad);
+        // Where the light's cells land (placed as it places them), for the grid's and the frame's extents.
+        const Placement& place = instances[i].placement;
+        const double cs = std::cos(place.azimuthRad), sn = std::sin(place.azimuthRad);
         const auto& g = settings.grid;
         auto centre = [&](const float* p, const float* q, const float* r, const float* u) {
             const double x = 0.25 * (double(p[0]) + q[0] + r[0] + u[0]), y = 0.25 * (double(p[1]) + q[1] + r[1] + u[1]);
-            return frame.sensorToPixel(cs * x - sn * y, sn * x + cs * y);
+            return frame.sensorToPixel(place.mirrorX * (cs * x - sn * y), place.mirrorY * (sn * x + cs * y));
         };
         double meshArea = 0.0, weights = 0.0;
         double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
@@ -349,7 +397,7 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
     std::vector<Instance> instances = keptInstances(table, lights, settings, out);
     out.drawn = instances.size();
 
-    const Estimates estimates = estimateInstances(table, lights, instances, frame, W, settings);
+    const Estimates estimates = estimateInstances(table, instances, frame, W, settings);
     const auto& [irradiance, norm2, jump2, perimeterPx] = estimates;
     // Each instance's tolerances: settings.flatnessPx for the instance of highest mean irradiance,
     // growing in inverse proportion to the irradiance up to settings.maxFlatnessPx: a ghost's share

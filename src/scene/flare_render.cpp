@@ -44,7 +44,7 @@ DiffractionSettings diffractionSettings(const FlareSettings& s) {
 }
 
 void requireLensFor(const optics::Lens& lens, const FlareSettings& s) {
-    const bool anyLens = s.mode == RenderMode::Traced ||
+    const bool anyLens = s.mode == RenderMode::Traced || s.mode == RenderMode::Shaped ||
                          (s.mode == RenderMode::Diffraction && s.diffraction == DiffractionRule::Physical);
     if (!anyLens) optics::requireTraceable(lens);
 }
@@ -79,10 +79,13 @@ RenderedFlare renderFlare(const optics::Lens& lens, const std::vector<ghosts::Li
         ss.sensorSizeMm = s.sensorMm;
         const ghosts::ShapedTable tab =
             s.loadShaped ? s.loadShaped(lens, ss) : ghosts::shapedTableFor(lens, ss, s.useCache, orNull(nullptr));
-        if (s.field && radToDeg(s.field->angleRad) > tab.maxAngleDeg * (1.0 + 1e-9))
-            throw Error(ErrorKind::Usage, "field angle " + text::fixed(radToDeg(s.field->angleRad), 2) +
-                                              " deg is beyond the table's largest, " + text::fixed(tab.maxAngleDeg, 2) +
-                                              " deg: raise --max-angle");
+        if (s.field && !tab.covers(*s.field))
+            throw Error(ErrorKind::Usage,
+                        "field angle " + text::fixed(radToDeg(s.field->angleRad), 2) + " deg is beyond the table's " +
+                            (tab.twoDimensional() ? "field (tangents up to " + text::fixed(tab.fieldGrid.maxTanX, 4) +
+                                                        " in x, " + text::fixed(tab.fieldGrid.maxTanY, 4) + " in y)"
+                                                  : "largest, " + text::fixed(tab.maxAngleDeg, 2) + " deg") +
+                            ": raise --max-angle");
         r.image = s.field ? drawShaped(tab, {{*s.field, {1.0, 1.0, 1.0}}}, t.frame, &r.shaped, s.raster)
                           : renderShapedScene(lens, tab, lights, t.frame, t.sensor, &r.shaped, nullptr, s.raster);
         r.shapedStored = tab.ghosts.size();

@@ -58,8 +58,8 @@ struct RenderedFlare {
 /// The diffraction driver's settings of a flare request.
 DiffractionSettings diffractionSettings(const FlareSettings& settings);
 
-/// Throws ff::Error (Input) for a lens the request cannot take: an anamorphic one, unless traced
-/// (render's traced mode) or through the aberration-free PSF (diffraction mode, physical rule).
+/// Throws ff::Error (Input) for a lens the request cannot take: an anamorphic one, unless traced or
+/// shaped, or through the aberration-free PSF (diffraction mode, physical rule).
 void requireLensFor(const optics::Lens& lens, const FlareSettings& settings);
 
 /// The lights' flare in settings.mode (fitted and fourier through the lens's ghost table).

@@ -258,7 +258,7 @@ fourier::FlareImage renderShapedScene(const optics::Lens& lens, const ghosts::Sh
             const trace::Field f = trace::fieldForSensorPoint(lens, sensorZ, s.x, s.y);
             // Beyond the table's field the ghosts are not known (the table spans the sensor's
             // half-diagonal where the lens images it).
-            if (outside && radToDeg(f.angleRad) > table.maxAngleDeg * (1.0 + 1e-9)) {
+            if (outside && !table.covers(f)) {
                 ++*outside;
                 continue;
             }
