@@ -16,6 +16,7 @@
 #include "gpu/backend_choice.h"
 #include "image/light_detection.h"
 #include "image/plate.h"
+#include "optics/lens_loader.h"
 #include "scene/scene.h"
 #include "scene/simulation.h"
 
@@ -270,7 +271,7 @@ class SimulateCommand {
         }
         s.detection = image::parseThreshold(o.threshold);
         s.detection.blockSize = o.block;
-        lens = loadTraceableLens(o.lens, o.table.zoom, reporter_);
+        lens = optics::loadLensAt(o.lens, o.table.zoom, &reporter_);
         for (const std::string& l : o.lights) manualLights_.push_back(scene::parseLight(l));
         if (!o.lightsFile.empty()) {
             const auto more = scene::readLightsJson(o.lightsFile);
@@ -282,6 +283,7 @@ class SimulateCommand {
         }
         s.fovDeg = o.fov;
         scene::checkSettings(s);
+        scene::requireLensFor(lens, s);
         s.table = table.settings();
         // Options checked first: the backend (EGL) is touched last. The GL backend draws the shaped
         // model's polygons, or aggregates the fitted models with the Fourier options.

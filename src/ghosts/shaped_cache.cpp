@@ -333,6 +333,19 @@ GhostTable fittedFrom(const nlohmann::json& h, const std::string& file) {
     return t;
 }
 
+// A two-dimensional table's field grid from its header.
+ShapedTable::FieldGrid fieldGridFrom(const nlohmann::json& j, const std::string& file) {
+    ShapedTable::FieldGrid g;
+    g.x = jsonInteger<int>(j.at("x"));
+    g.y = jsonInteger<int>(j.at("y"));
+    g.maxTanX = j.at("max_tan_x").get<double>();
+    g.maxTanY = j.at("max_tan_y").get<double>();
+    if (g.x < 2 || g.y < 2 || g.x > 1024 || g.y > 1024 || !(g.maxTanX > 0.0 && g.maxTanX < 1e3) ||
+        !(g.maxTanY > 0.0 && g.maxTanY < 1e3))
+        throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table field grid");
+    return g;
+}
+
 } // namespace
 
 ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file, std::string& key) {
@@ -363,14 +376,7 @@ ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file
         t.pupilRadiusMm = h.at("pupil_radius_mm").get<double>();
         t.directY = h.at("direct_y_mm").get<std::vector<std::vector<double>>>();
         if (const auto grid = h.find("field_grid"); grid != h.end()) {
-            auto& g = t.fieldGrid;
-            g.x = jsonInteger<int>(grid->at("x"));
-            g.y = jsonInteger<int>(grid->at("y"));
-            g.maxTanX = grid->at("max_tan_x").get<double>();
-            g.maxTanY = grid->at("max_tan_y").get<double>();
-            if (g.x < 2 || g.y < 2 || g.x > 1024 || g.y > 1024 || !(g.maxTanX > 0.0 && g.maxTanX < 1e3) ||
-                !(g.maxTanY > 0.0 && g.maxTanY < 1e3))
-                throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table field grid");
+            t.fieldGrid = fieldGridFrom(*grid, file);
             t.fitted.lensName = t.lensName;
             t.fitted.lensHash = t.lensHash;
             t.fitted.settingsKey = key;

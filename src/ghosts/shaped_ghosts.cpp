@@ -275,10 +275,109 @@ ShapedTable::FieldGrid anamorphicGrid(const optics::Lens& lens, double sensorZ, 
     return g;
 }
 
+// Least squares over the points (u, v) -> z of a tensor product of polynomials of degree `degree`
+// (0..2) in u and in v: the coefficients c[i + (degree + 1) j] of u^i v^j; empty when singular.
+std::vector<double> fitPolynomial(const std::vector<glm::dvec3>& points, int degree) {
+    const int n = (degree + 1) * (degree + 1);
+    const auto basis = [&](double u, double v) {
+        std::vector<double> b(static_cast<std::size_t>(n));
+        for (int j = 0; j <= degree; ++j)
+            for (int i = 0; i <= degree; ++i)
+                b[static_cast<std::size_t>(i + (degree + 1) * j)] = std::pow(u, i) * std::pow(v, j);
+        return b;
+    };
+    // The normal equations, solved by Gaussian elimination with partial pivoting.
+    const std::size_t N = static_cast<std::size_t>(n);
+    std::vector<double> a(N * (N + 1), 0.0);
+    for (const glm::dvec3& p : points) {
+        const std::vector<double> b = basis(p.x, p.y);
+        for (std::size_t r = 0; r < N; ++r) {
+            for (std::size_t c = 0; c < N; ++c) a[r * (N + 1) + c] += b[r] * b[c];
+            a[r * (N + 1) + N] += b[r] * p.z;
+        }
+    }
+    for (std::size_t k = 0; k < N; ++k) {
+        std::size_t pivot = k;
+        for (std::size_t r = k + 1; r < N; ++r)
+            if (std::abs(a[r * (N + 1) + k]) > std::abs(a[pivot * (N + 1) + k])) pivot = r;
+        if (!(std::abs(a[pivot * (N + 1) + k]) > 1e-12 * (1.0 + std::abs(a[0])))) return {};
+        for (std::size_t c = 0; c <= N; ++c) std::swap(a[k * (N + 1) + c], a[pivot * (N + 1) + c]);
+        for (std::size_t r = 0; r < N; ++r) {
+            if (r == k) continue;
+            const double f = a[r * (N + 1) + k] / a[k * (N + 1) + k];
+            for (std::size_t c = k; c <= N; ++c) a[r * (N + 1) + c] -= f * a[k * (N + 1) + c];
+        }
+    }
+    std::vector<double> c(N);
+    for (std::size_t k = 0; k < N; ++k) c[k] = a[k * (N + 1) + N] / a[k * (N + 1) + k];
+    return c;
+}
+
+double polynomialAt(const std::vector<double>& c, int degree, double u, double v) {
+    double z = 0.0;
+    for (int j = 0; j <= degree; ++j)
+        for (int i = 0; i <= degree; ++i)
+            z += c[static_cast<std::size_t>(i + (degree + 1) * j)] * std::pow(u, i) * std::pow(v, j);
+    return z;
+}
+
+// A two-dimensional table's pupil rectangles of one ghost, per field of the grid: each side a
+// biquadratic in the field's grid position (bilinear below 18 lit fields, constant below 4), fitted
+// by least squares to the sides of the probes' boxes where the ghost is lit (probes[first + a]),
+// then moved out until the rectangles contain every such box, and kept within `bounds` (the union of
+// the boxes). Smooth over the field, they keep each vertex of the mesh a pupil point moving smoothly
+// with it, which the bicubic interpolation between fields follows; one rectangle for all the fields
+// of a quadrant would cover 5 to 17 times the area a field's light needs (the pupil point of a
+// field's light moves with its tangent: docs/anamorphic.md).
+std::vector<Rect> smoothRects(const std::vector<Probe>& probes, std::size_t first, const ShapedTable::FieldGrid& grid,
+                              const std::vector<std::size_t>& lit, const Rect& bounds) {
+    const std::size_t A = static_cast<std::size_t>(grid.x * grid.y);
+    const auto uv = [&](std::size_t a) {
+        return glm::dvec2(double(a % grid.x) / (grid.x - 1), double(a / grid.x) / (grid.y - 1));
+    };
+    int degree = lit.size() >= 18 ? 2 : lit.size() >= 4 ? 1 : 0;
+    std::array<std::vector<double>, 4> fits;
+    for (; degree >= 0; --degree) {
+        bool ok = true;
+        for (int side = 0; side < 4 && ok; ++side) {
+            std::vector<glm::dvec3> points;
+            for (std::size_t a : lit) {
+                const Rect& r = probes[first + a].rect;
+                const double z[4] = {r.x0, r.y0, r.x1, r.y1};
+                points.push_back({uv(a), z[side]});
+            }
+            fits[side] = fitPolynomial(points, degree);
+            ok = !fits[side].empty();
+        }
+        if (ok) break;
+    }
+    if (degree < 0) return std::vector<Rect>(A, bounds);
+    // Moved out by the largest amount a box reaches beyond its fitted side.
+    std::array<double, 4> out{};
+    for (std::size_t a : lit) {
+        const Rect& r = probes[first + a].rect;
+        const glm::dvec2 p = uv(a);
+        out[0] = std::max(out[0], polynomialAt(fits[0], degree, p.x, p.y) - r.x0);
+        out[1] = std::max(out[1], polynomialAt(fits[1], degree, p.x, p.y) - r.y0);
+        out[2] = std::max(out[2], r.x1 - polynomialAt(fits[2], degree, p.x, p.y));
+        out[3] = std::max(out[3], r.y1 - polynomialAt(fits[3], degree, p.x, p.y));
+    }
+    std::vector<Rect> rects(A);
+    for (std::size_t a = 0; a < A; ++a) {
+        const glm::dvec2 p = uv(a);
+        Rect r{std::max(bounds.x0, polynomialAt(fits[0], degree, p.x, p.y) - out[0]),
+               std::max(bounds.y0, polynomialAt(fits[1], degree, p.x, p.y) - out[1]),
+               std::min(bounds.x1, polynomialAt(fits[2], degree, p.x, p.y) + out[2]),
+               std::min(bounds.y1, polynomialAt(fits[3], degree, p.x, p.y) + out[3])};
+        rects[a] = r.empty() ? bounds : r;
+    }
+    return rects;
+}
+
 // One ghost's meshes at every wavelength and field, n cells per side over the pupil rectangle
-// rects[a] (the same at every field), weights relative to the direct image's flux direct[w * A + a];
-// the apertures that cut it somewhere kept. Adds the rays traced to `rays` and the largest mesh flux
-// to `peak`.
+// rects[a] (the same at every angle of a rotationally symmetric lens's table), weights relative to the direct image's
+// flux direct[w * A + a]; the apertures that cut it somewhere kept. Adds the rays traced to `rays` and the largest mesh
+// flux to `peak`.
 ShapedGhost traceGhost(const optics::Lens& lens, const std::vector<trace::LensAtWavelength>& Ls,
                        const trace::GhostPair& pair, int n, const std::vector<Rect>& rects,
                        const trace::PupilFrame& pupil, const std::vector<trace::Field>& fields,
@@ -415,7 +514,8 @@ ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s,
     // all cover the rectangle over its light at every angle: a vertex is then the same pupil point at
     // every angle, and interpolating between angles follows that ray (rectangles fitted per angle
     // move in steps of the probe's spacing, and a vertex interpolated between two of them mixes two
-    // rays; docs/ghost-table.md, "One rectangle per angle").
+    // rays; docs/ghost-table.md, "One rectangle per angle"). A two-dimensional table's rectangles
+    // follow the light smoothly over the field instead (smoothRects).
     const std::size_t mid = W / 2;
     std::vector<Probe> probes(G * A);
     tbb::parallel_for(std::size_t(0), G * A, [&](std::size_t t) {
@@ -441,7 +541,10 @@ ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s,
             const Rect& r = probes[g * A + a].rect;
             u = {std::min(u.x0, r.x0), std::min(u.y0, r.y0), std::max(u.x1, r.x1), std::max(u.y1, r.y1)};
         }
-        rects[g].assign(A, u);
+        if (table.twoDimensional())
+            rects[g] = smoothRects(probes, g * A, table.fieldGrid, lit, u);
+        else
+            rects[g].assign(A, u);
     }
     const std::size_t rayCount = probes.size() * (kCoarse + 1) * (kCoarse + 1);
     probes.clear();

@@ -55,9 +55,11 @@ struct ShapedMesh {
 
 struct ShapedGhost {
     trace::GhostPair pair;
-    int grid = 0;                                ///< cells per side of its pupil meshes
-    double pupilX0 = 0.0, pupilY0 = 0.0;         ///< the square of the pupil plane its meshes cover, mm:
-    double pupilX1 = 0.0, pupilY1 = 0.0;         ///< corners (x0, y0) .. (x1, y1), the same at every angle
+    int grid = 0; ///< cells per side of its pupil meshes
+    /// The rectangle of the pupil plane its meshes cover, mm: corners (x0, y0) .. (x1, y1), the same
+    /// at every angle (a two-dimensional table's follow the light from field to field: the first field's).
+    double pupilX0 = 0.0, pupilY0 = 0.0;
+    double pupilX1 = 0.0, pupilY1 = 0.0;
     std::vector<std::size_t> apertureSteps;      ///< path steps whose clear-aperture margin is stored
     std::size_t stopCrossings = 0;               ///< times the path crosses the stop (hit points stored)
     std::vector<std::vector<ShapedMesh>> meshes; ///< [wavelength][angle]

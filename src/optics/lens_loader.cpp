@@ -80,9 +80,9 @@ Lens loadTraceableLens(const std::filesystem::path& path, const std::string& zoo
 void requireTraceable(const Lens& lens) {
     if (!lens.rotationallySymmetric())
         throw Error(ErrorKind::Input, SourceLocation{lens.file},
-                    "the lens has anamorphic surfaces: only the traced flare (render --mode traced) and the "
-                    "aberration-free diffraction (render --mode diffraction --diffraction physical) take it so far; "
-                    "the ghost tables, their fits and the traced wavefront need a rotationally symmetric lens");
+                    "the lens has anamorphic surfaces: the traced and shaped flares and the aberration-free "
+                    "diffraction take it; the fitted ghosts (their table, fits and exports) and the traced "
+                    "wavefront need a rotationally symmetric lens");
 }
 
 } // namespace ff::optics

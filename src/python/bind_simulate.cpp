@@ -86,7 +86,7 @@ py::dict simulate(const FloatArray& plateArray, const optics::Lens& lens, const 
     Interruptible watch(progress);
     DeferredReporter reporter;
     loadTablesThrough(s, watch, reporter);
-    optics::requireTraceable(lens);
+    scene::requireLensFor(lens, s);
     // The backend last, after every argument has been checked. As the CLI: the GL backend draws the
     // shaped polygons, or aggregates the fitted models and composites on the device.
     drawOn(backend, s, reporter, s.ghostModel == scene::GhostModel::Shaped,

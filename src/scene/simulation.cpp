@@ -18,6 +18,18 @@
 
 namespace ff::scene {
 
+void requireLensFor(const optics::Lens& lens, const SimulationSettings& s) {
+    if (lens.rotationallySymmetric()) return;
+    if (s.ghostModel != GhostModel::Shaped)
+        throw Error(ErrorKind::Input, SourceLocation{lens.file},
+                    std::string("the lens has anamorphic surfaces: its ghosts are drawn by the shaped model, not ") +
+                        toString(s.ghostModel) + " (the fits need a rotationally symmetric lens)");
+    if (s.diffraction == DiffractionRule::Traced)
+        throw Error(ErrorKind::Input, SourceLocation{lens.file},
+                    "the lens has anamorphic surfaces: its diffraction is the aberration-free PSF's (physical), "
+                    "not traced (the traced wavefront needs a rotationally symmetric lens)");
+}
+
 void checkSettings(const SimulationSettings& s) {
     if (s.gain < 0.0 || !std::isfinite(s.gain))
         throw Error(ErrorKind::Usage, "the flare gain must be a finite number >= 0");

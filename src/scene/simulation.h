@@ -74,6 +74,11 @@ struct SimulatedPlate {
 /// options before it opens a device.
 void checkSettings(const SimulationSettings& settings);
 
+/// Throws ff::Error (Input, naming the lens file) for a lens the simulation cannot take: an
+/// anamorphic one, unless its ghosts are shaped (the two-dimensional table) and its diffraction is
+/// the aberration-free PSF's or off.
+void requireLensFor(const optics::Lens& lens, const SimulationSettings& settings);
+
 class Simulation {
   public:
     /// Checks the settings (ff::Error, Usage) and finds the lens's aperture for the diffraction

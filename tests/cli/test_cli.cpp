@@ -60,13 +60,13 @@ TEST(Cli, LensInfoReportsBothSectionsOfAnAnamorphic) {
     EXPECT_FALSE(round["first_order"][0].contains("section_x"));
     EXPECT_FALSE(round["first_order"][0].contains("squeeze"));
     ff::test::TempDir dir;
-    const std::string shaped = (dir / "shaped.exr").string(), traced = (dir / "traced.exr").string();
-    const RunResult refused = run("render " + lens + " --mode shaped --light 10,10 -o '" + shaped + "'");
+    const std::string fitted = (dir / "fitted.exr").string(), traced = (dir / "traced.exr").string();
+    const RunResult refused = run("render " + lens + " --mode fitted --light 10,10 -o '" + fitted + "'");
     EXPECT_EQ(refused.code, 2);
-    EXPECT_TRUE(
-        contains(refused.err, "only the traced flare (render --mode traced) and the aberration-free diffraction"))
+    EXPECT_TRUE(contains(refused.err, "the fitted ghosts (their table, fits and exports) and the traced wavefront need "
+                                      "a rotationally symmetric lens"))
         << refused.err;
-    EXPECT_FALSE(std::filesystem::exists(shaped));
+    EXPECT_FALSE(std::filesystem::exists(fitted));
     // The traced flare takes it (coarse: the anamorphic traces are checked in tests/trace).
     // Its EXR in sensor pixels with the squeeze as the pixel aspect ratio; the preview desqueezed when
     // asked: 160 x 90 becomes 320 x 90.
