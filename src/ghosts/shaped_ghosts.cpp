@@ -147,6 +147,7 @@ auto marginsOf(const OpenMesh& m) {
 struct Probe {
     Rect rect;
     double flux = 0.0, landingArea = 0.0;
+    Rect square; ///< the square searched
 };
 
 Probe probe(const trace::LensAtWavelength& L, const std::vector<trace::PathStep>& steps, const trace::PupilFrame& pupil,
@@ -171,6 +172,7 @@ Probe probe(const trace::LensAtWavelength& L, const std::vector<trace::PathStep>
                     std::max(land.y1, m.land[v].y)};
         }
     Probe out;
+    out.square = {-h, -h, h, h};
     if (!(box.x1 > box.x0)) return out;
     out.rect = {std::max(box.x0, -h), std::max(box.y0, -h), std::min(box.x1, h), std::min(box.y1, h)};
     out.flux = cell * cell * meshFlux(kCoarse, m.ok, m.weight, m.steps, marginsOf(m));
@@ -324,11 +326,14 @@ double polynomialAt(const std::vector<double>& c, int degree, double u, double v
 // A two-dimensional table's pupil rectangles of one ghost, per field of the grid: each side a
 // biquadratic in the field's grid position (bilinear below 18 lit fields, constant below 4), fitted
 // by least squares to the sides of the probes' boxes where the ghost is lit (probes[first + a]),
-// then moved out until the rectangles contain every such box, and kept within `bounds` (the union of
-// the boxes). Smooth over the field, they keep each vertex of the mesh a pupil point moving smoothly
-// with it, which the bicubic interpolation between fields follows; one rectangle for all the fields
-// of a quadrant would cover 5 to 17 times the area a field's light needs (the pupil point of a
-// field's light moves with its tangent: docs/anamorphic.md).
+// then moved out until the rectangles contain every such box, and kept within each field's searched
+// square (at a field where the probe found no light the ghost may still hold a sliver narrower than
+// its spacing, near a vignetting onset: the rectangle follows the fit there, not the lit boxes);
+// `bounds` (the union of the boxes) where no fit can be made. Smooth over the field, they keep each
+// vertex of the mesh a pupil point moving smoothly with it, which the bicubic interpolation between
+// fields follows; one rectangle for all the fields of a quadrant would cover 5 to 17 times the area
+// a field's light needs (the pupil point of a field's light moves with its tangent:
+// docs/anamorphic.md).
 std::vector<Rect> smoothRects(const std::vector<Probe>& probes, std::size_t first, const ShapedTable::FieldGrid& grid,
                               const std::vector<std::size_t>& lit, const Rect& bounds) {
     const std::size_t A = static_cast<std::size_t>(grid.x * grid.y);
@@ -365,10 +370,11 @@ std::vector<Rect> smoothRects(const std::vector<Probe>& probes, std::size_t firs
     std::vector<Rect> rects(A);
     for (std::size_t a = 0; a < A; ++a) {
         const glm::dvec2 p = uv(a);
-        Rect r{std::max(bounds.x0, polynomialAt(fits[0], degree, p.x, p.y) - out[0]),
-               std::max(bounds.y0, polynomialAt(fits[1], degree, p.x, p.y) - out[1]),
-               std::min(bounds.x1, polynomialAt(fits[2], degree, p.x, p.y) + out[2]),
-               std::min(bounds.y1, polynomialAt(fits[3], degree, p.x, p.y) + out[3])};
+        const Rect& square = probes[first + a].square;
+        Rect r{std::max(square.x0, polynomialAt(fits[0], degree, p.x, p.y) - out[0]),
+               std::max(square.y0, polynomialAt(fits[1], degree, p.x, p.y) - out[1]),
+               std::min(square.x1, polynomialAt(fits[2], degree, p.x, p.y) + out[2]),
+               std::min(square.y1, polynomialAt(fits[3], degree, p.x, p.y) + out[3])};
         rects[a] = r.empty() ? bounds : r;
     }
     return rects;
