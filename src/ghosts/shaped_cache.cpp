@@ -270,12 +270,13 @@ std::string shapedTableToBytes(const ShapedTable& t, const std::string& key) {
     h["pupil_radius_mm"] = t.pupilRadiusMm;
     h["direct_y_mm"] = t.directY;
     // A two-dimensional table has no fits (fitShapedTable), its field grid instead.
-    if (t.twoDimensional())
+    if (t.twoDimensional()) {
         h["field_grid"] = {{"x", t.fieldGrid.x},
                            {"y", t.fieldGrid.y},
                            {"max_tan_x", t.fieldGrid.maxTanX},
                            {"max_tan_y", t.fieldGrid.maxTanY}};
-    else
+        h["direct_flux"] = t.directFlux;
+    } else
         h["fitted"] = tableToJson(t.fitted, true);
     h["ghost_count"] = t.ghostCount;
     h["rays"] = t.rays;
@@ -377,6 +378,7 @@ ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file
         t.directY = h.at("direct_y_mm").get<std::vector<std::vector<double>>>();
         if (const auto grid = h.find("field_grid"); grid != h.end()) {
             t.fieldGrid = fieldGridFrom(*grid, file);
+            t.directFlux = h.at("direct_flux").get<std::vector<std::vector<double>>>();
             t.fitted.lensName = t.lensName;
             t.fitted.lensHash = t.lensHash;
             t.fitted.settingsKey = key;
@@ -398,6 +400,12 @@ ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file
         for (const auto& row : t.directY)
             if (row.size() != static_cast<std::size_t>(A))
                 throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table dimensions");
+        if (t.twoDimensional() && t.directFlux.size() != W)
+            throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table dimensions");
+        for (const auto& row : t.directFlux)
+            for (const double f : row)
+                if (row.size() != static_cast<std::size_t>(A) || !(f >= 0.0 && f < 1e12))
+                    throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table direct flux");
         for (const auto& j : h.at("ghosts")) {
             ShapedGhost g;
             g.pair = {jsonInteger<std::size_t>(j.at("first")), jsonInteger<std::size_t>(j.at("second"))};

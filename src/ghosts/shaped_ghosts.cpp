@@ -23,7 +23,10 @@ namespace ff::ghosts {
 
 namespace {
 
-constexpr int kCoarse = 48;     // points per side of the pass that finds where a ghost's light is
+constexpr int kCoarse = 48; // points per side of the pass that finds where a ghost's light is
+// The same for a two-dimensional table: its search squares are wider (fields far off both axes)
+// and a ghost's light near a vignetting onset narrows to a sliver the coarser pass misses.
+constexpr int kCoarse2D = 72;
 constexpr int kMinGrid = 16;    // the coarsest grid a ghost's mesh gets
 constexpr int kDirectGrid = 96; // cells per side of the direct path's mesh (its flux normalises)
 
@@ -151,16 +154,16 @@ struct Probe {
 };
 
 Probe probe(const trace::LensAtWavelength& L, const std::vector<trace::PathStep>& steps, const trace::PupilFrame& pupil,
-            const trace::Field& field) {
+            const trace::Field& field, int n = kCoarse) {
     const double h = trace::searchHalfSize(pupil, field);
     const RayMaker rays(pupil, field);
-    const OpenMesh m = traceMesh(L, steps, rays, {-h, -h, h, h}, kCoarse);
+    const OpenMesh m = traceMesh(L, steps, rays, {-h, -h, h, h}, n);
     constexpr double inf = std::numeric_limits<double>::infinity();
     Rect box{inf, inf, -inf, -inf}, land{inf, inf, -inf, -inf};
-    const double cell = 2.0 * h / kCoarse;
-    for (int j = 0; j <= kCoarse; ++j)
-        for (int i = 0; i <= kCoarse; ++i) {
-            const std::size_t v = static_cast<std::size_t>(j) * (kCoarse + 1) + i;
+    const double cell = 2.0 * h / n;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+            const std::size_t v = static_cast<std::size_t>(j) * (n + 1) + i;
             if (!m.ok[v]) continue;
             bool lit = true;
             for (std::size_t k = 0; k < m.steps && lit; ++k) lit = m.margins[v * m.steps + k] >= 0.0;
@@ -175,7 +178,7 @@ Probe probe(const trace::LensAtWavelength& L, const std::vector<trace::PathStep>
     out.square = {-h, -h, h, h};
     if (!(box.x1 > box.x0)) return out;
     out.rect = {std::max(box.x0, -h), std::max(box.y0, -h), std::min(box.x1, h), std::min(box.y1, h)};
-    out.flux = cell * cell * meshFlux(kCoarse, m.ok, m.weight, m.steps, marginsOf(m));
+    out.flux = cell * cell * meshFlux(n, m.ok, m.weight, m.steps, marginsOf(m));
     out.landingArea = (land.x1 - land.x0) * (land.y1 - land.y0);
     return out;
 }
@@ -515,6 +518,10 @@ ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s,
         direct[t] = d.flux;
         table.directY[t / A][t % A] = d.y;
     });
+    if (table.twoDimensional())
+        for (std::size_t w = 0; w < W; ++w)
+            table.directFlux.emplace_back(direct.begin() + static_cast<std::ptrdiff_t>(w * A),
+                                          direct.begin() + static_cast<std::ptrdiff_t>((w + 1) * A));
 
     // Where each ghost's light is at each angle, probed at the middle wavelength. A ghost's meshes
     // all cover the rectangle over its light at every angle: a vertex is then the same pupil point at
@@ -524,8 +531,9 @@ ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s,
     // follow the light smoothly over the field instead (smoothRects).
     const std::size_t mid = W / 2;
     std::vector<Probe> probes(G * A);
+    const int probeGrid = table.twoDimensional() ? kCoarse2D : kCoarse;
     tbb::parallel_for(std::size_t(0), G * A, [&](std::size_t t) {
-        probes[t] = probe(Ls[mid], trace::pathSteps(lens, pairs[t / A]), pupil, fieldAt(t % A));
+        probes[t] = probe(Ls[mid], trace::pathSteps(lens, pairs[t / A]), pupil, fieldAt(t % A), probeGrid);
     });
     std::vector<double> importance(G, 0.0);
     std::vector<std::vector<Rect>> rects(G, std::vector<Rect>(A));
@@ -552,7 +560,7 @@ ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s,
         else
             rects[g].assign(A, u);
     }
-    const std::size_t rayCount = probes.size() * (kCoarse + 1) * (kCoarse + 1);
+    const std::size_t rayCount = probes.size() * (probeGrid + 1) * (probeGrid + 1);
     probes.clear();
     // Each ghost's grid: its share of the image's squared norm is about flux^2 / area (importance),
     // and the mesh's error about that over the grid squared; the total error for a given number of

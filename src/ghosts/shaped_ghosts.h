@@ -85,6 +85,10 @@ struct ShapedTable {
     std::pair<double, double> sensorSizeMm;   ///< the sensor the table covers
     double pupilRadiusMm = 0.0;               ///< the paraxial entrance pupil's (d line)
     std::vector<std::vector<double>> directY; ///< [wavelength][angle] the direct image's centroid, mm
+    /// A two-dimensional table's direct image flux per [wavelength][field] (pupil mm^2 x weight): its
+    /// meshes' weights are relative to it, and a light between fields is normalised by its
+    /// interpolation (where vignetting dims the direct image steeply, interpolated ratios are not).
+    std::vector<std::vector<double>> directFlux;
     /// What the fitted models use, derived from the meshes (fitShapedTable, ghost_table.h): every
     /// stored ghost's flux, moments and fits at the table's angles, in the same order as `ghosts`.
     GhostTable fitted;

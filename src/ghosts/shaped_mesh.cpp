@@ -226,8 +226,9 @@ MeshVertices interpolateAngles(const ShapedTable& table, const MeshInstance& in,
 // The mesh between the two-dimensional table's fields (a0, b0) and (a0 + 1, b0 + 1) at fractions
 // (in.t, in.s): bicubic Catmull-Rom over the 4 x 4 fields around them (folded at the grid's ends,
 // as in angle); bilinear where a ray is lost at one of those fields or a mesh has no light; where it
-// is lost at one of the four nearest, bilinear over those where it lands, renormalised, as long as
-// the nearest of the four keeps it (lost otherwise, as between two angles).
+// is lost at one of the four nearest, bilinear over those where it lands, renormalised and moved
+// with the mesh, as long as the nearest of the four keeps it (lost otherwise, as between two
+// angles).
 MeshVertices interpolateFields(const ShapedTable& table, const MeshInstance& in, std::size_t w,
                                const Placement& placement, const trace::ImageFrame& frame) {
     const ShapedGhost& gh = table.ghosts[in.ghost];
@@ -237,15 +238,58 @@ MeshVertices interpolateFields(const ShapedTable& table, const MeshInstance& in,
         const ShapedMesh& m = gh.meshes[w][static_cast<std::size_t>(j) * X + i];
         return m.data.empty() ? nullptr : &m;
     };
-    // The stencil [row][column], rows along y from b0 - 1, columns along x from a0 - 1.
+    // The stencil [row][column], rows along y from b0 - 1, columns along x from a0 - 1, and each
+    // field's direct flux (the weights' reference: the weight interpolated is the weight times it,
+    // over its interpolation).
     std::array<std::array<const ShapedMesh*, 4>, 4> st{};
+    std::array<std::array<double, 4>, 4> direct{};
     for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) st[r][c] = meshAt(in.a0 - 1 + c, in.b0 - 1 + r);
+        for (int c = 0; c < 4; ++c) {
+            st[r][c] = meshAt(in.a0 - 1 + c, in.b0 - 1 + r);
+            const int i = in.a0 - 1 + c, j = in.b0 - 1 + r;
+            if (i >= 0 && j >= 0 && i < X && j < Y && w < table.directFlux.size())
+                direct[r][c] = table.directFlux[w][static_cast<std::size_t>(j) * X + i];
+        }
+    // The weight (attribute 2) as sum c D w / sum c D over the interpolation's coefficients c and
+    // the fields' direct fluxes D; where those are all 0, as the other attributes.
+    const auto ratio = [](double plain, double weighted, double directs) {
+        return directs > 0.0 ? weighted / directs : plain;
+    };
     const std::array<double, 4> wx = foldedCatmullRom(in.t, in.a0 > 0, in.a0 + 2 < X),
                                 wy = foldedCatmullRom(in.s, in.b0 > 0, in.b0 + 2 < Y);
     VertexPlacer placer(table, in, placement, frame);
     const std::array<double, 2> bx{1.0 - in.t, in.t}, by{1.0 - in.s, in.s};
     const int nearX = in.t < 0.5 ? 1 : 2, nearY = in.s < 0.5 ? 1 : 2;
+    // How the mesh moves between the four nearest fields: each one's mean landing point over the
+    // vertices that land at all four (o), and their bilinear interpolation (moved). A ray lost at
+    // some of them lands where it lands at the others, moved with the mesh: a line focus (the
+    // cylinders' streak) stays on its line instead of landing on a neighbouring field's.
+    std::array<glm::dvec2, 4> o{};
+    glm::dvec2 moved(0.0);
+    {
+        std::size_t common = 0;
+        for (std::size_t v = 0; v < placer.vertices(); ++v) {
+            const std::size_t src = placer.source(v);
+            bool all = true;
+            for (int k = 0; k < 4 && all; ++k) {
+                const ShapedMesh* m = st[1 + k / 2][1 + k % 2];
+                all = m && !std::isnan(m->data[src]);
+            }
+            if (!all) continue;
+            ++common;
+            for (int k = 0; k < 4; ++k) {
+                const float* q = &st[1 + k / 2][1 + k % 2]->data[src];
+                o[k] += glm::dvec2(q[0], q[1]);
+            }
+        }
+        double total = 0.0;
+        for (int k = 0; k < 4 && common > 0; ++k) {
+            o[k] /= double(common);
+            moved += by[k / 2] * bx[k % 2] * o[k];
+            total += by[k / 2] * bx[k % 2];
+        }
+        if (total > 0.0) moved /= total;
+    }
     std::array<std::array<const float*, 4>, 4> p{};
     for (std::size_t v = 0; v < placer.vertices(); ++v) {
         const std::size_t src = placer.source(v);
@@ -259,14 +303,18 @@ MeshVertices interpolateFields(const ShapedTable& table, const MeshInstance& in,
         if (!p[nearY][nearX]) continue;
         if (cubic) {
             placer.place(v, [&](std::size_t z) {
-                double acc = 0.0;
+                double acc = 0.0, weighted = 0.0, directs = 0.0;
                 for (int r = 0; r < 4; ++r) {
                     double row = 0.0;
                     for (int c = 0; c < 4; ++c)
-                        if (wx[c] != 0.0 && wy[r] != 0.0) row += wx[c] * p[r][c][z];
+                        if (wx[c] != 0.0 && wy[r] != 0.0) {
+                            row += wx[c] * p[r][c][z];
+                            weighted += wy[r] * wx[c] * direct[r][c] * p[r][c][z];
+                            directs += wy[r] * wx[c] * direct[r][c];
+                        }
                     acc += wy[r] * row;
                 }
-                return acc;
+                return z == 2 ? ratio(acc, weighted, directs) : acc;
             });
             continue;
         }
@@ -275,11 +323,17 @@ MeshVertices interpolateFields(const ShapedTable& table, const MeshInstance& in,
             for (int c = 0; c < 2; ++c)
                 if (p[1 + r][1 + c]) total += by[r] * bx[c];
         placer.place(v, [&](std::size_t z) {
-            double acc = 0.0;
+            double acc = 0.0, weighted = 0.0, directs = 0.0;
             for (int r = 0; r < 2; ++r)
                 for (int c = 0; c < 2; ++c)
-                    if (p[1 + r][1 + c] && by[r] * bx[c] != 0.0) acc += by[r] * bx[c] * p[1 + r][1 + c][z];
-            return acc / total;
+                    if (p[1 + r][1 + c] && by[r] * bx[c] != 0.0) {
+                        const double b = by[r] * bx[c], shift = z == 0 ? o[2 * r + c].x : z == 1 ? o[2 * r + c].y : 0.0;
+                        acc += b * (p[1 + r][1 + c][z] - shift);
+                        weighted += b * direct[1 + r][1 + c] * p[1 + r][1 + c][z];
+                        directs += b * direct[1 + r][1 + c];
+                    }
+            if (z == 2) return ratio(acc / total, weighted, directs);
+            return acc / total + (z == 0 ? moved.x : z == 1 ? moved.y : 0.0);
         });
     }
     return placer.take();

@@ -229,12 +229,19 @@ double fluxAt(const ShapedTable& table, const ShapedGhost& g, std::size_t w, con
         const int A = table.angles();
         return (1.0 - in.t) * m[in.a0].flux + in.t * m[std::min(in.a0 + 1, A - 1)].flux;
     }
+    // Relative to each field's direct flux: the flux times it, over its interpolation.
     const int X = table.fieldGrid.x, Y = table.fieldGrid.y;
-    const auto at = [&](int i, int j) {
-        return m[static_cast<std::size_t>(std::min(j, Y - 1)) * X + std::min(i, X - 1)].flux;
-    };
-    return (1.0 - in.s) * ((1.0 - in.t) * at(in.a0, in.b0) + in.t * at(in.a0 + 1, in.b0)) +
-           in.s * ((1.0 - in.t) * at(in.a0, in.b0 + 1) + in.t * at(in.a0 + 1, in.b0 + 1));
+    double weighted = 0.0, directs = 0.0, plain = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        const std::size_t f =
+            static_cast<std::size_t>(std::min(in.b0 + k / 2, Y - 1)) * X + std::min(in.a0 + k % 2, X - 1);
+        const double b = (k / 2 ? in.s : 1.0 - in.s) * (k % 2 ? in.t : 1.0 - in.t);
+        const double d = w < table.directFlux.size() ? table.directFlux[w][f] : 0.0;
+        weighted += b * d * m[f].flux;
+        directs += b * d;
+        plain += b * m[f].flux;
+    }
+    return directs > 0.0 ? weighted / directs : plain;
 }
 
 std::vector<Instance> keptInstances(const ShapedTable& table, const std::vector<ShapedLight>& lights,
