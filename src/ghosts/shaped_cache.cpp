@@ -347,6 +347,24 @@ ShapedTable::FieldGrid fieldGridFrom(const nlohmann::json& j, const std::string&
     return g;
 }
 
+// The table's per-field arrays against its field count A and wavelength count.
+void checkDimensions(const ShapedTable& t, int A, const std::string& file) {
+    const std::size_t W = t.wavelengthsNm.size();
+    if (A < 1 || A > 10000 || W < 1 || W > 64 || t.directY.size() != W || t.fitted.wavelengthsNm.size() != W ||
+        (t.twoDimensional() ? A != t.fieldGrid.x * t.fieldGrid.y
+                            : t.fitted.anglesDeg.size() != static_cast<std::size_t>(A)))
+        throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table dimensions");
+    for (const auto& row : t.directY)
+        if (row.size() != static_cast<std::size_t>(A))
+            throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table dimensions");
+    if (t.twoDimensional() && t.directFlux.size() != W)
+        throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table dimensions");
+    for (const auto& row : t.directFlux)
+        for (const double f : row)
+            if (row.size() != static_cast<std::size_t>(A) || !(f >= 0.0 && f < 1e12))
+                throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table direct flux");
+}
+
 } // namespace
 
 ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file, std::string& key) {
@@ -393,19 +411,7 @@ ShapedTable shapedTableFromBytes(std::string_view bytes, const std::string& file
         t.buildSeconds = h.value("build_seconds", 0.0);
         const int A = jsonInteger<int>(h.at("angles"));
         const std::size_t W = t.wavelengthsNm.size();
-        if (A < 1 || A > 10000 || W < 1 || W > 64 || t.directY.size() != W || t.fitted.wavelengthsNm.size() != W ||
-            (t.twoDimensional() ? A != t.fieldGrid.x * t.fieldGrid.y
-                                : t.fitted.anglesDeg.size() != static_cast<std::size_t>(A)))
-            throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table dimensions");
-        for (const auto& row : t.directY)
-            if (row.size() != static_cast<std::size_t>(A))
-                throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table dimensions");
-        if (t.twoDimensional() && t.directFlux.size() != W)
-            throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table dimensions");
-        for (const auto& row : t.directFlux)
-            for (const double f : row)
-                if (row.size() != static_cast<std::size_t>(A) || !(f >= 0.0 && f < 1e12))
-                    throw Error(ErrorKind::Input, SourceLocation{file}, "bad shaped-table direct flux");
+        checkDimensions(t, A, file);
         for (const auto& j : h.at("ghosts")) {
             ShapedGhost g;
             g.pair = {jsonInteger<std::size_t>(j.at("first")), jsonInteger<std::size_t>(j.at("second"))};
