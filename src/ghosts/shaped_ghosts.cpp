@@ -238,7 +238,7 @@ trace::Field tangentField(double tx, double ty) {
     return trace::Field{std::atan(std::hypot(tx, ty)), tx == 0.0 && ty == 0.0 ? 0.0 : std::atan2(-tx, ty)};
 }
 
-// The field of a table's field index a of A (ShapedTable::field).
+// The field of a table's field index a of A: an angle, or a point of its field grid.
 trace::Field fieldOf(const ShapedTable& t, std::size_t a, std::size_t A) {
     if (!t.twoDimensional()) return tableField(t.maxAngleDeg, a, A);
     const auto& g = t.fieldGrid;
@@ -461,10 +461,6 @@ ShapedGhost traceGhost(const optics::Lens& lens, const std::vector<trace::LensAt
 }
 
 } // namespace
-
-trace::Field ShapedTable::field(int a) const {
-    return fieldOf(*this, static_cast<std::size_t>(a), static_cast<std::size_t>(angles()));
-}
 
 bool ShapedTable::covers(const trace::Field& f) const {
     constexpr double kSlack = 1.0 + 1e-9;

@@ -103,8 +103,6 @@ struct ShapedTable {
     /// Fields stored per ghost and wavelength: the angles, or the grid's x * y.
     int angles() const { return ghosts.empty() ? 0 : static_cast<int>(ghosts.front().meshes.front().size()); }
     double angleStep() const { return angles() > 1 ? maxAngleDeg / (angles() - 1) : 0.0; }
-    /// The field the table's field index a (of angles()) stands for.
-    trace::Field field(int a) const;
     /// Whether the table holds the field (within 1e-9 of its extent): its angle at most maxAngleDeg,
     /// or its tangents' magnitudes at most the grid's.
     bool covers(const trace::Field& field) const;

@@ -122,10 +122,10 @@ std::array<double, 4> foldedCatmullRom(double u, bool before, bool after) {
     return w;
 }
 
-// An instance's mesh in the frame: every in.decimation-th vertex of the ghost's grid, its attributes
-// interpolated between the table's fields (MeshSource), placed as `placement` says in the frame's
-// pixels, the iris clipped in the table's frame seen the inverse way; the Jacobians left NaN
-// (addJacobians).
+// An instance's mesh in the frame: every in.decimation-th vertex of the ghost's grid, its
+// attributes interpolated between the table's fields (interpolateAngles, interpolateFields), placed
+// as `placement` says in the frame's pixels, the iris clipped in the table's frame seen the inverse
+// way; the Jacobians left NaN (addJacobians).
 class VertexPlacer {
   public:
     VertexPlacer(const ShapedTable& table, const MeshInstance& in, const Placement& placement,

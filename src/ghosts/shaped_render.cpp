@@ -186,8 +186,6 @@ std::vector<char> chooseGridded(const std::vector<std::array<double, 3>>& error2
 
 namespace {
 
-// Per light: the interpolation between table angles and its ghosts kept after culling (the culled
-// counted in out).
 // Where a light falls in the table: between which fields, and how the table's ghosts are placed.
 struct TablePosition {
     MeshInstance mesh;
@@ -244,6 +242,8 @@ double fluxAt(const ShapedTable& table, const ShapedGhost& g, std::size_t w, con
     return directs > 0.0 ? weighted / directs : plain;
 }
 
+// Per light: the interpolation between table angles and its ghosts kept after culling (the culled
+// counted in out).
 std::vector<Instance> keptInstances(const ShapedTable& table, const std::vector<ShapedLight>& lights,
                                     const ShapedRenderSettings& settings, ShapedRender& out) {
     std::vector<Instance> instances;
