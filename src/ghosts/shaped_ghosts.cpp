@@ -214,7 +214,7 @@ std::size_t ShapedTable::bytes() const {
 
 std::string shapedCacheKey(const optics::Lens& lens, const TableSettings& s) {
     // Changes whenever the table built for the same settings changes.
-    constexpr int kBuildVersion = 9;
+    constexpr int kBuildVersion = 10;
     const auto sensor = s.sensorSizeMm.value_or(lens.sensorMm.value_or(std::make_pair(36.0, 24.0)));
     std::string k = "shaped " + std::to_string(kBuildVersion) + "|lens " + lens.contentHash + "|zoom " +
                     std::to_string(lens.activeZoom) + "|wavelengths";
@@ -523,13 +523,28 @@ ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s,
     // every angle, and interpolating between angles follows that ray (rectangles fitted per angle
     // move in steps of the probe's spacing, and a vertex interpolated between two of them mixes two
     // rays; docs/ghost-table.md, "One rectangle per angle"). A two-dimensional table's rectangles
-    // follow the light smoothly over the field instead (smoothRects).
+    // follow the light smoothly over the field instead (smoothRects), fitted to the probes of every
+    // other field per axis and the last (a quarter of the rays; the fit is a biquadratic over the
+    // field whichever fields it is fitted to); the other fields keep only their searched square.
     const std::size_t mid = W / 2;
     std::vector<Probe> probes(G * A);
     const int probeGrid = table.twoDimensional() ? kCoarse2D : kCoarse;
+    const auto probed = [&](std::size_t a) {
+        if (!table.twoDimensional()) return true;
+        const int X = table.fieldGrid.x, Y = table.fieldGrid.y, ix = static_cast<int>(a) % X,
+                  iy = static_cast<int>(a) / X;
+        return (ix % 2 == 0 || ix == X - 1) && (iy % 2 == 0 || iy == Y - 1);
+    };
     tbb::parallel_for(std::size_t(0), G * A, [&](std::size_t t) {
-        probes[t] = probe(Ls[mid], trace::pathSteps(lens, pairs[t / A]), pupil, fieldAt(t % A), probeGrid);
+        if (probed(t % A)) {
+            probes[t] = probe(Ls[mid], trace::pathSteps(lens, pairs[t / A]), pupil, fieldAt(t % A), probeGrid);
+        } else {
+            const double h = trace::searchHalfSize(pupil, fieldAt(t % A));
+            probes[t].square = {-h, -h, h, h};
+        }
     });
+    std::size_t probedFields = 0;
+    for (std::size_t a = 0; a < A; ++a) probedFields += probed(a) ? 1 : 0;
     std::vector<double> importance(G, 0.0);
     std::vector<std::vector<Rect>> rects(G, std::vector<Rect>(A));
     const auto sensor = s.sensorSizeMm.value_or(lens.sensorMm.value_or(std::make_pair(36.0, 24.0)));
@@ -542,7 +557,7 @@ ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s,
             if (p.rect.empty()) continue;
             lit.push_back(a);
             const double f = direct[mid * A + a] > 0.0 ? p.flux / direct[mid * A + a] : 0.0;
-            importance[g] += f * f / std::max(p.landingArea, minArea) / double(A);
+            importance[g] += f * f / std::max(p.landingArea, minArea) / double(probedFields);
         }
         if (lit.empty()) continue;
         Rect u = probes[g * A + lit.front()].rect;
@@ -555,7 +570,7 @@ ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s,
         else
             rects[g].assign(A, u);
     }
-    const std::size_t rayCount = probes.size() * (probeGrid + 1) * (probeGrid + 1);
+    const std::size_t rayCount = G * probedFields * (probeGrid + 1) * (probeGrid + 1);
     probes.clear();
     // Each ghost's grid: its share of the image's squared norm is about flux^2 / area (importance),
     // and the mesh's error about that over the grid squared; the total error for a given number of
