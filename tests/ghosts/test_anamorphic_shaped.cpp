@@ -156,18 +156,19 @@ TEST(AnamorphicShaped, TheCacheKeepsTheFieldGrid) {
 }
 
 // The bundled 2x anamorphic's table against its traced flare (the adaptive traced renderer: an
-// independent path) at the frame's centre and on its vertical axis, where the light stays clear of
-// the vignetting onsets: the flux within 4 % per channel, and at the centre the image within 0.10
-// relative L2 (a frame of odd height keeps the cylinders' line focus, at the light's height, inside
-// one row). Measured: flux 0.97-0.99, L2 0.06-0.08 at the centre and 0.15-0.17 on the vertical axis;
-// the 1 % and 0.03 anamorphic ghosts are to reach are not met yet (docs/anamorphic.md: the causes).
+// independent path) at the frame's centre, on its vertical axis, off both axes and towards a corner,
+// where vignetting dims the light steeply: the flux within 4 % per channel (8 % towards the corner),
+// and at the centre the image within 0.10 relative L2 (a frame of odd height keeps the cylinders'
+// line focus, at the light's height, inside one row). Fields spaced twice as far apart put 1.2 times
+// the traced flux towards the corner. The 1 % and 0.03 anamorphic ghosts are to reach are not met
+// yet (docs/anamorphic.md: the measurements and the causes).
 TEST(AnamorphicShaped, TheBundledAnamorphicsTableKeepsTheTracedFlux) {
     const optics::Lens lens = optics::loadLens(test::lensPath("anamorphic-2x-double-gauss-50mm.lens"));
     const ShapedTable table = buildShapedTable(lens, TableSettings{});
     const trace::ImageFrame frame{320, 181, 36.0 / 320};
     ShapedRenderSettings settings;
     settings.cullShare = 0.0;
-    for (const auto& [x, y] : {std::pair{0.0, 0.0}, std::pair{0.0, 7.7}}) {
+    for (const auto& [x, y] : {std::pair{0.0, 0.0}, std::pair{0.0, 7.7}, std::pair{6.0, 4.0}, std::pair{12.5, 8.1}}) {
         const trace::Field field = trace::fieldForSensorPoint(lens, lens.sensorZ(), x, y);
         const ShapedRender shaped = renderShaped(table, {{field, {1.0, 1.0, 1.0}}}, frame, settings);
         trace::TracedFlareOptions o;
@@ -181,7 +182,8 @@ TEST(AnamorphicShaped, TheBundledAnamorphicsTableKeepsTheTracedFlux) {
             if (y == 0.0) {
                 EXPECT_LT(relativeL2(shaped.channel[c], ref), 0.10) << "centre, channel " << c;
             }
-            EXPECT_NEAR(sum(shaped.channel[c]) / sum(ref), 1.0, 0.04) << x << ", " << y << " channel " << c;
+            EXPECT_NEAR(sum(shaped.channel[c]) / sum(ref), 1.0, x > 12.0 ? 0.08 : 0.04)
+                << x << ", " << y << " channel " << c;
         }
     }
 }
