@@ -329,8 +329,8 @@ double polynomialAt(const std::vector<double>& c, int degree, double u, double v
 // biquadratic in the field's grid position (bilinear below 18 lit fields, constant below 4), fitted
 // by least squares to the sides of the probes' boxes where the ghost is lit (probes[first + a]),
 // then moved out until the rectangles contain every such box, and kept within each field's searched
-// square (at a field where the probe found no light the ghost may still hold a sliver narrower than
-// its spacing, near a vignetting onset: the rectangle follows the fit there, not the lit boxes);
+// square (at a field not probed, or where the probe found no light — the ghost may still hold a
+// sliver narrower than its spacing near a vignetting onset —, the rectangle follows the fit);
 // `bounds` (the union of the boxes) where no fit can be made. Smooth over the field, they keep each
 // vertex of the mesh a pupil point moving smoothly with it, which the bicubic interpolation between
 // fields follows; one rectangle for all the fields of a quadrant would cover 5 to 17 times the area
