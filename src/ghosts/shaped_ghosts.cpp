@@ -469,6 +469,37 @@ bool ShapedTable::covers(const trace::Field& f) const {
            std::abs(t * std::cos(f.azimuthRad)) <= fieldGrid.maxTanY * kSlack;
 }
 
+namespace {
+
+// Whether the table probes field a: every field of a symmetric table; every other field per axis,
+// and the last, of a two-dimensional one.
+bool probedField(const ShapedTable& table, std::size_t a) {
+    if (!table.twoDimensional()) return true;
+    const int X = table.fieldGrid.x, Y = table.fieldGrid.y, ix = static_cast<int>(a) % X, iy = static_cast<int>(a) / X;
+    return (ix % 2 == 0 || ix == X - 1) && (iy % 2 == 0 || iy == Y - 1);
+}
+
+// Every ghost's probe at every field, [ghost * fields + field], at one wavelength; a field not
+// probed (probedField) keeps only its searched square.
+std::vector<Probe> probeGhosts(const ShapedTable& table, const optics::Lens& lens, const trace::LensAtWavelength& L,
+                               const std::vector<trace::GhostPair>& pairs, const trace::PupilFrame& pupil,
+                               const std::vector<trace::Field>& fields) {
+    const std::size_t A = fields.size();
+    const int grid = table.twoDimensional() ? kCoarse2D : kCoarse;
+    std::vector<Probe> probes(pairs.size() * A);
+    tbb::parallel_for(std::size_t(0), probes.size(), [&](std::size_t t) {
+        if (probedField(table, t % A)) {
+            probes[t] = probe(L, trace::pathSteps(lens, pairs[t / A]), pupil, fields[t % A], grid);
+        } else {
+            const double h = trace::searchHalfSize(pupil, fields[t % A]);
+            probes[t].square = {-h, -h, h, h};
+        }
+    });
+    return probes;
+}
+
+} // namespace
+
 ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s, const Progress& progress) {
     const auto start = std::chrono::steady_clock::now();
     if (s.grid < 2 || s.grid > 512)
@@ -527,24 +558,10 @@ ShapedTable traceShapedTable(const optics::Lens& lensIn, const TableSettings& s,
     // other field per axis and the last (a quarter of the rays; the fit is a biquadratic over the
     // field whichever fields it is fitted to); the other fields keep only their searched square.
     const std::size_t mid = W / 2;
-    std::vector<Probe> probes(G * A);
+    std::vector<Probe> probes = probeGhosts(table, lens, Ls[mid], pairs, pupil, fields);
     const int probeGrid = table.twoDimensional() ? kCoarse2D : kCoarse;
-    const auto probed = [&](std::size_t a) {
-        if (!table.twoDimensional()) return true;
-        const int X = table.fieldGrid.x, Y = table.fieldGrid.y, ix = static_cast<int>(a) % X,
-                  iy = static_cast<int>(a) / X;
-        return (ix % 2 == 0 || ix == X - 1) && (iy % 2 == 0 || iy == Y - 1);
-    };
-    tbb::parallel_for(std::size_t(0), G * A, [&](std::size_t t) {
-        if (probed(t % A)) {
-            probes[t] = probe(Ls[mid], trace::pathSteps(lens, pairs[t / A]), pupil, fieldAt(t % A), probeGrid);
-        } else {
-            const double h = trace::searchHalfSize(pupil, fieldAt(t % A));
-            probes[t].square = {-h, -h, h, h};
-        }
-    });
     std::size_t probedFields = 0;
-    for (std::size_t a = 0; a < A; ++a) probedFields += probed(a) ? 1 : 0;
+    for (std::size_t a = 0; a < A; ++a) probedFields += probedField(table, a) ? 1 : 0;
     std::vector<double> importance(G, 0.0);
     std::vector<std::vector<Rect>> rects(G, std::vector<Rect>(A));
     const auto sensor = s.sensorSizeMm.value_or(lens.sensorMm.value_or(std::make_pair(36.0, 24.0)));
