@@ -6,15 +6,19 @@
 //  - the whole GL render (accumulation + evaluation + read-back) against the number of ghosts K;
 //  - the hybrid's direct drawing (GlDirect: axis integrals, then their products per pixel) of a few
 //    frame-wide ghosts and of many small ones at 1280 x 720, next to fourier::drawDirect;
-//  - the shaped ghosts' polygon raster against the CPU's coverage raster on 4 M small triangles.
+//  - the shaped ghosts' polygon raster against the CPU's coverage raster on 4 M small triangles;
+//  - a shaped frame of the double Gauss at 1080p, 3 and 30 lights (300 on a GPU): meshes cut and
+//    drawn on the CPU, cut on the CPU and drawn on the GPU, and both on the GPU (GlMeshCutter).
 // On a software rasteriser only the 1080p, N = 64 and K <= 1000 cases run (the rest take minutes).
 
 #include "fourier/direct.h"
 #include "fourier/render.h"
+#include "ghosts/ghost_table.h"
 #include "gpu/gl_backend.h"
 #include "gpu/gl_direct.h"
 #include "gpu/gl_evaluator.h"
 #include "gpu/gl_polygon_raster.h"
+#include "optics/lens_loader.h"
 #include "trace/flare_raster.h"
 
 #include <benchmark/benchmark.h>
@@ -22,6 +26,9 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <memory>
+#include <numbers>
 #include <random>
 
 namespace {
@@ -278,6 +285,60 @@ void BM_CpuPolygons(benchmark::State& state) {
     state.counters["triangles/s"] = benchmark::Counter(n, benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_CpuPolygons)->Arg(250000)->Arg(4000000)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// A shaped frame: the bundled double Gauss's table (grid 32, 13 angles: built once, a few seconds),
+// lights spread over a 1920 x 1080 frame (36 x 20.25 mm sensor), the renderer's default settings.
+// Arg 0: the lights; arg 1: 0 CPU alone, 1 meshes cut on the CPU and drawn by the GL raster, 2 both on
+// the GPU. Counters: triangles and instances per second.
+const ff::ghosts::ShapedTable& doubleGauss() {
+    static const ff::ghosts::ShapedTable table = [] {
+        ff::ghosts::TableSettings s;
+        s.grid = 32;
+        s.angles = 13;
+        // From the source tree this was built in, else from the working directory (a copy of the
+        // repository on another machine).
+        const std::filesystem::path built = std::filesystem::path(FF_SOURCE_DIR) / "lenses/double-gauss-50mm-f2.lens";
+        const std::string path =
+            std::filesystem::exists(built) ? built.string() : std::string("lenses/double-gauss-50mm-f2.lens");
+        return ff::ghosts::buildShapedTable(ff::optics::loadLens(path), s);
+    }();
+    return table;
+}
+
+void BM_ShapedFrame(benchmark::State& state) {
+    const int lights = static_cast<int>(state.range(0)), route = static_cast<int>(state.range(1));
+    // 300 lights only beside a GPU (the CPU's own case too: its baseline in the same run).
+    ff::gpu::GlBackend* gl = backendFor(state, lights > 30);
+    if (!gl) return;
+    std::unique_ptr<ff::gpu::GlPolygonRaster> raster;
+    if (route > 0)
+        raster = std::make_unique<ff::gpu::GlPolygonRaster>(gl->context(), ff::gpu::GlPolygonRaster::kDefaultBatch,
+                                                            ff::gpu::GlPolygonRaster::kDefaultListEntries, route == 2);
+    const auto& table = doubleGauss();
+    const ff::trace::ImageFrame frame{1920, 1080, 36.0 / 1920};
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<ff::ghosts::ShapedLight> ls(static_cast<std::size_t>(lights));
+    for (auto& l : ls) {
+        l.field = {u(rng) * table.maxAngleDeg * std::numbers::pi / 180.0, 2.0 * std::numbers::pi * u(rng)};
+        l.flux = {1.0 + u(rng), 1.0 + u(rng), 1.0 + u(rng)};
+    }
+    std::size_t triangles = 0, drawn = 0;
+    for (auto _ : state) {
+        const auto out = ff::ghosts::renderShaped(table, ls, frame, {}, raster.get());
+        triangles = out.triangles;
+        drawn = out.drawn;
+        benchmark::DoNotOptimize(out.channel[0].data());
+    }
+    state.counters["triangles/s"] =
+        benchmark::Counter(double(triangles), benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["instances"] = double(drawn);
+}
+BENCHMARK(BM_ShapedFrame)
+    ->ArgsProduct({{3, 30, 300}, {0, 1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(2);
 
 } // namespace
 

@@ -42,6 +42,7 @@ layout(std430, binding = 6) writeonly buffer Lists { uint lists[]; };
 uniform int width;
 uniform int height;
 uniform int count;
+uniform int firstPolygon; // the batch is polygons[firstPolygon .. firstPolygon + count)
 uniform int tilesX;
 uniform int tilesY;
 uniform int listPass; // 0: prepare and count, 1: write the lists
@@ -123,12 +124,12 @@ void main() {
     if (k >= count) return;
     Prepared p;
     if (listPass == 0) {
-        p = prepare(polygons[k]);
+        p = prepare(polygons[firstPolygon + k]);
         prepared[k] = p;
     } else {
         p = prepared[k];
     }
-    const uint channel = polygons[k].channel;
+    const uint channel = polygons[firstPolygon + k].channel;
     for (int ty = p.ty0; ty <= p.ty1; ++ty)
         for (int tx = p.tx0; tx <= p.tx1; ++tx) {
             const uint bin = (channel * uint(tilesY) + uint(ty)) * uint(tilesX) + uint(tx);

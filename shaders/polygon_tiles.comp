@@ -50,6 +50,7 @@ uniform int height;
 uniform int tilesX;
 uniform int tilesY;
 uniform int bins;
+uniform int firstPolygon; // the lists index polygons from here (polygon_bins.comp)
 uniform double scale; // fixed-point units per unit of energy
 
 const double kWord = 4294967296.0LF;
@@ -241,7 +242,7 @@ void drawPolygon(uint k) {
     } else if (p.kind == 2u) {
         splat(dvec2(p.dy, p.dz), p.dx);
     } else if (p.kind == 3u) {
-        const Polygon g = polygons[k];
+        const Polygon g = polygons[uint(firstPolygon) + k];
         const int n = min(int(g.count), kMaxPolygon);
         const dvec3 d = dvec3(p.dx, p.dy, p.dz);
         dvec2 first = dvec2(vertices[g.first]), a = first;

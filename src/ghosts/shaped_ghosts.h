@@ -41,6 +41,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -196,6 +197,51 @@ std::vector<char> chooseGridded(const std::vector<std::array<double, 3>>& error2
 /// docs/fourier.md). renderShaped weighs each side of an instance's mesh cells by its jump squared.
 double gridErrorSquared(double length, double step);
 
+/// A ghost between two of the table's angles: a0 and a0 + 1, at fraction t. In a two-dimensional
+/// table (ShapedTable::FieldGrid), between its fields (a0, b0) and (a0 + 1, b0 + 1) of the grid's x
+/// and y, at fractions t and s.
+struct MeshInstance {
+    std::size_t ghost = 0;
+    int a0 = 0;
+    double t = 0.0;
+    double flatnessPx = 0.0; ///< the subdivision's tolerance (ShapedRenderSettings::flatnessPx)
+    /// the tolerance where an aperture's edge crosses a cell (0: flatnessPx)
+    double edgeFlatnessPx = 0.0;
+    /// the largest error the elements' density may leave in a pixel, relative to the instance's
+    /// brightest pixel (ShapedRenderSettings::irradianceError; infinity: none)
+    double irradianceError = std::numeric_limits<double>::infinity();
+    /// Every decimation-th vertex of the mesh on each axis (a divisor of the ghost's grid): cells
+    /// of decimation^2 cells, for a grid coarser than the mesh (ShapedRenderSettings::grid).
+    int decimation = 1;
+    int b0 = 0;
+    double s = 0.0;
+};
+
+/// Where a light puts the table's ghosts: their landing points turned by azimuthRad, then mirrored
+/// (x times mirrorX, y times mirrorY, each +-1), and the iris seen from the table's frame the
+/// inverse way (a light in another quadrant of a two-dimensional table is the mirror image of one
+/// in the table's).
+struct Placement {
+    double azimuthRad = 0.0;
+    double mirrorX = 1.0, mirrorY = 1.0;
+};
+
+/// The lights and instances of a frame for a raster that cuts the table's meshes itself
+/// (PolygonRaster::drawMeshes): each instance is ghost `mesh.ghost` of light `light`.
+struct MeshLight {
+    Placement placement;
+    std::array<double, 3> flux{}; ///< per channel
+};
+struct MeshDraw {
+    std::size_t light = 0;
+    MeshInstance mesh;
+};
+/// What one instance drew at one wavelength: meshPolygons' ShapedPolygons' energy, areaPx and triangles.
+struct MeshDrawn {
+    double energy = 0.0, areaPx = 0.0;
+    std::size_t triangles = 0;
+};
+
 /// Where renderShaped draws its polygons when not on the CPU (whose trace::CoverageRaster is the
 /// reference): the same exact pixel-area coverage, each channel the sum of its polygons.
 class PolygonRaster {
@@ -208,6 +254,14 @@ class PolygonRaster {
     virtual void draw(std::size_t c, const ShapedPolygons& polygons) = 0;
     /// The channels (frame-sized, row-major, flux per pixel).
     virtual std::vector<std::vector<double>> finish() = 0;
+    /// Whether drawMeshes takes this table (otherwise renderShaped cuts the meshes and calls draw).
+    virtual bool cutsMeshes(const ShapedTable&) const { return false; }
+    /// Cuts every instance's mesh at wavelengths 0 .. channels - 1 into channel w as renderShaped
+    /// does on the CPU (the same polygons, to rounding) and adds them; per instance and channel,
+    /// instance-major, what it drew. Only for a table cutsMeshes takes.
+    virtual std::vector<MeshDrawn> drawMeshes(const ShapedTable& table, const std::vector<MeshLight>& lights,
+                                              const std::vector<MeshDraw>& draws, std::size_t channels,
+                                              const ShapedRenderSettings& settings);
 };
 
 /// Draws every light's ghosts into the frame; channel c is the table's wavelength c. The polygons

@@ -653,8 +653,10 @@ void ShapedPolygons::add(const glm::dvec2* p, std::size_t n, double e, const glm
         q.yMin = std::min(q.yMin, v.y);
         q.yMax = std::max(q.yMax, v.y);
     }
-    if (gradients.empty() && (gradient.x != 0.0 || gradient.y != 0.0)) gradients.assign(polys.size(), glm::vec2(0.0f));
-    if (!gradients.empty()) gradients.push_back(glm::vec2(gradient));
+    // Gradients are stored from the first polygon that has one (the earlier ones 0).
+    const bool slope = gradient.x != 0.0 || gradient.y != 0.0;
+    if (slope && gradients.size() < polys.size()) gradients.assign(polys.size(), glm::vec2(0.0f));
+    if (slope || !gradients.empty()) gradients.push_back(glm::vec2(gradient));
     polys.push_back(q);
     energy += e;
     ++triangles;

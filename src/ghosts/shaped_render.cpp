@@ -61,11 +61,32 @@ struct Drawn {
     /// channels that drew any, and their number.
     double perPixel = 0.0, mostPerPixel = 0.0; ///< and the largest
     std::size_t drawnSets = 0;
+
+    // What one instance drew at one wavelength.
+    void add(double energy_, std::size_t triangles_, double areaPx) {
+        energy += energy_;
+        triangles += triangles_;
+        if (!(areaPx > 0.0)) return;
+        const double ratio = static_cast<double>(triangles_) / areaPx;
+        perPixel += ratio;
+        mostPerPixel = std::max(mostPerPixel, ratio);
+        ++drawnSets;
+    }
 };
+
+// The raster's channels into `out`, checked against the frame.
+Drawn finishRaster(PolygonRaster& raster, const trace::ImageFrame& frame, std::size_t W, Drawn out) {
+    const std::size_t pixels = static_cast<std::size_t>(frame.width) * frame.height;
+    out.channel = raster.finish();
+    if (out.channel.size() != W) throw Error(ErrorKind::Runtime, "the polygon raster drew another frame");
+    for (const auto& c : out.channel)
+        if (c.size() != pixels) throw Error(ErrorKind::Runtime, "the polygon raster drew another frame");
+    return out;
+}
 
 // A chunk of instances at a time: their polygons made in parallel, then drawn, on the CPU into
 // bands of rows in parallel, each band in the instances' order (the image does not depend on the
-// number of threads), or by the raster given.
+// number of threads), or by the raster given (which cuts the meshes itself where it can).
 Drawn drawInstances(const ShapedTable& table, const std::vector<ShapedLight>& lights,
                     const std::vector<Instance>& instances, const trace::ImageFrame& frame, std::size_t W,
                     const ShapedRenderSettings& settings, PolygonRaster* raster, float splatBelow = 0.0f) {
@@ -89,6 +110,17 @@ Drawn drawInstances(const ShapedTable& table, const std::vector<ShapedLight>& li
         double bound = 0.0;
         for (const Instance& in : instances) bound += in.flux;
         raster->begin(frame, W, 2.0 * bound + std::numeric_limits<double>::min());
+    }
+    if (raster && raster->cutsMeshes(table)) {
+        // The raster cuts the meshes itself: the lights and instances are all it is sent.
+        std::vector<MeshLight> meshLights(lights.size());
+        for (const Instance& in : instances) meshLights[in.light] = {in.placement, lights[in.light].flux};
+        std::vector<MeshDraw> draws;
+        draws.reserve(instances.size());
+        for (const Instance& in : instances) draws.push_back({in.light, in.mesh});
+        for (const MeshDrawn& d : raster->drawMeshes(table, meshLights, draws, W, settings))
+            out.add(d.energy, d.triangles, d.areaPx);
+        return finishRaster(*raster, frame, W, std::move(out));
     }
     constexpr std::size_t kChunk = 4;
     std::vector<ShapedPolygons> polys(kChunk * W);
@@ -129,25 +161,10 @@ Drawn drawInstances(const ShapedTable& table, const std::vector<ShapedLight>& li
                     }
                 }
             });
-        for (std::size_t k = 0; k < (i1 - i0) * W; ++k) {
-            out.energy += polys[k].energy;
-            out.triangles += polys[k].triangles;
-            if (polys[k].areaPx > 0.0) {
-                const double perPixel = static_cast<double>(polys[k].triangles) / polys[k].areaPx;
-                out.perPixel += perPixel;
-                out.mostPerPixel = std::max(out.mostPerPixel, perPixel);
-                ++out.drawnSets;
-            }
-        }
+        for (std::size_t k = 0; k < (i1 - i0) * W; ++k) out.add(polys[k].energy, polys[k].triangles, polys[k].areaPx);
     }
+    if (raster) return finishRaster(*raster, frame, W, std::move(out));
     const std::size_t pixels = static_cast<std::size_t>(frame.width) * frame.height;
-    if (raster) {
-        out.channel = raster->finish();
-        if (out.channel.size() != W) throw Error(ErrorKind::Runtime, "the polygon raster drew another frame");
-        for (const auto& c : out.channel)
-            if (c.size() != pixels) throw Error(ErrorKind::Runtime, "the polygon raster drew another frame");
-        return out;
-    }
     out.channel.assign(W, std::vector<double>(pixels, 0.0));
     for (std::size_t w = 0; w < W; ++w)
         for (int b = 0; b < bands; ++b) {
@@ -159,6 +176,12 @@ Drawn drawInstances(const ShapedTable& table, const std::vector<ShapedLight>& li
 }
 
 } // namespace
+
+std::vector<MeshDrawn> PolygonRaster::drawMeshes(const ShapedTable&, const std::vector<MeshLight>&,
+                                                 const std::vector<MeshDraw>&, std::size_t,
+                                                 const ShapedRenderSettings&) {
+    throw Error(ErrorKind::Runtime, "this polygon raster does not cut meshes");
+}
 
 std::vector<char> chooseGridded(const std::vector<std::array<double, 3>>& error2, const std::array<double, 3>& budget,
                                 std::array<double, 3>& spent) {

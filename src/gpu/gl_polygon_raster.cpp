@@ -28,8 +28,9 @@ void dispatch(GLuint n) {
 
 } // namespace
 
-GlPolygonRaster::GlPolygonRaster(const GlContext&, std::size_t batch, std::size_t listEntries)
-    : batch_(std::max<std::size_t>(batch, 64)), listEntries_(std::max<std::size_t>(listEntries, 1)) {
+GlPolygonRaster::GlPolygonRaster(const GlContext&, std::size_t batch, std::size_t listEntries, bool cutMeshes)
+    : batch_(std::max<std::size_t>(batch, 64)), listEntries_(std::max<std::size_t>(listEntries, 1)),
+      cutMeshes_(cutMeshes) {
     bins_ = std::make_unique<ComputeProgram>("polygon_bins.comp", embedded("polygon_bins.comp"), kGroup);
     scan_ = std::make_unique<ComputeProgram>("bin_scan.comp", embedded("bin_scan.comp"), kScanGroup);
     tiles_ = std::make_unique<ComputeProgram>("polygon_tiles.comp", embedded("polygon_tiles.comp"), kGroup);
@@ -41,6 +42,7 @@ GlPolygonRaster::~GlPolygonRaster() = default;
 void GlPolygonRaster::begin(const trace::ImageFrame& frame, std::size_t channels, double energyBound) {
     if (!(energyBound > 0.0) || !std::isfinite(energyBound))
         throw Error(ErrorKind::Runtime, "the GL polygon raster needs a positive, finite energy bound");
+    frame_ = frame;
     width_ = std::max(frame.width, 0);
     height_ = std::max(frame.height, 0);
     tilesX_ = (width_ + kTile - 1) / kTile;
@@ -84,16 +86,20 @@ void GlPolygonRaster::draw(std::size_t c, const ghosts::ShapedPolygons& polygons
 }
 
 void GlPolygonRaster::flush() {
-    const std::size_t bins = channels_ * static_cast<std::size_t>(tilesX_) * tilesY_;
     stagedEntries_ = 0;
-    if (stagedPolygons_.empty() || bins == 0) {
-        stagedVertices_.clear();
-        stagedPolygons_.clear();
-        return;
+    if (!stagedPolygons_.empty() && channels_ * tilesX_ * tilesY_ > 0) {
+        vertices_.upload(stagedVertices_.data(), stagedVertices_.size() * sizeof(glm::vec2));
+        polygons_.upload(stagedPolygons_.data(), stagedPolygons_.size() * sizeof(GpuPolygon));
+        rasterise(0, stagedPolygons_.size());
     }
-    vertices_.upload(stagedVertices_.data(), stagedVertices_.size() * sizeof(glm::vec2));
-    polygons_.upload(stagedPolygons_.data(), stagedPolygons_.size() * sizeof(GpuPolygon));
-    const auto count = static_cast<GLuint>(stagedPolygons_.size());
+    stagedVertices_.clear();
+    stagedPolygons_.clear();
+}
+
+void GlPolygonRaster::rasterise(std::size_t first, std::size_t count) {
+    const std::size_t bins = channels_ * static_cast<std::size_t>(tilesX_) * tilesY_;
+    if (count == 0 || bins == 0) return;
+    const auto n = static_cast<GLuint>(count);
     if (prepared_.bytes() < count * kPrepared) prepared_.upload(nullptr, count * kPrepared);
     counts_.zeros(bins * sizeof(std::uint32_t));
     if (offsets_.bytes() != (bins + 1) * sizeof(std::uint32_t))
@@ -108,11 +114,12 @@ void GlPolygonRaster::flush() {
     bins_->use();
     bins_->set("width", width_);
     bins_->set("height", height_);
-    bins_->set("count", static_cast<int>(count));
+    bins_->set("count", static_cast<int>(n));
+    bins_->set("firstPolygon", static_cast<int>(first));
     bins_->set("tilesX", tilesX_);
     bins_->set("tilesY", tilesY_);
     bins_->set("listPass", 0);
-    dispatch((count + kGroup - 1) / kGroup);
+    dispatch((n + kGroup - 1) / kGroup);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     scan_->use();
     scan_->set("n", static_cast<int>(bins));
@@ -123,6 +130,11 @@ void GlPolygonRaster::flush() {
     std::uint32_t entries = 0;
     glGetNamedBufferSubData(offsets_.id(), static_cast<GLintptr>(bins * sizeof(std::uint32_t)), sizeof entries,
                             &entries);
+    if (entries > listEntries_ && count > 1) { // polygons made on the GPU: halves until the lists fit
+        rasterise(first, count / 2);
+        rasterise(first + count / 2, count - count / 2);
+        return;
+    }
     if (entries > 0) {
         if (lists_.bytes() < entries * sizeof(std::uint32_t)) lists_.upload(nullptr, entries * sizeof(std::uint32_t));
         glCopyNamedBufferSubData(offsets_.id(), counts_.id(), 0, 0,
@@ -131,7 +143,7 @@ void GlPolygonRaster::flush() {
         lists_.bind(6);
         bins_->use();
         bins_->set("listPass", 1);
-        dispatch((count + kGroup - 1) / kGroup);
+        dispatch((n + kGroup - 1) / kGroup);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         tiles_->use();
         tiles_->set("width", width_);
@@ -139,13 +151,29 @@ void GlPolygonRaster::flush() {
         tiles_->set("tilesX", tilesX_);
         tiles_->set("tilesY", tilesY_);
         tiles_->set("bins", static_cast<int>(bins));
+        tiles_->set("firstPolygon", static_cast<int>(first));
         tiles_->setDouble("scale", scale_);
         dispatch(static_cast<GLuint>(bins));
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     }
     checkGl("polygon_tiles.comp");
-    stagedVertices_.clear();
-    stagedPolygons_.clear();
+}
+
+bool GlPolygonRaster::cutsMeshes(const ghosts::ShapedTable& table) const {
+    return cutMeshes_ && GlMeshCutter::takes(table);
+}
+
+std::vector<ghosts::MeshDrawn> GlPolygonRaster::drawMeshes(const ghosts::ShapedTable& table,
+                                                           const std::vector<ghosts::MeshLight>& lights,
+                                                           const std::vector<ghosts::MeshDraw>& draws,
+                                                           std::size_t channels,
+                                                           const ghosts::ShapedRenderSettings& settings) {
+    if (channels > channels_)
+        throw Error(ErrorKind::Runtime, "the GL polygon raster has no channel " + std::to_string(channels - 1));
+    flush();
+    if (!cutter_) cutter_ = std::make_unique<GlMeshCutter>();
+    return cutter_->cut(table, lights, draws, channels, settings, frame_, vertices_, polygons_,
+                        [this](std::size_t count) { rasterise(0, count); });
 }
 
 std::vector<std::vector<double>> GlPolygonRaster::finish() {

@@ -98,6 +98,23 @@ void expectShapedIsTraced(const optics::Lens& lens, const ShapedTable& table, co
 
 } // namespace
 
+TEST(ShapedPolygons, KeepsEveryPolygonsGradientFromTheFirst) {
+    // Uniform polygons store no gradients; once one has a gradient, every polygon has its own,
+    // the first polygon's included when it is the one.
+    const glm::dvec2 tri[3] = {{0.0, 0.0}, {4.0, 0.0}, {0.0, 4.0}};
+    ShapedPolygons first;
+    first.add(tri, 3, 1.0, {0.25, -0.5});
+    first.add(tri, 3, 1.0);
+    EXPECT_EQ(first.gradient(0), glm::dvec2(0.25, -0.5));
+    EXPECT_EQ(first.gradient(1), glm::dvec2(0.0));
+    ShapedPolygons later;
+    later.add(tri, 3, 1.0);
+    EXPECT_TRUE(later.gradients.empty());
+    later.add(tri, 3, 1.0, {0.125, 0.0});
+    EXPECT_EQ(later.gradient(0), glm::dvec2(0.0));
+    EXPECT_EQ(later.gradient(1), glm::dvec2(0.125, 0.0));
+}
+
 TEST(ShapedGhosts, AGlassPlateGhostIsAUniformDiscOfKnownIrradiance) {
     const ShapedTable table = plateTable(0, 0.0, 0.0);
     ASSERT_EQ(table.ghosts.size(), 1u);

@@ -4,7 +4,8 @@
 // densities (triangles over five
 // decades of size, clipped polygons of many vertices, slivers, polygons inside one pixel, points and
 // segments, some over the frame's edges or far outside it) with energies over six decades; the
-// image independent of the batching; and the whole shaped renderer on the Cooke triplet.
+// image independent of the batching; and the whole shaped renderer on the Cooke triplet, its meshes
+// cut on the CPU.
 
 #include "ghosts/ghost_table.h"
 #include "ghosts/shaped_ghosts.h"
@@ -219,7 +220,8 @@ TEST(GlPolygonRaster, ShapedGhostsMatchTheCpu) {
         ghosts::ShapedRenderSettings settings;
         settings.linearDensity = linear;
         const ghosts::ShapedRender cpu = ghosts::renderShaped(table, lights, frame, settings);
-        GlPolygonRaster raster(*context);
+        // The polygons cut on the CPU and sent (test_gl_mesh_cutter.cpp cuts them on the GPU).
+        GlPolygonRaster raster(*context, GlPolygonRaster::kDefaultBatch, GlPolygonRaster::kDefaultListEntries, false);
         const ghosts::ShapedRender gl = ghosts::renderShaped(table, lights, frame, settings, &raster);
         EXPECT_EQ(gl.triangles, cpu.triangles);
         EXPECT_GT(cpu.offImage, 0.0);
