@@ -43,7 +43,7 @@ struct Polygon { // polygon_bins.comp's
     uint first;
     uint count;
     uint channel;
-    uint pad;
+    uint splat;
     double energy;
     double gx, gy;
 };
@@ -70,6 +70,7 @@ uniform int height;
 uniform int maxSubdivision;
 uniform int linearDensity;
 uniform double subcellPx;
+uniform float splatBelow; // > 0: a polygon narrower than this on both axes is splatted (renderShaped's grid)
 
 // The job.
 uint base;
@@ -278,10 +279,21 @@ void emit(int P, int Q, int R, double e, dvec2 gradient) {
     ++polys;
     verts += uint(count);
     if (pass == 1 && polyCursor < polyEnd && vertCursor + uint(count) <= vertEnd) {
-        for (int i = 0; i < count; ++i) outVertices[vertCursor + uint(i)] = vec2(clipped(i, P, Q, R));
+        // Its extent as renderShaped's splat rule reads it: rows from the float vertices, columns in
+        // double from them.
+        float yMin = 1e30, yMax = -1e30;
+        double xMin = 1e300LF, xMax = -1e300LF;
+        for (int i = 0; i < count; ++i) {
+            const vec2 v = vec2(clipped(i, P, Q, R));
+            outVertices[vertCursor + uint(i)] = v;
+            yMin = min(yMin, v.y), yMax = max(yMax, v.y);
+            xMin = min(xMin, double(v.x)), xMax = max(xMax, double(v.x));
+        }
+        const bool splat = splatBelow > 0.0 && yMax - yMin < splatBelow && xMax - xMin < double(splatBelow);
         // The gradient as the CPU stores it (float).
         const vec2 g = vec2(gradient);
-        outPolygons[polyCursor] = Polygon(vertCursor, uint(count), uint(channel), 0u, e, double(g.x), double(g.y));
+        outPolygons[polyCursor] =
+            Polygon(vertCursor, uint(count), uint(channel), splat ? 1u : 0u, e, double(g.x), double(g.y));
         ++polyCursor;
         vertCursor += uint(count);
     }

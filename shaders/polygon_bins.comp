@@ -8,7 +8,7 @@
 //
 // Kinds follow trace::CoverageRaster::polygon: 0 draws nothing (no vertex, no energy, a vertex at
 // infinity or NaN, or off the frame), 1 fills one pixel (a polygon of area inside it), 2 splats its
-// energy bilinearly at its vertices' mean (no area), 3 adds its edges with the density
+// energy bilinearly at its vertices' mean (no area, or marked to be splatted), 3 adds its edges with the density
 // d.x + d.y x + d.z y (pixels; uniform when d.y = d.z = 0), the orientation's sign included.
 
 layout(local_size_x = LOCAL_SIZE) in;
@@ -20,7 +20,7 @@ struct Polygon {
     uint first;   // index of its first vertex
     uint count;   // vertices, in order
     uint channel;
-    uint pad;
+    uint splat;   // 1: splatted bilinearly at its vertices' mean whatever its area (kind 2)
     double energy;
     double gx, gy; // the density's gradient relative to its mean, per pixel (0: uniform)
 };
@@ -84,7 +84,7 @@ Prepared prepare(Polygon g) {
     // a vertex at infinity or NaN: nowhere in the image
     if (isnan(area) || isinf(area) || isnan(mx) || isinf(mx) || isnan(my) || isinf(my)) return p;
     const bool nearFrame = abs(lo.x) < 1e9LF && abs(lo.y) < 1e9LF;
-    if (nearFrame && floor(lo.x) == floor(hi.x) && floor(lo.y) == floor(hi.y) && area != 0.0) {
+    if (g.splat == 0u && nearFrame && floor(lo.x) == floor(hi.x) && floor(lo.y) == floor(hi.y) && area != 0.0) {
         p.kind = 1u;
         p.dx = g.energy;
         p.dy = floor(lo.x);
@@ -92,7 +92,7 @@ Prepared prepare(Polygon g) {
         tileRange(p, dvec2(p.dy, p.dz), dvec2(p.dy, p.dz));
         return p;
     }
-    if (area == 0.0) {
+    if (area == 0.0 || g.splat != 0u) {
         mean /= double(n);
         const dvec2 f = floor(mean - 0.5);
         if (!(abs(f.x) < 1e9LF && abs(f.y) < 1e9LF)) return p;

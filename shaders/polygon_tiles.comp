@@ -24,7 +24,7 @@ struct Polygon {
     uint first;
     uint count;
     uint channel;
-    uint pad;
+    uint splat;
     double energy;
     double gx, gy;
 };

@@ -257,11 +257,12 @@ class PolygonRaster {
     /// Whether drawMeshes takes this table (otherwise renderShaped cuts the meshes and calls draw).
     virtual bool cutsMeshes(const ShapedTable&) const { return false; }
     /// Cuts every instance's mesh at wavelengths 0 .. channels - 1 into channel w as renderShaped
-    /// does on the CPU (the same polygons, to rounding) and adds them; per instance and channel,
-    /// instance-major, what it drew. Only for a table cutsMeshes takes.
+    /// does on the CPU (the same polygons, to rounding) and adds them, a polygon narrower than
+    /// splatBelow pixels on both axes (0: none) as a bilinear splat at its vertices' mean; per
+    /// instance and channel, instance-major, what it drew. Only for a table cutsMeshes takes.
     virtual std::vector<MeshDrawn> drawMeshes(const ShapedTable& table, const std::vector<MeshLight>& lights,
                                               const std::vector<MeshDraw>& draws, std::size_t channels,
-                                              const ShapedRenderSettings& settings);
+                                              const ShapedRenderSettings& settings, float splatBelow = 0.0f);
 };
 
 /// Draws every light's ghosts into the frame; channel c is the table's wavelength c. The polygons

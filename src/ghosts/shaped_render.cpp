@@ -118,7 +118,7 @@ Drawn drawInstances(const ShapedTable& table, const std::vector<ShapedLight>& li
         std::vector<MeshDraw> draws;
         draws.reserve(instances.size());
         for (const Instance& in : instances) draws.push_back({in.light, in.mesh});
-        for (const MeshDrawn& d : raster->drawMeshes(table, meshLights, draws, W, settings))
+        for (const MeshDrawn& d : raster->drawMeshes(table, meshLights, draws, W, settings, splatBelow))
             out.add(d.energy, d.triangles, d.areaPx);
         return finishRaster(*raster, frame, W, std::move(out));
     }
@@ -178,8 +178,8 @@ Drawn drawInstances(const ShapedTable& table, const std::vector<ShapedLight>& li
 } // namespace
 
 std::vector<MeshDrawn> PolygonRaster::drawMeshes(const ShapedTable&, const std::vector<MeshLight>&,
-                                                 const std::vector<MeshDraw>&, std::size_t,
-                                                 const ShapedRenderSettings&) {
+                                                 const std::vector<MeshDraw>&, std::size_t, const ShapedRenderSettings&,
+                                                 float) {
     throw Error(ErrorKind::Runtime, "this polygon raster does not cut meshes");
 }
 
@@ -512,7 +512,9 @@ ShapedRender renderShaped(const ShapedTable& table, const std::vector<ShapedLigh
         // estimate and its measured frames (docs/performance.md) hold for them; linear ones cost the
         // raster about 1.4 times as much for what the grid's series smooths away.
         onCells.linearDensity = false;
-        Drawn onGrid = drawInstances(table, lights, gridded, gf, W, onCells, nullptr, kSplatBelowCells);
+        // On the raster where it cuts the meshes itself (it splats as the CPU's bands do).
+        PolygonRaster* gridRaster = raster && raster->cutsMeshes(table) ? raster : nullptr;
+        Drawn onGrid = drawInstances(table, lights, gridded, gf, W, onCells, gridRaster, kSplatBelowCells);
         energy += onGrid.energy;
         out.gridTriangles = onGrid.triangles;
         out.gridTrianglesPerCell = onGrid.drawnSets ? onGrid.perPixel / static_cast<double>(onGrid.drawnSets) : 0.0;

@@ -155,7 +155,7 @@ std::size_t GlMeshCutter::uploadFrame(const ghosts::ShapedTable& table, const st
 }
 
 std::array<std::uint32_t, 2> GlMeshCutter::count(const Batch& b, const ghosts::ShapedTable& table,
-                                                 const ghosts::ShapedRenderSettings& settings,
+                                                 const ghosts::ShapedRenderSettings& settings, float splatBelow,
                                                  const trace::ImageFrame& frame) {
     const trace::Iris& iris = table.iris;
     const double apothem =
@@ -204,6 +204,7 @@ std::array<std::uint32_t, 2> GlMeshCutter::count(const Batch& b, const ghosts::S
     cells_->set("maxSubdivision", std::max(settings.maxSubdivision, 1));
     cells_->set("linearDensity", settings.linearDensity ? 1 : 0);
     cells_->setDouble("subcellPx", settings.subcellPx);
+    cells_->set("splatBelow", splatBelow);
     cells_->set("pass", 0);
     jobs_.bind(0); // no polygons written in pass 0
     jobs_.bind(3);
@@ -255,7 +256,7 @@ void GlMeshCutter::write(const Batch& b, Buffer& vertices, Buffer& polygons, std
 std::vector<ghosts::MeshDrawn> GlMeshCutter::cut(const ghosts::ShapedTable& table,
                                                  const std::vector<ghosts::MeshLight>& lights,
                                                  const std::vector<ghosts::MeshDraw>& draws, std::size_t channels,
-                                                 const ghosts::ShapedRenderSettings& settings,
+                                                 const ghosts::ShapedRenderSettings& settings, float splatBelow,
                                                  const trace::ImageFrame& frame, Buffer& vertices, Buffer& polygons,
                                                  const std::function<void(std::size_t)>& draw) {
     const std::size_t jobs = draws.size() * channels;
@@ -273,7 +274,7 @@ std::vector<ghosts::MeshDrawn> GlMeshCutter::cut(const ghosts::ShapedTable& tabl
     for (std::size_t j0 = 0; j0 < jobs;) {
         Batch b{j0, std::min(batch, jobs - j0), channels, slot, 0};
         b.vertsAt = (b.jobs + 1 + alignWords - 1) / alignWords * alignWords;
-        const auto [polys, verts] = count(b, table, settings, frame);
+        const auto [polys, verts] = count(b, table, settings, splatBelow, frame);
         if ((polys * kPolygonBytes > outputLimit || verts * sizeof(float) * 2 > outputLimit) && b.jobs > 1) {
             batch = b.jobs / 2;
             continue;

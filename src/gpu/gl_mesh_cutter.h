@@ -30,13 +30,14 @@ class GlMeshCutter {
     /// ghost, and meshes that fit one shader storage block of this context.
     static bool takes(const ghosts::ShapedTable& table);
 
-    /// Cuts every instance's mesh at wavelengths 0 .. channels - 1 (channel w), writing batches of
+    /// Cuts every instance's mesh at wavelengths 0 .. channels - 1 (channel w; polygons narrower than
+    /// splatBelow pixels on both axes marked to be splatted), writing batches of
     /// polygons into `vertices` and `polygons` (polygon_bins.comp's layout) and calling draw(count)
     /// after each; per instance and channel, instance-major, the energy, area and polygons made.
     std::vector<ghosts::MeshDrawn> cut(const ghosts::ShapedTable& table, const std::vector<ghosts::MeshLight>& lights,
                                        const std::vector<ghosts::MeshDraw>& draws, std::size_t channels,
-                                       const ghosts::ShapedRenderSettings& settings, const trace::ImageFrame& frame,
-                                       Buffer& vertices, Buffer& polygons,
+                                       const ghosts::ShapedRenderSettings& settings, float splatBelow,
+                                       const trace::ImageFrame& frame, Buffer& vertices, Buffer& polygons,
                                        const std::function<void(std::size_t)>& draw);
 
   private:
@@ -52,7 +53,8 @@ class GlMeshCutter {
                             const std::vector<ghosts::MeshDraw>& draws);
     // The batch's meshes placed and their cells counted: its polygons and vertices.
     std::array<std::uint32_t, 2> count(const Batch& b, const ghosts::ShapedTable& table,
-                                       const ghosts::ShapedRenderSettings& settings, const trace::ImageFrame& frame);
+                                       const ghosts::ShapedRenderSettings& settings, float splatBelow,
+                                       const trace::ImageFrame& frame);
     // The counted polygons written; each job's energy, area and polygons into out.
     void write(const Batch& b, Buffer& vertices, Buffer& polygons, std::vector<ghosts::MeshDrawn>& out);
 

@@ -163,16 +163,15 @@ bool GlPolygonRaster::cutsMeshes(const ghosts::ShapedTable& table) const {
     return cutMeshes_ && GlMeshCutter::takes(table);
 }
 
-std::vector<ghosts::MeshDrawn> GlPolygonRaster::drawMeshes(const ghosts::ShapedTable& table,
-                                                           const std::vector<ghosts::MeshLight>& lights,
-                                                           const std::vector<ghosts::MeshDraw>& draws,
-                                                           std::size_t channels,
-                                                           const ghosts::ShapedRenderSettings& settings) {
+std::vector<ghosts::MeshDrawn>
+GlPolygonRaster::drawMeshes(const ghosts::ShapedTable& table, const std::vector<ghosts::MeshLight>& lights,
+                            const std::vector<ghosts::MeshDraw>& draws, std::size_t channels,
+                            const ghosts::ShapedRenderSettings& settings, float splatBelow) {
     if (channels > channels_)
         throw Error(ErrorKind::Runtime, "the GL polygon raster has no channel " + std::to_string(channels - 1));
     flush();
     if (!cutter_) cutter_ = std::make_unique<GlMeshCutter>();
-    return cutter_->cut(table, lights, draws, channels, settings, frame_, vertices_, polygons_,
+    return cutter_->cut(table, lights, draws, channels, settings, splatBelow, frame_, vertices_, polygons_,
                         [this](std::size_t count) { rasterise(0, count); });
 }
 

@@ -40,12 +40,13 @@ class GlPolygonRaster final : public ghosts::PolygonRaster {
     std::vector<ghosts::MeshDrawn> drawMeshes(const ghosts::ShapedTable& table,
                                               const std::vector<ghosts::MeshLight>& lights,
                                               const std::vector<ghosts::MeshDraw>& draws, std::size_t channels,
-                                              const ghosts::ShapedRenderSettings& settings) override;
+                                              const ghosts::ShapedRenderSettings& settings,
+                                              float splatBelow = 0.0f) override;
 
   private:
     // std430 layout of polygon_bins.comp's Polygon.
     struct GpuPolygon {
-        std::uint32_t first, count, channel, pad;
+        std::uint32_t first, count, channel, splat;
         double energy, gx, gy;
     };
     void flush();

@@ -99,6 +99,36 @@ TEST(GlMeshCutter, CutsWhatTheCpuCuts) {
     }
 }
 
+TEST(GlMeshCutter, DrawsTheHybridsGridAsTheCpuDoes) {
+    // The instances the split sends to the Fourier series are cut on the grid of 4-pixel cells
+    // (decimated meshes, the edges' own tolerance, small polygons splatted), on the GPU as on the CPU.
+    std::string why;
+    const auto context = GlContext::create(why);
+    if (!context) GTEST_SKIP() << "no OpenGL 4.5 context: " << why;
+    const ghosts::ShapedTable& table = cookeTable();
+    const trace::ImageFrame frame{192, 128, 36.0 / 192};
+    const auto lights = lightsOver(table);
+    ghosts::ShapedRenderSettings settings = coarse();
+    settings.gridError = 0.05;
+    settings.grid = {4, 64, 48, -32.0, -32.0};
+    const ghosts::ShapedRender cpu = ghosts::renderShaped(table, lights, frame, settings);
+    GlPolygonRaster raster(*context);
+    const ghosts::ShapedRender gl = ghosts::renderShaped(table, lights, frame, settings, &raster);
+    ASSERT_GT(cpu.gridded, 0u);
+    ASSERT_GT(cpu.drawn, cpu.gridded); // some drawn directly too
+    EXPECT_EQ(gl.gridded, cpu.gridded);
+    EXPECT_EQ(gl.gridTriangles, cpu.gridTriangles);
+    EXPECT_EQ(gl.triangles, cpu.triangles);
+    EXPECT_NEAR(gl.offImage, cpu.offImage, 1e-6 * (cpu.deposited + cpu.offImage));
+    for (int c = 0; c < 3; ++c) {
+        const auto d = compare(gl.grid[c], cpu.grid[c]);
+        EXPECT_LE(d.relativeL2, 1e-6) << "grid channel " << c;
+        EXPECT_LE(d.worst, 1e-6 * d.peak) << "grid channel " << c;
+        const auto f = compare(gl.channel[c], cpu.channel[c]);
+        EXPECT_LE(f.relativeL2, 1e-6) << "channel " << c;
+    }
+}
+
 TEST(GlMeshCutter, SameBytesRunAfterRun) {
     std::string why;
     const auto context = GlContext::create(why);
