@@ -4,11 +4,14 @@
 //    baseline every evaluation time is read against;
 //  - accumulation + evaluation against the number of ghosts K, and the direct alternatives: per-pixel
 //    full-frame sum, separable full-frame sum (outer products as one GEMM of inner size K) and
-//    drawing clipped to each ghost's footprint.
+//    drawing clipped to each ghost's footprint;
+//  - the shaped hybrid's grid to its coefficients: cell by cell (fourier::accumulateSampled, which
+//    gpu::GlSampled ran on the GPU) against one FFT of the grid (accumulateSampledGrid).
 
 #include "fourier/aggregate.h"
 #include "fourier/direct.h"
 #include "fourier/render.h"
+#include "fourier/sampled.h"
 
 #include <benchmark/benchmark.h>
 
@@ -142,6 +145,50 @@ BENCHMARK_CAPTURE(BM_Accumulate, auto, Accumulation::Auto) -> RangeMultiplier(10
     -> Unit(benchmark::kMillisecond) -> UseRealTime();
 
 // Every ghost evaluated at every pixel (pixel centres, no footprint): K W H exponentials per channel.
+// The shaped hybrid's grid (scene::drawShaped: 4-pixel cells over the frame and 8 cells of margin,
+// every term below its Nyquist frequency) to its coefficients. Arg: the frame's width (height 9/16 of
+// it); capture: cell-by-cell sums or one r2c FFT per channel.
+void BM_SampledGrid(benchmark::State& state, bool fft) {
+    const int w = static_cast<int>(state.range(0)), h = w * 9 / 16;
+    SampledGhost g;
+    g.step = 4.0;
+    g.width = fftFriendly((w + 3) / 4 + 16);
+    g.height = fftFriendly((h + 3) / 4 + 16);
+    g.x0 = -(std::floor((g.width * g.step - w) / (2.0 * g.step)) + 0.5) * g.step;
+    g.y0 = -(std::floor((g.height * g.step - h) / (2.0 * g.step)) + 0.5) * g.step;
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    g.values.resize(static_cast<std::size_t>(g.width) * g.height * 3);
+    for (float& v : g.values) v = u(rng);
+    for (auto _ : state) {
+        Coefficients z;
+        z.n = g.width / 2;
+        z.m = g.height / 2;
+        z.periodX = g.width * g.step;
+        z.periodY = g.height * g.step;
+        for (auto& ch : z.z) ch.assign(static_cast<std::size_t>(4) * z.n * z.m, 0.0);
+        if (fft)
+            accumulateSampledGrid(g, z);
+        else
+            accumulateSampled({g}, z);
+        benchmark::DoNotOptimize(z.z[0].data());
+    }
+    state.counters["cells"] = double(g.width) * g.height;
+}
+BENCHMARK_CAPTURE(BM_SampledGrid, sums, false)
+    ->Arg(640)
+    ->Arg(1280)
+    ->Arg(1920)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
+BENCHMARK_CAPTURE(BM_SampledGrid, fft, true)
+    ->Arg(640)
+    ->Arg(1280)
+    ->Arg(1920)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
 void BM_DirectFullFrame(benchmark::State& state) {
     const auto g = ghosts(static_cast<int>(state.range(0)));
     FlareImage image(kW, kH);

@@ -9,7 +9,7 @@
 // and B, C, D with cos . sin, sin . cos, sin . sin: the midpoint sum of the continuous profile's
 // coefficients once the cell's box (the sinc) is divided out. Exact up to aliasing, i.e. for profiles
 // sampled finely enough that nothing above the grid's Nyquist frequency remains; terms must stay
-// below it (n < Tx / s), which the functions check. Gpu twin: gpu/gl_sampled.h.
+// below it (n < Tx / s), which the functions check.
 
 #include "fourier/aggregate.h"
 
