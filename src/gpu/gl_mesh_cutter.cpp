@@ -14,12 +14,14 @@ std::string_view embedded(std::string_view name);
 
 namespace {
 
-constexpr int kGroup = 64;                                    // mesh_place.comp, mesh_cells.comp
-constexpr int kScanGroup = 256;                               // bin_scan.comp
-constexpr std::size_t kJobBytes = 80 + 2 * kGroup * 4;        // their Job (std430)
-constexpr std::size_t kPolygonBytes = 40;                     // polygon_bins.comp's Polygon
-constexpr std::size_t kScratchBytes = std::size_t(256) << 20; // the jobs' vertices per batch
-constexpr std::size_t kOutputBytes = std::size_t(512) << 20;  // a batch's polygons or vertices
+constexpr int kGroup = 64;                             // mesh_place.comp, mesh_cells.comp
+constexpr int kScanGroup = 256;                        // bin_scan.comp
+constexpr std::size_t kJobBytes = 80 + 2 * kGroup * 4; // their Job (std430)
+constexpr std::size_t kPolygonBytes = 40;              // polygon_bins.comp's Polygon
+// Per batch, within the device's storage block size (128 MiB on llvmpipe): the jobs' vertices, and
+// the polygons or the vertices they make. Fewer batches, fewer passes of the raster over the tiles.
+constexpr std::size_t kScratchBytes = std::size_t(1) << 30;
+constexpr std::size_t kOutputBytes = std::size_t(1) << 30;
 constexpr std::uint32_t kNoMesh = 0xffffffffu;
 constexpr GLuint kMaxGroups = 65535;
 
