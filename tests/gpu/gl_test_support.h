@@ -2,6 +2,9 @@
 // What the GL tests share: random ghost sets and image comparisons.
 
 #include "fourier/aggregate.h"
+#include "ghosts/shaped_ghosts.h"
+
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
@@ -50,6 +53,41 @@ inline Difference difference(const fourier::FlareImage& a, const fourier::FlareI
         }
     d.relativeL2 = den > 0.0 ? std::sqrt(num / den) : std::sqrt(num);
     return d;
+}
+
+/// The same for one channel of flux per pixel (b the reference).
+inline Difference difference(const std::vector<double>& a, const std::vector<double>& b) {
+    Difference d;
+    double num = 0.0, den = 0.0;
+    for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
+        num += (a[i] - b[i]) * (a[i] - b[i]);
+        den += b[i] * b[i];
+        d.worst = std::max(d.worst, std::abs(a[i] - b[i]));
+        d.peak = std::max(d.peak, std::abs(b[i]));
+    }
+    d.relativeL2 = den > 0.0 ? std::sqrt(num / den) : std::sqrt(num);
+    return d;
+}
+
+/// Expects channels a to match the reference b: relative L2 and the largest difference (relative to
+/// b's peak) within `tolerance` per channel.
+template <class Channels>
+void expectChannelsNear(const Channels& a, const Channels& b, double tolerance, const char* what = "channel") {
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t c = 0; c < b.size(); ++c) {
+        const Difference d = difference(a[c], b[c]);
+        EXPECT_LE(d.relativeL2, tolerance) << what << " " << c;
+        EXPECT_LE(d.worst, tolerance * d.peak) << what << " " << c;
+    }
+}
+
+/// Expects a shaped render on the GPU to be the CPU's: the same triangles, its flux off the frame
+/// (some, to 1e-6 of the total) and its channels within 1e-6.
+inline void expectShapedRendersMatch(const ghosts::ShapedRender& gl, const ghosts::ShapedRender& cpu) {
+    EXPECT_EQ(gl.triangles, cpu.triangles);
+    EXPECT_GT(cpu.offImage, 0.0);
+    EXPECT_NEAR(gl.offImage, cpu.offImage, 1e-6 * (cpu.deposited + cpu.offImage));
+    expectChannelsNear(gl.channel, cpu.channel, 1e-6);
 }
 
 /// ||a - b|| / ||b|| over the coefficients of all channels.

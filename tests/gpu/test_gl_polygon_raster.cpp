@@ -20,25 +20,12 @@
 #include <numbers>
 #include <random>
 
+#include "gl_test_support.h"
+
 namespace ff::gpu {
 namespace {
 
-struct Diff {
-    double relativeL2 = 0.0, worst = 0.0, peak = 0.0;
-};
-
-Diff compare(const std::vector<double>& a, const std::vector<double>& b) {
-    double num = 0.0, den = 0.0;
-    Diff d;
-    for (std::size_t i = 0; i < a.size(); ++i) {
-        num += (a[i] - b[i]) * (a[i] - b[i]);
-        den += b[i] * b[i];
-        d.worst = std::max(d.worst, std::abs(a[i] - b[i]));
-        d.peak = std::max(d.peak, std::abs(b[i]));
-    }
-    d.relativeL2 = std::sqrt(num / den);
-    return d;
-}
+using testing::difference;
 
 // Polygons in two channels, in pixels of a W x H frame.
 std::vector<ghosts::ShapedPolygons> randomPolygons(int W, int H, unsigned seed) {
@@ -127,7 +114,7 @@ TEST(GlPolygonRaster, MatchesTheCpuCoverageRaster) {
     const auto image = gl.finish();
     ASSERT_EQ(image.size(), 2u);
     for (std::size_t c = 0; c < 2; ++c) {
-        const auto d = compare(image[c], onCpu(polys[c], frame));
+        const auto d = difference(image[c], onCpu(polys[c], frame));
         // The edges in double as on the CPU; the pixels read back as float32 (6e-8).
         EXPECT_LE(d.relativeL2, 1e-6) << "channel " << c;
         EXPECT_LE(d.worst, 1e-6 * d.peak) << "channel " << c;
@@ -170,7 +157,7 @@ TEST(GlPolygonRaster, TileSidesAndACrowdedTileMatchTheCpu) {
     GlPolygonRaster gl(*context);
     gl.begin(frame, 1, ps.energy);
     gl.draw(0, ps);
-    const auto d = compare(gl.finish()[0], onCpu(ps, frame));
+    const auto d = difference(gl.finish()[0], onCpu(ps, frame));
     EXPECT_LE(d.relativeL2, 1e-6);
     EXPECT_LE(d.worst, 1e-6 * d.peak);
 }
@@ -222,15 +209,7 @@ TEST(GlPolygonRaster, ShapedGhostsMatchTheCpu) {
         const ghosts::ShapedRender cpu = ghosts::renderShaped(table, lights, frame, settings);
         // The polygons cut on the CPU and sent (test_gl_mesh_cutter.cpp cuts them on the GPU).
         GlPolygonRaster raster(*context, GlPolygonRaster::kDefaultBatch, GlPolygonRaster::kDefaultListEntries, false);
-        const ghosts::ShapedRender gl = ghosts::renderShaped(table, lights, frame, settings, &raster);
-        EXPECT_EQ(gl.triangles, cpu.triangles);
-        EXPECT_GT(cpu.offImage, 0.0);
-        EXPECT_NEAR(gl.offImage, cpu.offImage, 1e-6 * (cpu.deposited + cpu.offImage));
-        for (int c = 0; c < 3; ++c) {
-            const auto d = compare(gl.channel[c], cpu.channel[c]);
-            EXPECT_LE(d.relativeL2, 1e-6) << "channel " << c;
-            EXPECT_LE(d.worst, 1e-6 * d.peak) << "channel " << c;
-        }
+        testing::expectShapedRendersMatch(ghosts::renderShaped(table, lights, frame, settings, &raster), cpu);
     }
 }
 
