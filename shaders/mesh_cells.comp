@@ -1,16 +1,18 @@
 #version 450
 // Second and third passes of the shaped ghosts' meshes cut on the GPU: one work group per job, each
-// invocation a contiguous chunk of the mesh's cells, cut as ghosts::meshPolygons' CellCutter does
-// (shaped_mesh.cpp): k x k sub-cells placed by the bicubic (Catmull-Rom) surface through the 4 x 4
-// vertices around the cell (bilinear where it leaves the grid or meets a lost ray), k the largest of
-// the flatness rule (the landing points and the aperture edges within the job's tolerance of the plane
-// sub-cells) and the irradiance rule (the elements' density within the job's error); each sub-cell's
-// two triangles clipped by the constraints that change sign over them, with their mean weight x lit
-// share of the pupil area as energy and, for linear elements, the plane through their vertices'
-// irradiances as the density's gradient. Pass 0 counts each chunk's polygons and vertices and scans
-// the chunks (the jobs' totals are scanned by bin_scan.comp); pass 1 runs the same instructions and
-// writes the polygons where the scans say, in the binned raster's layout (polygon_bins.comp), and
-// each job's energy and covered area. The layout does not depend on scheduling.
+// invocation every LOCAL_SIZE-th cell of the mesh from its own (neighbouring invocations take
+// neighbouring cells: like work, adjacent in the scratch), cut as ghosts::meshPolygons' CellCutter
+// does (shaped_mesh.cpp): k x k sub-cells placed by the bicubic (Catmull-Rom) surface through the
+// 4 x 4 vertices around the cell (bilinear where it leaves the grid or meets a lost ray), k the
+// largest of the flatness rule (the landing points and the aperture edges within the job's tolerance
+// of the plane sub-cells) and the irradiance rule (the elements' density within the job's error);
+// each sub-cell's two triangles clipped by the constraints that change sign over them, with their
+// mean weight x lit share of the pupil area as energy and, for linear elements, the plane through
+// their vertices' irradiances as the density's gradient. Pass 0 counts each invocation's polygons
+// and vertices and scans them (the jobs' totals are scanned by bin_scan.comp); pass 1 runs the same
+// instructions and writes the polygons where the scans say, in the binned raster's layout
+// (polygon_bins.comp), and each job's energy and covered area. The layout does not depend on
+// scheduling.
 
 layout(local_size_x = LOCAL_SIZE) in;
 
@@ -92,7 +94,7 @@ dvec4 slotWa[4], slotWb[4];
 dvec3 clipA[kMaxPolygon], clipB[kMaxPolygon];
 int clipCount;
 int cuts[kMaxConstraints];
-// What the chunk adds: polygons, vertices, energy, area; where pass 1 writes.
+// What the invocation adds: polygons, vertices, energy, area; where pass 1 writes.
 uint polys, verts, polyCursor, vertCursor, polyEnd, vertEnd;
 double energySum, areaSum;
 
@@ -442,20 +444,18 @@ void main() {
     polys = verts = 0u;
     energySum = areaSum = 0.0;
     const int cells = jobs[local].lit != 0u ? n * n : 0;
-    const int chunk = (cells + LOCAL_SIZE - 1) / LOCAL_SIZE;
-    const int from = min(lid * chunk, cells), to = min(from + chunk, cells);
     if (pass == 1) {
-        // Each chunk writes from its offset up to the next chunk's (what pass 0 counted).
+        // Each invocation writes from its offset up to the next one's (what pass 0 counted).
         const uint p0 = jobCounts[local], v0 = jobCounts[vertsAt + local];
         polyCursor = p0 + jobs[local].chunkPolys[lid];
         vertCursor = v0 + jobs[local].chunkVerts[lid];
         polyEnd = lid + 1 < LOCAL_SIZE ? p0 + jobs[local].chunkPolys[lid + 1] : jobCounts[local + 1];
         vertEnd = lid + 1 < LOCAL_SIZE ? v0 + jobs[local].chunkVerts[lid + 1] : jobCounts[vertsAt + local + 1];
     }
-    for (int c = from; c < to; ++c) cell(c % n, c / n);
+    for (int c = lid; c < cells; c += LOCAL_SIZE) cell(c % n, c / n);
 
     if (pass == 0) {
-        // The chunks' exclusive scan (Hillis-Steele in shared memory).
+        // The invocations' exclusive scan (Hillis-Steele in shared memory).
         sPolys[lid] = polys;
         sVerts[lid] = verts;
         memoryBarrierShared();
