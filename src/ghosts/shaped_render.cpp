@@ -63,11 +63,11 @@ struct Drawn {
     std::size_t drawnSets = 0;
 
     // What one instance drew at one wavelength.
-    void add(double energy_, std::size_t triangles_, double areaPx) {
-        energy += energy_;
-        triangles += triangles_;
+    void add(double drawnEnergy, std::size_t drawnTriangles, double areaPx) {
+        energy += drawnEnergy;
+        triangles += drawnTriangles;
         if (!(areaPx > 0.0)) return;
-        const double ratio = static_cast<double>(triangles_) / areaPx;
+        const double ratio = static_cast<double>(drawnTriangles) / areaPx;
         perPixel += ratio;
         mostPerPixel = std::max(mostPerPixel, ratio);
         ++drawnSets;
