@@ -8,7 +8,8 @@
 //    frame-wide ghosts and of many small ones at 1280 x 720, next to fourier::drawDirect;
 //  - the shaped ghosts' polygon raster against the CPU's coverage raster on 4 M small triangles;
 //  - a shaped frame of the double Gauss at 1080p, 3 and 30 lights (300 on a GPU): meshes cut and
-//    drawn on the CPU, cut on the CPU and drawn on the GPU, and both on the GPU (GlMeshCutter).
+//    drawn on the CPU, cut on the CPU and drawn on the GPU, and both on the GPU (GlMeshCutter); and
+//    what the host still does per frame on that last route (any machine, 300 lights too).
 // On a software rasteriser only the 1080p, N = 64 and K <= 1000 cases run (the rest take minutes).
 
 #include "fourier/direct.h"
@@ -305,6 +306,18 @@ const ff::ghosts::ShapedTable& doubleGauss() {
     return table;
 }
 
+// n lights at random fields over the frame, random fluxes.
+std::vector<ff::ghosts::ShapedLight> randomLights(const ff::ghosts::ShapedTable& table, int n) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<ff::ghosts::ShapedLight> ls(static_cast<std::size_t>(n));
+    for (auto& l : ls) {
+        l.field = {u(rng) * table.maxAngleDeg * std::numbers::pi / 180.0, 2.0 * std::numbers::pi * u(rng)};
+        l.flux = {1.0 + u(rng), 1.0 + u(rng), 1.0 + u(rng)};
+    }
+    return ls;
+}
+
 void BM_ShapedFrame(benchmark::State& state) {
     const int lights = static_cast<int>(state.range(0)), route = static_cast<int>(state.range(1));
     // 300 lights only beside a GPU (the CPU's own case too: its baseline in the same run).
@@ -316,13 +329,7 @@ void BM_ShapedFrame(benchmark::State& state) {
                                                             ff::gpu::GlPolygonRaster::kDefaultListEntries, route == 2);
     const auto& table = doubleGauss();
     const ff::trace::ImageFrame frame{1920, 1080, 36.0 / 1920};
-    std::mt19937 rng(11);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    std::vector<ff::ghosts::ShapedLight> ls(static_cast<std::size_t>(lights));
-    for (auto& l : ls) {
-        l.field = {u(rng) * table.maxAngleDeg * std::numbers::pi / 180.0, 2.0 * std::numbers::pi * u(rng)};
-        l.flux = {1.0 + u(rng), 1.0 + u(rng), 1.0 + u(rng)};
-    }
+    const auto ls = randomLights(table, lights);
     std::size_t triangles = 0, drawn = 0;
     for (auto _ : state) {
         const auto out = ff::ghosts::renderShaped(table, ls, frame, {}, raster.get());
@@ -339,6 +346,46 @@ BENCHMARK(BM_ShapedFrame)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(2);
+
+// What the host still does per frame when the device cuts the meshes (the culling, each instance's
+// tolerances from its mesh at one angle, the instances' list): renderShaped with a raster that takes
+// the instances and draws nothing. Any machine; the same lights as BM_ShapedFrame.
+class HostOnly final : public ff::ghosts::PolygonRaster {
+  public:
+    void begin(const ff::trace::ImageFrame& frame, std::size_t channels, double) override {
+        pixels_ = static_cast<std::size_t>(frame.width) * frame.height;
+        channels_ = channels;
+    }
+    void draw(std::size_t, const ff::ghosts::ShapedPolygons&) override {}
+    std::vector<std::vector<double>> finish() override {
+        return std::vector<std::vector<double>>(channels_, std::vector<double>(pixels_, 0.0));
+    }
+    bool cutsMeshes(const ff::ghosts::ShapedTable&) const override { return true; }
+    std::vector<ff::ghosts::MeshDrawn> drawMeshes(const ff::ghosts::ShapedTable&,
+                                                  const std::vector<ff::ghosts::MeshLight>&,
+                                                  const std::vector<ff::ghosts::MeshDraw>& draws, std::size_t channels,
+                                                  const ff::ghosts::ShapedRenderSettings&, float) override {
+        return std::vector<ff::ghosts::MeshDrawn>(draws.size() * channels);
+    }
+
+  private:
+    std::size_t pixels_ = 0, channels_ = 0;
+};
+
+void BM_ShapedFrameHost(benchmark::State& state) {
+    const auto& table = doubleGauss();
+    const ff::trace::ImageFrame frame{1920, 1080, 36.0 / 1920};
+    const auto ls = randomLights(table, static_cast<int>(state.range(0)));
+    HostOnly host;
+    std::size_t drawn = 0;
+    for (auto _ : state) {
+        const auto out = ff::ghosts::renderShaped(table, ls, frame, {}, &host);
+        drawn = out.drawn;
+        benchmark::DoNotOptimize(out.channel[0].data());
+    }
+    state.counters["instances"] = double(drawn);
+}
+BENCHMARK(BM_ShapedFrameHost)->Arg(3)->Arg(30)->Arg(300)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 } // namespace
 
