@@ -391,7 +391,7 @@ void cell(int i, int j) {
     const int K = all ? subdivision(cubic) : 1;
     if (K == 1) {
         for (int q = 0; q < 4; ++q) cornerVertex(q, q);
-        // shaped_mesh.h's cellTriangles: split along the diagonal that keeps a triangle when one
+        // mesh_clip.h's cellTriangles: split along the diagonal that keeps a triangle when one
         // corner is lost.
         if (c0 && c3) {
             if (c1) triangle(0, 1, 3, 0.5LF);

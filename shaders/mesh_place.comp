@@ -1,5 +1,5 @@
 #version 450
-// First pass of the shaped ghosts' meshes cut on the GPU (ghosts::meshPolygons, shaped_mesh.cpp;
+// First pass of the shaped ghosts' meshes cut on the GPU (ghosts::placeMesh, mesh_vertices.cpp;
 // mesh_cells.comp cuts them): one work group per job (a ghost instance at one wavelength). Every
 // decimation-th vertex of the ghost's grid, its attributes interpolated between the table's two angles
 // around the light's (Catmull-Rom through four, folded where an outer one is missing; linear where a
