@@ -23,9 +23,8 @@ struct GpuDirectGhost {
 };
 static_assert(sizeof(GpuDirectGhost) == 80);
 
-constexpr int kTile = 16;            // direct_draw.comp's work group is one kTile x kTile tile
-constexpr int kAxesGroup = 64;       // direct_axes.comp's work group: one per ghost
-constexpr GLuint kMaxGroups = 65535; // work groups per dispatch dimension every GL 4.5 device allows
+constexpr int kTile = 16;      // direct_draw.comp's work group is one kTile x kTile tile
+constexpr int kAxesGroup = 64; // direct_axes.comp's work group: one per ghost
 
 int samples(const GpuDirectGhost& g) {
     return g.box[2] - g.box[0] + 1 + g.box[3] - g.box[1] + 1;
@@ -102,7 +101,7 @@ void GlDirect::add(const std::vector<fourier::Ghost>& ghosts, const std::vector<
         integrals_.bind(2);
         axes_->use();
         axes_->set("count", static_cast<int>(count));
-        glDispatchCompute(std::min(count, kMaxGroups), (count + kMaxGroups - 1) / kMaxGroups, 1);
+        dispatchGroups(count);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         checkGl("direct_axes.comp");
         program_->use();

@@ -14,7 +14,6 @@ std::string_view embedded(std::string_view name);
 namespace {
 
 constexpr int kGroup = 64;
-constexpr GLuint kMaxGroups = 65535; // work groups per dispatch dimension every GL 4.5 device allows
 constexpr int kMaxSide = 16384;
 
 // The radices of a length's passes, 4 while it divides, then 2, then 3 (empty: not 2^a 3^b).
@@ -100,7 +99,7 @@ void GlFft::transform(std::unique_ptr<Buffer>& data, std::unique_ptr<Buffer>& sc
             pass_->set("ns", ns);
             data->bind(0);
             scratch->bind(1);
-            glDispatchCompute(groupsX, std::min(outer, kMaxGroups), (outer + kMaxGroups - 1) / kMaxGroups);
+            glDispatchCompute(groupsX, std::min(outer, kMaxWorkGroups), (outer + kMaxWorkGroups - 1) / kMaxWorkGroups);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
             std::swap(data, scratch);
             ns *= radix;
@@ -128,7 +127,7 @@ std::vector<std::complex<double>> GlFft::transform(const std::vector<std::comple
 
 void GlFft::dispatch(std::size_t invocations) const {
     const auto groups = static_cast<GLuint>((invocations + kGroup - 1) / kGroup);
-    glDispatchCompute(std::min(groups, kMaxGroups), (groups + kMaxGroups - 1) / kMaxGroups, 1);
+    dispatchGroups(groups);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 }
 

@@ -23,7 +23,6 @@ constexpr std::size_t kPolygonBytes = 40;              // polygon_bins.comp's Po
 constexpr std::size_t kScratchBytes = std::size_t(1) << 30;
 constexpr std::size_t kOutputBytes = std::size_t(1) << 30;
 constexpr std::uint32_t kNoMesh = 0xffffffffu;
-constexpr GLuint kMaxGroups = 65535;
 
 // std430 layout of the shaders' Instance.
 struct GpuInstance {
@@ -32,10 +31,6 @@ struct GpuInstance {
     double t, flatnessPx, edgeFlatnessPx, irradianceError;
 };
 static_assert(sizeof(GpuInstance) == 48);
-
-void dispatch(GLuint n) {
-    glDispatchCompute(std::min(n, kMaxGroups), (n + kMaxGroups - 1) / kMaxGroups, 1);
-}
 
 std::size_t blockLimit() {
     GLint64 bytes = 0;
@@ -190,7 +185,7 @@ std::array<std::uint32_t, 2> GlMeshCutter::count(const Batch& b, const ghosts::S
     place_->setDouble("centreX", frame.centreXMm);
     place_->setDouble("centreY", frame.centreYMm);
     place_->setDouble("apothem", apothem);
-    dispatch(static_cast<GLuint>(b.jobs));
+    dispatchGroups(static_cast<GLuint>(b.jobs));
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     checkGl("mesh_place.comp");
     // Its cells counted; the jobs' polygons and vertices scanned.
@@ -212,7 +207,7 @@ std::array<std::uint32_t, 2> GlMeshCutter::count(const Batch& b, const ghosts::S
     jobs_.bind(3);
     counts_.bind(6);
     stats_.bind(7);
-    dispatch(static_cast<GLuint>(b.jobs));
+    dispatchGroups(static_cast<GLuint>(b.jobs));
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     scan_->use();
     scan_->set("n", static_cast<int>(b.jobs));
@@ -244,7 +239,7 @@ void GlMeshCutter::write(const Batch& b, Buffer& vertices, Buffer& polygons, std
     stats_.bind(7);
     cells_->use();
     cells_->set("pass", 1);
-    dispatch(static_cast<GLuint>(b.jobs));
+    dispatchGroups(static_cast<GLuint>(b.jobs));
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     checkGl("mesh_cells.comp");
     std::vector<double> stats(2 * b.jobs);

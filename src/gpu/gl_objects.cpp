@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <vector>
 
@@ -74,6 +75,10 @@ void Texture::upload(const float* rgb, int width, int height) {
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     glTextureSubImage2D(id_, 0, 0, 0, width, height, GL_RGB, GL_FLOAT, rgb);
     checkGl("a texture upload");
+}
+
+void dispatchGroups(GLuint n) {
+    glDispatchCompute(std::min(n, kMaxWorkGroups), (n + kMaxWorkGroups - 1) / kMaxWorkGroups, 1);
 }
 
 void Buffer::download(void* data, std::size_t bytes) const {

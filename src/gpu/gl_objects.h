@@ -9,6 +9,12 @@
 
 namespace ff::gpu {
 
+/// Work groups per dispatch dimension every GL 4.5 device allows.
+constexpr GLuint kMaxWorkGroups = 65535;
+/// Dispatches n work groups as a 1- or 2-D grid (x up to kMaxWorkGroups; the shaders fold y into one
+/// index and skip the groups past n).
+void dispatchGroups(GLuint n);
+
 /// Throws ff::Error (Runtime) naming `what` if GL reports an error (with the driver's debug messages
 /// in debug builds).
 void checkGl(const char* what);

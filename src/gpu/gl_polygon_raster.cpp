@@ -19,12 +19,6 @@ constexpr int kGroup = 64;            // invocations per work group of the bins,
 constexpr int kScanGroup = 256;       // bin_scan.comp's one work group
 constexpr int kTile = 16;             // pixels per side of a tile (polygon_bins.comp, polygon_tiles.comp)
 constexpr std::size_t kPrepared = 64; // bytes per polygon of polygon_bins.comp's Prepared
-constexpr GLuint kMaxGroups = 65535;  // work groups per dispatch dimension every GL 4.5 device allows
-
-// n work groups as a 1- or 2-D dispatch (the shaders fold y into one index and skip the excess).
-void dispatch(GLuint n) {
-    glDispatchCompute(std::min(n, kMaxGroups), (n + kMaxGroups - 1) / kMaxGroups, 1);
-}
 
 } // namespace
 
@@ -119,7 +113,7 @@ void GlPolygonRaster::rasterise(std::size_t first, std::size_t count) {
     bins_->set("tilesX", tilesX_);
     bins_->set("tilesY", tilesY_);
     bins_->set("listPass", 0);
-    dispatch((n + kGroup - 1) / kGroup);
+    dispatchGroups((n + kGroup - 1) / kGroup);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     scan_->use();
     scan_->set("n", static_cast<int>(bins));
@@ -143,7 +137,7 @@ void GlPolygonRaster::rasterise(std::size_t first, std::size_t count) {
         lists_.bind(6);
         bins_->use();
         bins_->set("listPass", 1);
-        dispatch((n + kGroup - 1) / kGroup);
+        dispatchGroups((n + kGroup - 1) / kGroup);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         tiles_->use();
         tiles_->set("width", width_);
@@ -153,7 +147,7 @@ void GlPolygonRaster::rasterise(std::size_t first, std::size_t count) {
         tiles_->set("bins", static_cast<int>(bins));
         tiles_->set("firstPolygon", static_cast<int>(first));
         tiles_->setDouble("scale", scale_);
-        dispatch(static_cast<GLuint>(bins));
+        dispatchGroups(static_cast<GLuint>(bins));
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     }
     checkGl("polygon_tiles.comp");
@@ -187,7 +181,7 @@ std::vector<std::vector<double>> GlPolygonRaster::finish() {
     image_->use();
     image_->set("pixels", static_cast<int>(all));
     image_->setDouble("scale", scale_);
-    dispatch(static_cast<GLuint>((all + kGroup - 1) / kGroup));
+    dispatchGroups(static_cast<GLuint>((all + kGroup - 1) / kGroup));
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     checkGl("polygon_image.comp");
     std::vector<float> image(all);
